@@ -1,0 +1,95 @@
+"""zros: ROS 2's programming model (rclpy's API) on Eclipse Zenoh, in plain Python.
+
+    import zros
+    from zros.node import Node
+    from interfaces.std_msgs.msg import String
+"""
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from zros.context import Context, get_default_context
+
+if TYPE_CHECKING:
+    from zros.executors import Executor
+    from zros.node import Node
+    from zros.task import Future
+
+__all__ = ['init', 'ok', 'shutdown', 'try_shutdown', 'spin', 'spin_once', 'spin_until_future_complete',
+           'create_node', 'get_global_executor', 'get_default_context', 'Context', 'utilities']
+
+__version__ = '0.1.0'
+
+_global_executor = None
+
+
+def init(args: list[str] | None = None, *, context: Context | None = None, domain_id: int | None = None,
+         signal_handler_options: Any = None) -> Context:
+    """Connect this process to the zros system; usable plain or as `with zros.init():`."""
+    return (context or get_default_context()).init(args, domain_id=domain_id,
+                                                     install_signal_handlers=signal_handler_options is not False)
+
+
+def ok(*, context: Context | None = None) -> bool:
+    return (context or get_default_context()).ok()
+
+
+def shutdown(*, context: Context | None = None, uninstall_handlers: bool | None = None) -> None:
+    global _global_executor
+    ctx = context or get_default_context()
+    if _global_executor is not None and (context is None or _global_executor.context is ctx):
+        _global_executor.shutdown()
+        _global_executor = None
+    ctx.shutdown()
+
+
+try_shutdown = shutdown
+
+
+def create_node(node_name: str, **kwargs: Any) -> 'Node':
+    from zros.node import Node
+    return Node(node_name, **kwargs)
+
+
+def get_global_executor() -> 'Executor':
+    global _global_executor
+    if _global_executor is None or _global_executor._is_shutdown:
+        from zros.executors import SingleThreadedExecutor
+        _global_executor = SingleThreadedExecutor()
+    return _global_executor
+
+
+def spin(node: 'Node', executor: 'Executor | None' = None) -> None:
+    """Run `node`'s callbacks until shutdown (Ctrl-C raises KeyboardInterrupt, as in rclpy)."""
+    executor = executor or get_global_executor()
+    try:
+        executor.add_node(node)
+        executor.spin()
+    finally:
+        executor.remove_node(node)
+
+
+def spin_once(node: 'Node', *, executor: 'Executor | None' = None, timeout_sec: float | None = None) -> None:
+    executor = executor or get_global_executor()
+    try:
+        executor.add_node(node)
+        executor.spin_once(timeout_sec=timeout_sec)
+    finally:
+        executor.remove_node(node)
+
+
+def spin_until_future_complete(node: 'Node', future: 'Future', executor: 'Executor | None' = None,
+                               timeout_sec: float | None = None) -> None:
+    executor = executor or get_global_executor()
+    try:
+        executor.add_node(node)
+        executor.spin_until_future_complete(future, timeout_sec)
+    finally:
+        executor.remove_node(node)
+
+
+def __getattr__(name: str) -> Any:
+    if name == 'utilities':
+        from zros import utilities
+        return utilities
+    raise AttributeError(f"module 'zros' has no attribute '{name}'")

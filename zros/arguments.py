@@ -1,0 +1,96 @@
+"""`--ros-args` command-line arguments, understood by every node (ros2's syntax).
+
+    --ros-args -r from:=to -r __node:=name -r __ns:=/ns -p name:=value
+               --params-file f.yaml --log-level [logger:=]debug [--]
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from zros.errors import ZrosError
+
+__all__ = ['RosArgs', 'parse_ros_args', 'remove_ros_args', 'RosArgsError']
+
+
+class RosArgsError(ZrosError, ValueError):
+    """Malformed `--ros-args` section."""
+
+
+@dataclass
+class RosArgs:
+    remaps: list[str] = field(default_factory=list)
+    params: list[tuple[str, str]] = field(default_factory=list)      # (name, yaml text)
+    params_files: list[str] = field(default_factory=list)
+    log_levels: list[tuple[str, str]] = field(default_factory=list)  # (logger or '', level)
+    enclave: str | None = None
+    disable_rosout: bool = False
+
+
+_FLAGS_WITH_VALUE = {'-r', '--remap', '-p', '--param', '--params-file', '--log-level', '-e', '--enclave',
+                     '--log-file-name', '--log-config-file'}
+_FLAGS = {'--disable-rosout-logs', '--enable-rosout-logs', '--disable-stdout-logs', '--enable-stdout-logs',
+          '--disable-external-lib-logs', '--enable-external-lib-logs'}
+
+
+def _sections(argv: list[str]) -> tuple[list[str], list[list[str]]]:
+    """Split argv into user arguments and the contents of each --ros-args section."""
+    user, sections, current = [], [], None
+    for arg in argv:
+        if current is None:
+            if arg == '--ros-args':
+                current = []
+                sections.append(current)
+            else:
+                user.append(arg)
+        elif arg == '--':
+            current = None
+        elif arg == '--ros-args':
+            current = []
+            sections.append(current)
+        else:
+            current.append(arg)
+    return user, sections
+
+
+def remove_ros_args(args: list[str] | None) -> list[str]:
+    """argv without any `--ros-args ... [--]` section (rclpy.utilities.remove_ros_args)."""
+    import sys
+    return _sections(list(sys.argv if args is None else args))[0]
+
+
+def parse_ros_args(argv: list[str]) -> RosArgs:
+    """Parse every `--ros-args` section of argv; raise RosArgsError naming the bad argument."""
+    result = RosArgs()
+    for section in _sections(argv)[1]:
+        i = 0
+        while i < len(section):
+            flag = section[i]
+            if flag in _FLAGS:
+                result.disable_rosout |= flag == '--disable-rosout-logs'
+                i += 1
+                continue
+            if flag not in _FLAGS_WITH_VALUE:
+                raise RosArgsError(f"unknown ROS argument '{flag}'")
+            if i + 1 >= len(section):
+                raise RosArgsError(f"ROS argument '{flag}' needs a value")
+            value = section[i + 1]
+            i += 2
+            if flag in ('-r', '--remap'):
+                if ':=' not in value:
+                    raise RosArgsError(f"remapping '{value}' must look like from:=to")
+                result.remaps.append(value)
+            elif flag in ('-p', '--param'):
+                if ':=' not in value:
+                    raise RosArgsError(f"parameter '{value}' must look like name:=value")
+                name, text = value.split(':=', 1)
+                if not name:
+                    raise RosArgsError(f"parameter '{value}' has no name")
+                result.params.append((name, text))
+            elif flag == '--params-file':
+                result.params_files.append(value)
+            elif flag == '--log-level':
+                logger, _, level = value.rpartition(':=')
+                result.log_levels.append((logger, level))
+            elif flag in ('-e', '--enclave'):
+                result.enclave = value
+    return result

@@ -1,0 +1,46 @@
+"""What several CLI verbs share: a short-lived context and node, and graph reads."""
+from __future__ import annotations
+
+import os
+import time
+from typing import Any
+
+from zros.context import Context
+from zros.graph import Entity, fetch_entities
+
+__all__ = ['cli_context', 'cli_node', 'graph_entities', 'wait_for_graph', 'is_hidden']
+
+CLI_NODE_PREFIX = '_zros_cli_'
+
+
+def cli_context() -> Context:
+    """A context for one CLI command (no signal handlers: Ctrl-C is KeyboardInterrupt)."""
+    return Context().init([], install_signal_handlers=False)
+
+
+def cli_node(context: Context) -> Any:
+    """A hidden node (leading '_', as ros2cli's) for verbs that subscribe or publish."""
+    from zros.node import Node
+    return Node(f'{CLI_NODE_PREFIX}{os.getpid()}', context=context, enable_rosout=False,
+                use_global_arguments=False)
+
+
+def graph_entities(context: Context, timeout: float = 1.0) -> list[Entity]:
+    return fetch_entities(context.session, context.domain_id, timeout)
+
+
+def wait_for_graph(context: Context, predicate, timeout: float) -> list[Entity] | None:
+    """Re-read the graph until `predicate(entities)` holds; the entities, or None on timeout."""
+    deadline = time.monotonic() + timeout
+    while True:
+        entities = graph_entities(context)
+        if predicate(entities):
+            return entities
+        if time.monotonic() >= deadline:
+            return None
+        time.sleep(0.05)
+
+
+def is_hidden(name: str) -> bool:
+    """ros2's rule: any token of the name starting with '_' hides it."""
+    return any(part.startswith('_') for part in name.split('/') if part)

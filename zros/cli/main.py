@@ -1,0 +1,75 @@
+"""`zros`: the command line (ros2cli's verbs and output formats).
+
+Verb modules are imported only when their verb runs, so `zros node list` does not pay for
+numpy or message classes. Every expected failure is a ZrosError (or CliError) and prints one
+line to stderr with a non-zero exit: never a traceback.
+"""
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+__all__ = ['main']
+
+# verb -> (module, one-line help)
+VERBS = {
+    'run': ('zros.cli.run', 'Run an executable from a package (like ros2 run)'),
+    'topic': ('zros.cli.topic', 'Inspect and publish topics'),
+    'node': ('zros.cli.node', 'Inspect nodes'),
+    'interface': ('zros.cli.interface', 'Show message, service and action definitions'),
+}
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog='zros', description='zros: ROS 2 style tools on Zenoh. Run "zros <verb> -h" for help on a verb.')
+    parser.add_argument('--version', action='store_true', help='print the zros version and exit')
+    sub = parser.add_subparsers(dest='verb', metavar='<verb>')
+    for verb, (module, help_text) in VERBS.items():
+        verb_parser = sub.add_parser(verb, help=help_text, description=help_text)
+        importlib.import_module(module).add_arguments(verb_parser)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    from zros.errors import ZrosError
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv[:1] == ['run']:
+        # `zros run` passes everything after the executable through untouched, --ros-args included.
+        from zros.cli import run
+        try:
+            return run.main_passthrough(argv[1:])
+        except ZrosError as exc:
+            print(f'zros run: {exc}', file=sys.stderr)
+            return 1
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.version:
+        from zros import __version__
+        print(f'zros {__version__}')
+        return 0
+    if not args.verb:
+        parser.print_help()
+        return 0
+    handler = getattr(args, 'handler', None)
+    if handler is None:
+        parser.parse_args([args.verb, '-h'])
+        return 0
+    try:
+        return handler(args) or 0
+    except KeyboardInterrupt:
+        return 130
+    except ZrosError as exc:
+        print(f'zros {args.verb}: {exc}', file=sys.stderr)
+        return 1
+    except BrokenPipeError:
+        return 0
+
+
+def entry_point() -> None:
+    sys.exit(main())
+
+
+if __name__ == '__main__':
+    entry_point()

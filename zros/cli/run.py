@@ -1,0 +1,100 @@
+"""`zros run PKG EXECUTABLE [args...]`: find an executable and run it in this process.
+
+Executables are looked up in this order:
+1. entry points in the group `zros.nodes` named `PKG/EXECUTABLE` (how an installed
+   package registers its own nodes, see docs/nodes.md);
+2. modules `nodes.PKG.EXECUTABLE` shipped with zros (the `nodes/` directory);
+3. `PKG/EXECUTABLE.py` under each directory of `ZROS_NODE_PATH`.
+The module's `main()` is called with sys.argv set to [EXECUTABLE, args...], the way
+ros2 run's executables see their arguments (`--ros-args` included).
+"""
+from __future__ import annotations
+
+import argparse
+import importlib
+import importlib.util
+import os
+import sys
+from importlib import metadata
+from pathlib import Path
+from typing import Any, Callable
+
+__all__ = ['add_arguments', 'main_passthrough', 'find_executable', 'list_executables']
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument('package_name', help='package, e.g. demo_nodes')
+    parser.add_argument('executable_name', help='executable in the package, e.g. talker')
+    parser.add_argument('argv', nargs=argparse.REMAINDER, help='arguments for the executable (and --ros-args ...)')
+
+
+def _node_path_dirs() -> list[Path]:
+    return [Path(p) for p in os.environ.get('ZROS_NODE_PATH', '').split(os.pathsep) if p]
+
+
+def _builtin_nodes_dir() -> Path:
+    import nodes
+    return Path(list(nodes.__path__)[0])
+
+
+def list_packages() -> list[str]:
+    found = {ep.name.split('/')[0] for ep in metadata.entry_points(group='zros.nodes')}
+    for root in [_builtin_nodes_dir(), *_node_path_dirs()]:
+        if root.is_dir():
+            found.update(p.name for p in root.iterdir() if p.is_dir() and not p.name.startswith(('_', '.')))
+    return sorted(found)
+
+
+def list_executables(package: str) -> list[str]:
+    found = {ep.name.split('/', 1)[1] for ep in metadata.entry_points(group='zros.nodes')
+             if ep.name.startswith(package + '/')}
+    for root in [_builtin_nodes_dir(), *_node_path_dirs()]:
+        folder = root / package
+        if folder.is_dir():
+            found.update(p.stem for p in folder.glob('*.py') if not p.stem.startswith('_'))
+    return sorted(found)
+
+
+def find_executable(package: str, executable: str) -> Callable[[], Any]:
+    """The callable that runs PKG/EXECUTABLE; CliError (one line) when there is none."""
+    from zros.errors import CliError
+    for ep in metadata.entry_points(group='zros.nodes'):
+        if ep.name == f'{package}/{executable}':
+            return ep.load()
+    if package not in list_packages():
+        raise CliError(f"Package '{package}' not found")
+    if executable not in list_executables(package):
+        choices = ', '.join(list_executables(package)) or 'none'
+        raise CliError(f"No executable '{executable}' found in package '{package}' (available: {choices})")
+    if (_builtin_nodes_dir() / package / f'{executable}.py').is_file():
+        module = importlib.import_module(f'nodes.{package}.{executable}')
+    else:
+        path = next(root / package / f'{executable}.py' for root in _node_path_dirs()
+                    if (root / package / f'{executable}.py').is_file())
+        spec = importlib.util.spec_from_file_location(f'zros_node_{package}_{executable}', path)
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+    main = getattr(module, 'main', None)
+    if not callable(main):
+        raise CliError(f"'{package}/{executable}' has no main() function")
+    return main
+
+
+def main_passthrough(argv: list[str]) -> int:
+    from zros.errors import CliError
+    if not argv or argv[0] in ('-h', '--help'):
+        print(__doc__.strip())
+        print('\nusage: zros run PACKAGE EXECUTABLE [args...] [--ros-args ...]')
+        print('packages: ' + ', '.join(list_packages()))
+        return 0
+    if len(argv) == 1:
+        raise CliError(f"usage: zros run PACKAGE EXECUTABLE [args...]; executables of '{argv[0]}': "
+                       + (', '.join(list_executables(argv[0])) or 'none'))
+    package, executable, rest = argv[0], argv[1], argv[2:]
+    entry = find_executable(package, executable)
+    sys.argv = [executable, *rest]
+    try:
+        result = entry()
+    except KeyboardInterrupt:
+        return 130
+    return result if isinstance(result, int) else 0

@@ -1,0 +1,203 @@
+"""The process's connection to the zros system: one Zenoh session, shared by all its nodes.
+
+`zros.init()` opens it (becoming the loopback hub if none is running, see zros.config), and
+`zros.shutdown()` closes everything in order: executors stop, nodes undeclare their entities
+and liveliness tokens, then the session closes. An atexit hook does the same for programs that
+forget, because a Zenoh session left open can keep the interpreter from exiting.
+"""
+from __future__ import annotations
+
+import atexit
+import itertools
+import os
+import signal
+import sys
+import threading
+import weakref
+from typing import Any, Callable
+
+from zros.arguments import RosArgs, parse_ros_args
+from zros.config import SessionSettings, open_session, settings_from_env
+from zros.errors import NotInitializedError, ZrosError
+from zros.logging import set_logger_level, severity_from_string
+
+__all__ = ['Context', 'get_default_context']
+
+
+class Context:
+    def __init__(self) -> None:
+        self._lock = threading.RLock()
+        self._session = None
+        self._is_hub = False
+        self._settings: SessionSettings | None = None
+        self._graph = None
+        self._args = RosArgs()
+        self._argv: list[str] = []
+        self._ok = False
+        self._ids = itertools.count(1)
+        self._nodes: weakref.WeakSet = weakref.WeakSet()
+        self._executors: weakref.WeakSet = weakref.WeakSet()
+        self._on_shutdown: list[Callable[[], None]] = []
+        self._closed = threading.Event()
+        self._closed.set()
+
+    # -- life cycle ----------------------------------------------------------------------
+    def init(self, args: list[str] | None = None, *, domain_id: int | None = None,
+             install_signal_handlers: bool = True) -> 'Context':
+        with self._lock:
+            if self._ok:
+                raise RuntimeError('Context.init() must only be called once')
+            argv = list(sys.argv if args is None else args)
+            parsed = parse_ros_args(argv)
+            for logger, level in parsed.log_levels:
+                set_logger_level(logger, severity_from_string(level))
+            settings = settings_from_env(domain_id=domain_id)
+            self._session, self._is_hub = open_session(settings)
+            self._settings, self._args, self._argv = settings, parsed, argv
+            self._graph = None
+            self._closed.clear()
+            self._ok = True
+        _register_exit_hook(self)
+        if install_signal_handlers:
+            _install_sigterm_handler()
+        return self
+
+    def ok(self) -> bool:
+        return self._ok
+
+    def shutdown(self) -> None:
+        """Close everything this context opened. Calling it twice is harmless; a call made
+        while another thread is shutting down waits for it (up to 5 s), so the interpreter
+        never exits in the middle of closing the Zenoh session."""
+        with self._lock:
+            waiting = not self._ok
+            if not waiting:
+                self._ok = False
+                callbacks, self._on_shutdown = self._on_shutdown, []
+        if waiting:
+            self._closed.wait(5.0)
+            return
+        for executor in list(self._executors):
+            executor.wake()
+        for callback in callbacks:
+            try:
+                callback()
+            except Exception as exc:  # noqa: BLE001 - one failing hook must not stop the rest
+                print(f'zros: shutdown callback failed: {exc}', file=sys.stderr)
+        for node in list(self._nodes):
+            node.destroy_node()
+        with self._lock:
+            if self._graph is not None:
+                self._graph.close()
+                self._graph = None
+            if self._session is not None:
+                try:
+                    self._session.close()
+                except Exception:  # noqa: BLE001 - the session may already be closing at exit
+                    pass
+                self._session = None
+        self._closed.set()
+
+    def try_shutdown(self) -> None:
+        self.shutdown()
+
+    def on_shutdown(self, callback: Callable[[], None]) -> None:
+        with self._lock:
+            self._on_shutdown.append(callback)
+
+    def __enter__(self) -> 'Context':
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.shutdown()
+
+    # -- what nodes use ------------------------------------------------------------------
+    @property
+    def session(self) -> Any:
+        if self._session is None:
+            raise NotInitializedError('zros is not initialized: call zros.init() first')
+        return self._session
+
+    @property
+    def settings(self) -> SessionSettings:
+        if self._settings is None:
+            raise NotInitializedError('zros is not initialized: call zros.init() first')
+        return self._settings
+
+    @property
+    def domain_id(self) -> int:
+        return self.settings.domain_id
+
+    @property
+    def is_hub(self) -> bool:
+        return self._is_hub
+
+    @property
+    def ros_args(self) -> RosArgs:
+        return self._args
+
+    @property
+    def argv(self) -> list[str]:
+        return list(self._argv)
+
+    @property
+    def graph(self):
+        from zros.graph import Graph
+        with self._lock:
+            if self._graph is None:
+                self._graph = Graph(self.session, self.domain_id)
+            return self._graph
+
+    def next_id(self) -> int:
+        return next(self._ids)
+
+    def _register_node(self, node: Any) -> None:
+        if not self._ok:
+            raise NotInitializedError('zros is not initialized: call zros.init() first')
+        self._nodes.add(node)
+
+    def _unregister_node(self, node: Any) -> None:
+        self._nodes.discard(node)
+
+    def _register_executor(self, executor: Any) -> None:
+        self._executors.add(executor)
+
+    def _unregister_executor(self, executor: Any) -> None:
+        self._executors.discard(executor)
+
+
+_default_context = Context()
+_exit_hooked: weakref.WeakSet = weakref.WeakSet()
+
+
+def get_default_context() -> Context:
+    return _default_context
+
+
+def _register_exit_hook(context: Context) -> None:
+    if context not in _exit_hooked:
+        _exit_hooked.add(context)
+        atexit.register(context.shutdown)
+
+
+def _install_sigterm_handler() -> None:
+    """SIGTERM shuts the default context down, so spin() ends with ExternalShutdownException
+    and the program's own cleanup runs (SIGINT keeps Python's KeyboardInterrupt, as rclpy)."""
+    if threading.current_thread() is not threading.main_thread():
+        return
+    if signal.getsignal(signal.SIGTERM) not in (signal.SIG_DFL, None):
+        return
+
+    def on_sigterm(signum: int, frame: object) -> None:
+        threading.Thread(target=_shutdown_all, daemon=True).start()
+
+    signal.signal(signal.SIGTERM, on_sigterm)
+
+
+def _shutdown_all() -> None:
+    for context in list(_exit_hooked):
+        context.shutdown()
+    # A program that is not spinning would otherwise ignore SIGTERM for good.
+    fallback = threading.Timer(3.0, lambda: os._exit(143))
+    fallback.daemon = True
+    fallback.start()

@@ -1,0 +1,54 @@
+"""Errors raised by zros.
+
+One base class, so that a user (or the CLI) can catch every zros failure in one place and
+print it as a one-line message instead of a traceback.
+"""
+from __future__ import annotations
+
+__all__ = [
+    'ZrosError',
+    'InvalidNameError',
+    'InterfaceError',
+    'InterfaceParseError',
+    'InterfaceNotFoundError',
+    'MessageTypeError',
+    'DecodeError',
+    'NotInitializedError',
+    'CliError',
+]
+
+
+class ZrosError(Exception):
+    """Base of every error zros raises on purpose."""
+
+
+class InvalidNameError(ZrosError, ValueError):
+    """A topic, node, namespace or service name breaks the ROS 2 naming rules."""
+
+
+class InterfaceError(ZrosError):
+    """An interface (.msg/.srv/.action) cannot be loaded or used."""
+
+
+class InterfaceParseError(InterfaceError):
+    """An interface file has a syntax error; the message starts with `file:line:`."""
+
+
+class InterfaceNotFoundError(InterfaceError, ImportError):
+    """No interface of that name exists on the interface search path."""
+
+
+class MessageTypeError(ZrosError, TypeError):
+    """A message field got a value of the wrong type; the message names the field."""
+
+
+class DecodeError(ZrosError):
+    """A payload could not be decoded as the expected message type."""
+
+
+class NotInitializedError(ZrosError, RuntimeError):
+    """An operation needs `zros.init()` to have been called first."""
+
+
+class CliError(ZrosError):
+    """A command-line failure the user can fix; the CLI prints it as one line and exits 1."""

@@ -1,0 +1,315 @@
+"""Node: a factory and registry for the entities one participant in the graph owns.
+
+Entities own their Zenoh handles and liveliness tokens; the node only keeps the list and
+destroys them in one loop. Names go through remapping (`--ros-args -r`) and validation here,
+so nothing unvalidated ever reaches zros.keys.
+"""
+from __future__ import annotations
+
+from typing import Any, Callable, Iterable
+
+from zros.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup
+from zros.clock import ROSClock
+from zros.context import Context, get_default_context
+from zros.errors import NotInitializedError
+from zros.graph import Entity, EntityKind, endpoints, entity_token, names_and_types, node_names_and_namespaces
+from zros.logging import RcutilsLogger, add_sink, get_logger, remove_sink
+from zros.names import (Remappings, expand_topic_name, fully_qualified_node_name, normalize_namespace,
+                        validate_node_name)
+from zros.qos import QoSProfile, qos_profile_default, to_profile
+from zros.arguments import parse_ros_args
+from zros.publisher import Publisher
+from zros.subscription import Subscription
+from zros.timer import Rate, Timer
+
+__all__ = ['Node']
+
+
+class Node:
+    """A ROS node (rclpy.node.Node's interface)."""
+
+    def __init__(self, node_name: str, *, context: Context | None = None, cli_args: list[str] | None = None,
+                 namespace: str | None = None, use_global_arguments: bool = True,
+                 enable_rosout: bool = True, start_parameter_services: bool = True,
+                 parameter_overrides: list | None = None, allow_undeclared_parameters: bool = False,
+                 automatically_declare_parameters_from_overrides: bool = False) -> None:
+        self._context = context or get_default_context()
+        if not self._context.ok():
+            raise NotInitializedError('zros is not initialized: call zros.init() before creating a node')
+        validate_node_name(node_name)
+        self._remappings = Remappings()
+        arg_sets = []
+        if cli_args:
+            arg_sets.append(parse_ros_args(['--ros-args', *cli_args] if '--ros-args' not in cli_args else cli_args))
+        if use_global_arguments:
+            arg_sets.append(self._context.ros_args)
+        for args in arg_sets:  # node-local rules first: the first matching rule wins
+            for rule in args.remaps:
+                self._remappings.add(rule)
+        self._ros_args = arg_sets
+        new_name, new_ns = self._remappings.node_overrides(node_name)
+        self._original_name = node_name
+        self._name = validate_node_name(new_name or node_name)
+        self._namespace = normalize_namespace(new_ns if new_ns is not None else namespace)
+        self._logger = get_logger(self._logger_name())
+        self._clock = ROSClock()
+        self._default_callback_group = MutuallyExclusiveCallbackGroup()
+        self._executor: Any = None
+        self._entities: list[Any] = []
+        self._timers: list[Timer] = []
+        self._tokens: dict[int, Any] = {}
+        self._node_id = self._context.next_id()
+        self._zid = str(self._context.session.info.zid())
+        self._destroyed = False
+        self._node_token = self._declare_token(Entity(EntityKind.NODE, self._zid, self._node_id, 0,
+                                                      self._namespace, self._name))
+        self._context._register_node(self)
+        self._rosout = None
+        self._rosout_sink = None
+        if enable_rosout and not any(a.disable_rosout for a in arg_sets):
+            self._start_rosout()
+
+    # -- identity --------------------------------------------------------------------------
+    def _logger_name(self) -> str:
+        ns = self._namespace.strip('/').replace('/', '.')
+        return f'{ns}.{self._name}' if ns else self._name
+
+    def get_name(self) -> str:
+        return self._name
+
+    def get_namespace(self) -> str:
+        return self._namespace
+
+    def get_fully_qualified_name(self) -> str:
+        return fully_qualified_node_name(self._namespace, self._name)
+
+    @property
+    def context(self) -> Context:
+        return self._context
+
+    @property
+    def executor(self) -> Any:
+        return self._executor
+
+    @executor.setter
+    def executor(self, executor: Any) -> None:
+        if self._executor is not None and self._executor is not executor:
+            self._executor.remove_node(self)
+        if executor is not None:
+            executor.add_node(self)
+
+    @property
+    def default_callback_group(self) -> CallbackGroup:
+        return self._default_callback_group
+
+    def get_logger(self) -> RcutilsLogger:
+        return self._logger
+
+    def get_clock(self) -> ROSClock:
+        return self._clock
+
+    def resolve_topic_name(self, topic: str, *, only_expand: bool = False) -> str:
+        """Expand `topic` against this node and apply remapping (unless only_expand)."""
+        fq = expand_topic_name(topic, self._name, self._namespace)
+        if only_expand:
+            return fq
+        return self._remappings.apply(fq, self._name, self._namespace, self._original_name)
+
+    resolve_service_name = resolve_topic_name
+
+    # -- entities --------------------------------------------------------------------------
+    def _declare_token(self, entity: Entity) -> Any:
+        return self._context.session.liveliness().declare_token(entity_token(self._context.domain_id, entity))
+
+    def _declare_entity(self, kind: str, name: str, iface_type: Any, qos: QoSProfile | None = None) -> Entity:
+        """Announce an entity in the graph; returns its record (kept by the entity)."""
+        entity = Entity(kind, self._zid, self._node_id, self._context.next_id(), self._namespace, self._name,
+                        name, iface_type._TYPE, iface_type._HASH, qos.to_token() if qos else '')
+        self._tokens[entity.entity_id] = self._declare_token(entity)
+        return entity
+
+    def _undeclare_entity(self, entity: Entity) -> None:
+        token = self._tokens.pop(entity.entity_id, None)
+        if token is not None:
+            try:
+                token.undeclare()
+            except Exception:  # noqa: BLE001 - the session may be closing already
+                pass
+
+    def _add(self, entity: Any) -> Any:
+        self._entities.append(entity)
+        if self._executor is not None:
+            self._executor.wake()
+        return entity
+
+    def _destroy_entity(self, entity: Any) -> bool:
+        if entity in self._entities:
+            self._entities.remove(entity)
+            if entity in self._timers:
+                self._timers.remove(entity)
+            entity.destroy()
+            return True
+        return False
+
+    def _check_alive(self) -> None:
+        if self._destroyed:
+            raise RuntimeError(f"node '{self._name}' has been destroyed")
+
+    def create_publisher(self, msg_type: type, topic: str, qos_profile: QoSProfile | int = qos_profile_default,
+                         *, callback_group: CallbackGroup | None = None, event_callbacks: Any = None,
+                         qos_overriding_options: Any = None, publisher_class: type = Publisher) -> Publisher:
+        self._check_alive()
+        _require_message_type(msg_type)
+        return self._add(publisher_class(self, msg_type, self.resolve_topic_name(topic), to_profile(qos_profile),
+                                         callback_group or self._default_callback_group))
+
+    def create_subscription(self, msg_type: type, topic: str, callback: Callable,
+                            qos_profile: QoSProfile | int = qos_profile_default, *,
+                            callback_group: CallbackGroup | None = None, event_callbacks: Any = None,
+                            qos_overriding_options: Any = None, raw: bool = False) -> Subscription:
+        self._check_alive()
+        _require_message_type(msg_type)
+        if not callable(callback):
+            raise TypeError('subscription callback must be callable')
+        return self._add(Subscription(self, msg_type, self.resolve_topic_name(topic), callback,
+                                      to_profile(qos_profile), callback_group or self._default_callback_group,
+                                      raw=raw))
+
+    def create_timer(self, timer_period_sec: float, callback: Callable[[], Any],
+                     callback_group: CallbackGroup | None = None, clock: Any = None,
+                     autostart: bool = True) -> Timer:
+        self._check_alive()
+        timer = Timer(callback, callback_group or self._default_callback_group,
+                      int(timer_period_sec * 1_000_000_000), clock or self._clock, node=self, autostart=autostart)
+        self._timers.append(timer)
+        return self._add(timer)
+
+    def create_rate(self, frequency: float, clock: Any = None) -> Rate:
+        return Rate(frequency)
+
+    def destroy_publisher(self, publisher: Publisher) -> bool:
+        return self._destroy_entity(publisher)
+
+    def destroy_subscription(self, subscription: Subscription) -> bool:
+        return self._destroy_entity(subscription)
+
+    def destroy_timer(self, timer: Timer) -> bool:
+        return self._destroy_entity(timer)
+
+    def destroy_rate(self, rate: Rate) -> bool:
+        rate.destroy()
+        return True
+
+    @property
+    def publishers(self) -> Iterable[Publisher]:
+        return [e for e in self._entities if isinstance(e, Publisher)]
+
+    @property
+    def subscriptions(self) -> Iterable[Subscription]:
+        return [e for e in self._entities if isinstance(e, Subscription)]
+
+    @property
+    def timers(self) -> Iterable[Timer]:
+        return list(self._timers)
+
+    def _timers_snapshot(self) -> list[Timer]:
+        return self._timers[:]
+
+    # -- executor hooks ----------------------------------------------------------------------
+    def _attach_executor(self, executor: Any) -> None:
+        self._executor = executor
+        for entity in self._entities:
+            if getattr(entity, '_has_work', None) and entity._has_work():
+                for _ in range(len(entity._queue)):
+                    executor._enqueue(entity)
+
+    def _detach_executor(self, executor: Any) -> None:
+        if self._executor is executor:
+            self._executor = None
+
+    # -- graph -----------------------------------------------------------------------------
+    def _graph_entities(self) -> list[Entity]:
+        return self._context.graph.entities()
+
+    def get_node_names(self) -> list[str]:
+        return [name for name, _ in node_names_and_namespaces(self._graph_entities())]
+
+    def get_node_names_and_namespaces(self) -> list[tuple[str, str]]:
+        return node_names_and_namespaces(self._graph_entities())
+
+    def get_fully_qualified_node_names(self) -> list[str]:
+        return [fully_qualified_node_name(ns, n) for n, ns in self.get_node_names_and_namespaces()]
+
+    def get_topic_names_and_types(self, no_demangle: bool = False) -> list[tuple[str, list[str]]]:
+        return names_and_types(self._graph_entities(), (EntityKind.PUBLISHER, EntityKind.SUBSCRIPTION))
+
+    def count_publishers(self, topic_name: str) -> int:
+        return len(endpoints(self._graph_entities(), EntityKind.PUBLISHER, self.resolve_topic_name(topic_name)))
+
+    def count_subscribers(self, topic_name: str) -> int:
+        return len(endpoints(self._graph_entities(), EntityKind.SUBSCRIPTION, self.resolve_topic_name(topic_name)))
+
+    def get_publishers_info_by_topic(self, topic_name: str) -> list[Entity]:
+        return endpoints(self._graph_entities(), EntityKind.PUBLISHER, self.resolve_topic_name(topic_name))
+
+    def get_subscriptions_info_by_topic(self, topic_name: str) -> list[Entity]:
+        return endpoints(self._graph_entities(), EntityKind.SUBSCRIPTION, self.resolve_topic_name(topic_name))
+
+    def wait_for_node(self, fully_qualified_node_name: str, timeout: float) -> bool:
+        target = fully_qualified_node_name if fully_qualified_node_name.startswith('/') else '/' + fully_qualified_node_name
+        return self._context.graph.wait_for(
+            lambda entities: any(e.kind == EntityKind.NODE and e.node_fqn == target for e in entities), timeout)
+
+    # -- /rosout ---------------------------------------------------------------------------
+    def _start_rosout(self) -> None:
+        from interfaces.rcl_interfaces.msg import Log
+        self._rosout = Publisher(self, Log, '/rosout', QoSProfile(depth=1000), self._default_callback_group)
+        prefix = self._logger.name
+
+        def sink(severity: int, name: str, message: str, time_ns: int, file: str, function: str, line: int) -> None:
+            if self._rosout is None or not (name == prefix or name.startswith(prefix + '.')):
+                return
+            try:
+                sec, nsec = divmod(time_ns, 1_000_000_000)
+                log = Log(level=int(severity), name=name, msg=message, file=file, function=function, line=line)
+                log.stamp.sec, log.stamp.nanosec = sec, nsec
+                self._rosout.publish(log)
+            except Exception:  # noqa: BLE001 - logging must never raise into user code
+                pass
+        self._rosout_sink = sink
+        add_sink(sink)
+
+    # -- teardown ----------------------------------------------------------------------------
+    def destroy_node(self) -> None:
+        """Undeclare every entity and the node's token; calling it twice is harmless."""
+        if self._destroyed:
+            return
+        self._destroyed = True
+        if self._executor is not None:
+            self._executor.remove_node(self)
+        if self._rosout_sink is not None:
+            remove_sink(self._rosout_sink)
+        for entity in list(self._entities):
+            self._destroy_entity(entity)
+        if self._rosout is not None:
+            self._rosout.destroy()
+            self._rosout = None
+        try:
+            self._node_token.undeclare()
+        except Exception:  # noqa: BLE001 - the session may be closing already
+            pass
+        self._context._unregister_node(self)
+
+    def __enter__(self) -> 'Node':
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.destroy_node()
+
+    def __repr__(self) -> str:
+        return f'<zros Node {self.get_fully_qualified_name()}>'
+
+
+def _require_message_type(msg_type: Any) -> None:
+    if not (isinstance(msg_type, type) and hasattr(msg_type, '_TO_WIRE')):
+        raise TypeError(f'{msg_type!r} is not a message class (import it from interfaces.<pkg>.msg)')

@@ -1,0 +1,191 @@
+"""Quality of service: the ROS 2 profiles and what they mean on Zenoh.
+
+A profile is frozen plain data so it can be shared, hashed and written into a liveliness
+token (`to_token` / `from_token`), which is how `zros topic info -v` and the incompatibility
+check learn what the other side asked for.
+
+Mapping to Zenoh (see docs/protocol.md):
+- RELIABLE -> Zenoh reliable + CongestionControl.BLOCK: the publisher waits rather than lose a
+  message silently; only the subscriber's own depth rule drops, and it counts the drops.
+- BEST_EFFORT -> CongestionControl.DROP.
+- TRANSIENT_LOCAL -> zenoh-ext advanced publisher (cache of `depth`) / advanced subscriber
+  (history query for late joiners).
+"""
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass, replace
+
+__all__ = [
+    'HistoryPolicy', 'ReliabilityPolicy', 'DurabilityPolicy', 'LivelinessPolicy',
+    'QoSProfile', 'QoSPresetProfiles', 'Duration',
+    'qos_profile_default', 'qos_profile_sensor_data', 'qos_profile_services_default',
+    'qos_profile_parameters', 'qos_profile_parameter_events', 'qos_profile_system_default',
+    'qos_profile_action_status_default', 'qos_profile_best_available',
+    'qos_check_compatible', 'QoSCompatibility', 'to_profile',
+]
+
+
+class HistoryPolicy(enum.IntEnum):
+    SYSTEM_DEFAULT = 0
+    KEEP_LAST = 1
+    KEEP_ALL = 2
+    UNKNOWN = 3
+
+
+class ReliabilityPolicy(enum.IntEnum):
+    SYSTEM_DEFAULT = 0
+    RELIABLE = 1
+    BEST_EFFORT = 2
+    UNKNOWN = 3
+    BEST_AVAILABLE = 4
+
+
+class DurabilityPolicy(enum.IntEnum):
+    SYSTEM_DEFAULT = 0
+    TRANSIENT_LOCAL = 1
+    VOLATILE = 2
+    UNKNOWN = 3
+    BEST_AVAILABLE = 4
+
+
+class LivelinessPolicy(enum.IntEnum):
+    SYSTEM_DEFAULT = 0
+    AUTOMATIC = 1
+    MANUAL_BY_TOPIC = 3
+    UNKNOWN = 4
+    BEST_AVAILABLE = 5
+
+
+# rclpy spells these both ways; keep the old aliases working.
+QoSHistoryPolicy = HistoryPolicy
+QoSReliabilityPolicy = ReliabilityPolicy
+QoSDurabilityPolicy = DurabilityPolicy
+QoSLivelinessPolicy = LivelinessPolicy
+
+
+@dataclass(frozen=True)
+class Duration:
+    """A QoS duration (deadline, lifespan, lease); zeros mean 'unset / infinite'."""
+
+    seconds: int = 0
+    nanoseconds: int = 0
+
+
+#: Keep-all subscriptions still need a bound in Python memory; this is it.
+KEEP_ALL_DEPTH = 100_000
+
+
+@dataclass(frozen=True)
+class QoSProfile:
+    """A ROS 2 QoS profile. `QoSProfile(depth=10)` is the ROS default profile."""
+
+    history: HistoryPolicy = HistoryPolicy.KEEP_LAST
+    depth: int = 10
+    reliability: ReliabilityPolicy = ReliabilityPolicy.RELIABLE
+    durability: DurabilityPolicy = DurabilityPolicy.VOLATILE
+    liveliness: LivelinessPolicy = LivelinessPolicy.AUTOMATIC
+    deadline: Duration = Duration()
+    lifespan: Duration = Duration()
+    liveliness_lease_duration: Duration = Duration()
+    avoid_ros_namespace_conventions: bool = False
+
+    def __post_init__(self) -> None:
+        # Accept plain ints for the policies, as rclpy does, and normalise SYSTEM_DEFAULT
+        # to the values zros actually uses so tokens and comparisons are exact.
+        object.__setattr__(self, 'history', HistoryPolicy(self.history))
+        object.__setattr__(self, 'reliability', ReliabilityPolicy(self.reliability))
+        object.__setattr__(self, 'durability', DurabilityPolicy(self.durability))
+        object.__setattr__(self, 'liveliness', LivelinessPolicy(self.liveliness))
+        if self.history == HistoryPolicy.SYSTEM_DEFAULT:
+            object.__setattr__(self, 'history', HistoryPolicy.KEEP_LAST)
+        if self.reliability == ReliabilityPolicy.SYSTEM_DEFAULT:
+            object.__setattr__(self, 'reliability', ReliabilityPolicy.RELIABLE)
+        if self.durability == DurabilityPolicy.SYSTEM_DEFAULT:
+            object.__setattr__(self, 'durability', DurabilityPolicy.VOLATILE)
+        if self.liveliness == LivelinessPolicy.SYSTEM_DEFAULT:
+            object.__setattr__(self, 'liveliness', LivelinessPolicy.AUTOMATIC)
+        if not isinstance(self.depth, int) or self.depth < 0:
+            raise ValueError(f'QoS depth must be a non-negative int, got {self.depth!r}')
+        if self.history == HistoryPolicy.KEEP_LAST and self.depth == 0:
+            raise ValueError('QoS depth must be > 0 with KEEP_LAST history')
+
+    @property
+    def queue_depth(self) -> int:
+        """Length of the per-subscription queue this profile asks for."""
+        return KEEP_ALL_DEPTH if self.history == HistoryPolicy.KEEP_ALL else self.depth
+
+    def to_token(self) -> str:
+        """Compact text for liveliness tokens: `R|B : V|T : L<depth>|A`."""
+        rel = 'B' if self.reliability == ReliabilityPolicy.BEST_EFFORT else 'R'
+        dur = 'T' if self.durability == DurabilityPolicy.TRANSIENT_LOCAL else 'V'
+        hist = 'A' if self.history == HistoryPolicy.KEEP_ALL else f'L{self.depth}'
+        return f'{rel}:{dur}:{hist}'
+
+    @classmethod
+    def from_token(cls, text: str) -> 'QoSProfile':
+        try:
+            rel, dur, hist = text.split(':')
+            return cls(
+                reliability=ReliabilityPolicy.BEST_EFFORT if rel == 'B' else ReliabilityPolicy.RELIABLE,
+                durability=DurabilityPolicy.TRANSIENT_LOCAL if dur == 'T' else DurabilityPolicy.VOLATILE,
+                history=HistoryPolicy.KEEP_ALL if hist == 'A' else HistoryPolicy.KEEP_LAST,
+                depth=0 if hist == 'A' else int(hist[1:]),
+            )
+        except (ValueError, IndexError):
+            return cls()
+
+
+qos_profile_default = QoSProfile(depth=10)
+qos_profile_sensor_data = QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST_EFFORT)
+qos_profile_services_default = QoSProfile(depth=10)
+qos_profile_parameters = QoSProfile(depth=1000)
+qos_profile_parameter_events = QoSProfile(depth=1000)
+qos_profile_system_default = QoSProfile(depth=10)
+qos_profile_action_status_default = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+qos_profile_best_available = QoSProfile(depth=10)
+
+
+class QoSPresetProfiles(enum.Enum):
+    DEFAULT = qos_profile_default
+    SENSOR_DATA = qos_profile_sensor_data
+    SERVICES_DEFAULT = qos_profile_services_default
+    PARAMETERS = qos_profile_parameters
+    PARAMETER_EVENTS = qos_profile_parameter_events
+    SYSTEM_DEFAULT = qos_profile_system_default
+    ACTION_STATUS_DEFAULT = qos_profile_action_status_default
+    BEST_AVAILABLE = qos_profile_best_available
+
+    @classmethod
+    def get_from_short_key(cls, name: str) -> QoSProfile:
+        return cls[name.upper()].value
+
+
+def to_profile(qos: 'QoSProfile | int') -> QoSProfile:
+    """rclpy accepts a depth where a profile is expected: KEEP_LAST with that depth."""
+    if isinstance(qos, QoSProfile):
+        return qos
+    if isinstance(qos, bool) or not isinstance(qos, int):
+        raise TypeError(f'expected a QoSProfile or an int depth, got {type(qos).__name__}')
+    return replace(qos_profile_default, depth=qos)
+
+
+class QoSCompatibility(enum.IntEnum):
+    OK = 0
+    WARNING = 1
+    ERROR = 2
+
+
+def qos_check_compatible(publisher: QoSProfile, subscription: QoSProfile) -> tuple[QoSCompatibility, str]:
+    """The DDS request/offer rules ROS 2 reports (rclpy.qos.qos_check_compatible).
+
+    zros still delivers across such pairs where Zenoh can, but reports them so that a ROS 2
+    user sees the same warnings (and `zros doctor` can list them).
+    """
+    if (publisher.reliability == ReliabilityPolicy.BEST_EFFORT
+            and subscription.reliability == ReliabilityPolicy.RELIABLE):
+        return QoSCompatibility.ERROR, 'ERROR: Best effort publisher and reliable subscription;'
+    if (publisher.durability == DurabilityPolicy.VOLATILE
+            and subscription.durability == DurabilityPolicy.TRANSIENT_LOCAL):
+        return QoSCompatibility.ERROR, 'ERROR: Volatile publisher and transient local subscription;'
+    return QoSCompatibility.OK, ''

@@ -1,0 +1,83 @@
+"""Points in time, as rclpy.time.Time, convertible to builtin_interfaces/msg/Time."""
+from __future__ import annotations
+
+import enum
+from functools import total_ordering
+
+from zros.duration import Duration
+
+__all__ = ['Time', 'ClockType']
+
+
+class ClockType(enum.IntEnum):
+    UNINITIALIZED = 0
+    ROS_TIME = 1
+    SYSTEM_TIME = 2
+    STEADY_TIME = 3
+
+
+@total_ordering
+class Time:
+    __slots__ = ('_nanoseconds', '_clock_type')
+
+    def __init__(self, *, seconds: float = 0, nanoseconds: int = 0,
+                 clock_type: ClockType = ClockType.SYSTEM_TIME) -> None:
+        total = int(seconds * 1_000_000_000) + int(nanoseconds)
+        if total < 0:
+            raise ValueError('Time must not be negative')
+        self._nanoseconds = total
+        self._clock_type = ClockType(clock_type)
+
+    @property
+    def nanoseconds(self) -> int:
+        return self._nanoseconds
+
+    @property
+    def clock_type(self) -> ClockType:
+        return self._clock_type
+
+    def seconds_nanoseconds(self) -> tuple[int, int]:
+        return divmod(self._nanoseconds, 1_000_000_000)
+
+    def to_msg(self):
+        from interfaces.builtin_interfaces.msg import Time as TimeMsg
+        sec, nsec = divmod(self._nanoseconds, 1_000_000_000)
+        return TimeMsg(sec=sec, nanosec=nsec)
+
+    @classmethod
+    def from_msg(cls, msg, clock_type: ClockType = ClockType.ROS_TIME) -> 'Time':
+        return cls(seconds=msg.sec, nanoseconds=msg.nanosec, clock_type=clock_type)
+
+    def _check(self, other: 'Time') -> None:
+        if not isinstance(other, Time):
+            raise TypeError(f'cannot compare Time with {type(other).__name__}')
+        if other._clock_type != self._clock_type:
+            raise TypeError("Can't compare times with different clock types")
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Time) and (self._nanoseconds, self._clock_type) == (other._nanoseconds, other._clock_type)
+
+    def __lt__(self, other: 'Time') -> bool:
+        self._check(other)
+        return self._nanoseconds < other._nanoseconds
+
+    def __hash__(self) -> int:
+        return hash((self._nanoseconds, self._clock_type))
+
+    def __add__(self, other: Duration) -> 'Time':
+        if not isinstance(other, Duration):
+            return NotImplemented
+        return Time(nanoseconds=self._nanoseconds + other.nanoseconds, clock_type=self._clock_type)
+
+    __radd__ = __add__
+
+    def __sub__(self, other):
+        if isinstance(other, Time):
+            self._check(other)
+            return Duration(nanoseconds=self._nanoseconds - other._nanoseconds)
+        if isinstance(other, Duration):
+            return Time(nanoseconds=self._nanoseconds - other.nanoseconds, clock_type=self._clock_type)
+        return NotImplemented
+
+    def __repr__(self) -> str:
+        return f'Time(nanoseconds={self._nanoseconds}, clock_type={self._clock_type.name})'
