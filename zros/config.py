@@ -77,8 +77,13 @@ def settings_from_env(env: os._Environ | dict | None = None, *, domain_id: int |
 
 
 def _hub_port_free(port: int) -> bool:
-    """A cheap local check before asking Zenoh to bind the hub port (a lost race is handled)."""
+    """A cheap local check before asking Zenoh to bind the hub port (a lost race is handled).
+
+    SO_REUSEADDR as Zenoh's own listener sets it: connections of a hub that just exited linger
+    in TIME_WAIT on the port, and without it the port would look taken for a minute.
+    """
     with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as probe:
+        probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
         try:
             probe.bind(('127.0.0.1', port))
         except OSError:

@@ -15,6 +15,7 @@ __all__ = [
     'DecodeError',
     'NotInitializedError',
     'CliError',
+    'ServiceCallError',
 ]
 
 
@@ -52,3 +53,7 @@ class NotInitializedError(ZrosError, RuntimeError):
 
 class CliError(ZrosError):
     """A command-line failure the user can fix; the CLI prints it as one line and exits 1."""
+
+
+class ServiceCallError(ZrosError):
+    """A service call failed: the server raised, refused the request, or did not answer."""

@@ -16,9 +16,14 @@ from zros.graph import Entity, EntityKind, endpoints, entity_token, names_and_ty
 from zros.logging import RcutilsLogger, add_sink, get_logger, remove_sink
 from zros.names import (Remappings, expand_topic_name, fully_qualified_node_name, normalize_namespace,
                         validate_node_name)
-from zros.qos import QoSProfile, qos_profile_default, to_profile
 from zros.arguments import parse_ros_args
+from zros.client import Client
+from zros.parameter import Parameter
+from zros.parameter_store import ParameterStore
 from zros.publisher import Publisher
+from zros.qos import (QoSProfile, qos_profile_default, qos_profile_parameter_events,
+                      qos_profile_services_default, to_profile)
+from zros.service import Service
 from zros.subscription import Subscription
 from zros.timer import Rate, Timer
 
@@ -68,6 +73,24 @@ class Node:
         self._rosout_sink = None
         if enable_rosout and not any(a.disable_rosout for a in arg_sets):
             self._start_rosout()
+        self._parameters = ParameterStore(
+            self, overrides=ParameterStore.collect_overrides(self.get_fully_qualified_name(), arg_sets,
+                                                             parameter_overrides),
+            allow_undeclared=allow_undeclared_parameters)
+        self._parameters.attach_event_publisher(
+            Publisher(self, _type('rcl_interfaces/msg/ParameterEvent'), '/parameter_events',
+                      qos_profile_parameter_events, self._default_callback_group))
+        self._sim_clock_sub = None
+        self.declare_parameter('use_sim_time', False)
+        self.add_post_set_parameters_callback(self._on_use_sim_time)
+        self._apply_use_sim_time(self.get_parameter('use_sim_time').value)
+        if automatically_declare_parameters_from_overrides:
+            for name, value in self._parameters.overrides.items():
+                if not self.has_parameter(name):
+                    self.declare_parameter(name, value)
+        if start_parameter_services:
+            from zros.parameter_service import ParameterService
+            ParameterService(self)
 
     # -- identity --------------------------------------------------------------------------
     def _logger_name(self) -> str:
@@ -184,6 +207,28 @@ class Node:
         self._timers.append(timer)
         return self._add(timer)
 
+    def create_service(self, srv_type: type, srv_name: str, callback: Callable[[Any, Any], Any], *,
+                       qos_profile: QoSProfile = qos_profile_services_default,
+                       callback_group: CallbackGroup | None = None) -> Service:
+        self._check_alive()
+        _require_service_type(srv_type)
+        return self._add(Service(self, srv_type, self.resolve_service_name(srv_name), callback,
+                                 to_profile(qos_profile), callback_group or self._default_callback_group))
+
+    def create_client(self, srv_type: type, srv_name: str, *,
+                      qos_profile: QoSProfile = qos_profile_services_default,
+                      callback_group: CallbackGroup | None = None) -> Client:
+        self._check_alive()
+        _require_service_type(srv_type)
+        return self._add(Client(self, srv_type, self.resolve_service_name(srv_name), to_profile(qos_profile),
+                                callback_group or self._default_callback_group))
+
+    def destroy_service(self, service: Service) -> bool:
+        return self._destroy_entity(service)
+
+    def destroy_client(self, client: Client) -> bool:
+        return self._destroy_entity(client)
+
     def create_rate(self, frequency: float, clock: Any = None) -> Rate:
         return Rate(frequency)
 
@@ -207,6 +252,14 @@ class Node:
     @property
     def subscriptions(self) -> Iterable[Subscription]:
         return [e for e in self._entities if isinstance(e, Subscription)]
+
+    @property
+    def services(self) -> Iterable[Service]:
+        return [e for e in self._entities if isinstance(e, Service)]
+
+    @property
+    def clients(self) -> Iterable[Client]:
+        return [e for e in self._entities if isinstance(e, Client)]
 
     @property
     def timers(self) -> Iterable[Timer]:
@@ -243,6 +296,32 @@ class Node:
     def get_topic_names_and_types(self, no_demangle: bool = False) -> list[tuple[str, list[str]]]:
         return names_and_types(self._graph_entities(), (EntityKind.PUBLISHER, EntityKind.SUBSCRIPTION))
 
+    def get_service_names_and_types(self) -> list[tuple[str, list[str]]]:
+        return names_and_types(self._graph_entities(), (EntityKind.SERVICE,))
+
+    def _by_node(self, kind: str, node_name: str, node_namespace: str) -> list[tuple[str, list[str]]]:
+        ns = normalize_namespace(node_namespace)
+        return names_and_types([e for e in self._graph_entities()
+                                if e.node_name == node_name and e.namespace == ns], (kind,))
+
+    def get_publisher_names_and_types_by_node(self, node_name: str, node_namespace: str) -> list:
+        return self._by_node(EntityKind.PUBLISHER, node_name, node_namespace)
+
+    def get_subscriber_names_and_types_by_node(self, node_name: str, node_namespace: str) -> list:
+        return self._by_node(EntityKind.SUBSCRIPTION, node_name, node_namespace)
+
+    def get_service_names_and_types_by_node(self, node_name: str, node_namespace: str) -> list:
+        return self._by_node(EntityKind.SERVICE, node_name, node_namespace)
+
+    def get_client_names_and_types_by_node(self, node_name: str, node_namespace: str) -> list:
+        return self._by_node(EntityKind.CLIENT, node_name, node_namespace)
+
+    def count_services(self, service_name: str) -> int:
+        return len(endpoints(self._graph_entities(), EntityKind.SERVICE, self.resolve_service_name(service_name)))
+
+    def count_clients(self, service_name: str) -> int:
+        return len(endpoints(self._graph_entities(), EntityKind.CLIENT, self.resolve_service_name(service_name)))
+
     def count_publishers(self, topic_name: str) -> int:
         return len(endpoints(self._graph_entities(), EntityKind.PUBLISHER, self.resolve_topic_name(topic_name)))
 
@@ -259,6 +338,107 @@ class Node:
         target = fully_qualified_node_name if fully_qualified_node_name.startswith('/') else '/' + fully_qualified_node_name
         return self._context.graph.wait_for(
             lambda entities: any(e.kind == EntityKind.NODE and e.node_fqn == target for e in entities), timeout)
+
+    # -- parameters (rclpy's API; the rules live in ParameterStore) ----------------------------
+    def declare_parameter(self, name: str, value: Any = None, descriptor: Any = None,
+                          ignore_override: bool = False) -> Parameter:
+        return self._parameters.declare(name, value, descriptor, ignore_override)
+
+    def declare_parameters(self, namespace: str, parameters: list, ignore_override: bool = False) -> list[Parameter]:
+        declared = []
+        for entry in parameters:
+            name, value, descriptor = (tuple(entry) + (None, None))[:3]
+            full = f'{namespace}.{name}' if namespace else name
+            declared.append(self._parameters.declare(full, value, descriptor, ignore_override))
+        return declared
+
+    def undeclare_parameter(self, name: str) -> None:
+        self._parameters.undeclare(name)
+
+    def has_parameter(self, name: str) -> bool:
+        return self._parameters.has(name)
+
+    def get_parameter(self, name: str) -> Parameter:
+        return self._parameters.get(name)
+
+    def get_parameters(self, names: list[str]) -> list[Parameter]:
+        return [self._parameters.get(n) for n in names]
+
+    def get_parameter_or(self, name: str, alternative_value: Parameter | None = None) -> Parameter:
+        return self._parameters.get_or(name, alternative_value)
+
+    def get_parameters_by_prefix(self, prefix: str) -> dict[str, Parameter]:
+        dotted = prefix + '.' if prefix else ''
+        return {n[len(dotted):]: self._parameters.get(n) for n in self._parameters.names()
+                if n.startswith(dotted)}
+
+    def set_parameters(self, parameter_list: list[Parameter]) -> list[Any]:
+        from zros.exceptions import ParameterNotDeclaredException
+        if not self._parameters.allow_undeclared:
+            missing = [p.name for p in parameter_list if not self._parameters.has(p.name)]
+            if missing:
+                raise ParameterNotDeclaredException(missing)
+        return self._parameters.set_each(parameter_list)
+
+    def set_parameters_atomically(self, parameter_list: list[Parameter]) -> Any:
+        from zros.exceptions import ParameterNotDeclaredException
+        if not self._parameters.allow_undeclared:
+            missing = [p.name for p in parameter_list if not self._parameters.has(p.name)]
+            if missing:
+                raise ParameterNotDeclaredException(missing)
+        return self._parameters.set_atomically(parameter_list)
+
+    def describe_parameter(self, name: str) -> Any:
+        return self._parameters.describe(name)
+
+    def describe_parameters(self, names: list[str]) -> list[Any]:
+        return [self._parameters.describe(n) for n in names]
+
+    def add_on_set_parameters_callback(self, callback: Callable) -> Callable:
+        self._parameters.add_on_set(callback)
+        return callback
+
+    def remove_on_set_parameters_callback(self, callback: Callable) -> None:
+        self._parameters.remove_callback(callback)
+
+    def add_pre_set_parameters_callback(self, callback: Callable) -> Callable:
+        self._parameters.add_pre_set(callback)
+        return callback
+
+    def remove_pre_set_parameters_callback(self, callback: Callable) -> None:
+        self._parameters.remove_callback(callback)
+
+    def add_post_set_parameters_callback(self, callback: Callable) -> Callable:
+        self._parameters.add_post_set(callback)
+        return callback
+
+    def remove_post_set_parameters_callback(self, callback: Callable) -> None:
+        self._parameters.remove_callback(callback)
+
+    @property
+    def _parameter_overrides(self) -> dict[str, Any]:
+        return self._parameters.overrides
+
+    # -- simulated time --------------------------------------------------------------------
+    def _on_use_sim_time(self, parameters: list[Parameter]) -> None:
+        for param in parameters:
+            if param.name == 'use_sim_time':
+                self._apply_use_sim_time(bool(param.value))
+
+    def _apply_use_sim_time(self, enabled: bool) -> None:
+        """With use_sim_time, ROS time follows /clock (rosgraph_msgs/Clock), as in ROS 2."""
+        if enabled and self._sim_clock_sub is None:
+            clock = self._clock
+
+            def on_clock(msg: Any) -> None:
+                clock._set_ros_time_override(msg.clock.sec * 1_000_000_000 + msg.clock.nanosec)
+            self._sim_clock_sub = self.create_subscription(
+                _type('rosgraph_msgs/msg/Clock'), '/clock', on_clock, QoSProfile(depth=1))
+            clock._set_ros_time_override(0)
+        elif not enabled and self._sim_clock_sub is not None:
+            self.destroy_subscription(self._sim_clock_sub)
+            self._sim_clock_sub = None
+            self._clock._set_ros_time_override(None)
 
     # -- /rosout ---------------------------------------------------------------------------
     def _start_rosout(self) -> None:
@@ -294,6 +474,9 @@ class Node:
         if self._rosout is not None:
             self._rosout.destroy()
             self._rosout = None
+        if self._parameters._events is not None:
+            self._parameters._events.destroy()
+            self._parameters.attach_event_publisher(None)
         try:
             self._node_token.undeclare()
         except Exception:  # noqa: BLE001 - the session may be closing already
@@ -308,6 +491,16 @@ class Node:
 
     def __repr__(self) -> str:
         return f'<zros Node {self.get_fully_qualified_name()}>'
+
+
+def _type(name: str) -> type:
+    from zros.typesupport import get_type
+    return get_type(name)
+
+
+def _require_service_type(srv_type: Any) -> None:
+    if not (isinstance(srv_type, type) and hasattr(srv_type, 'Request') and hasattr(srv_type, 'Response')):
+        raise TypeError(f'{srv_type!r} is not a service type (import it from interfaces.<pkg>.srv)')
 
 
 def _require_message_type(msg_type: Any) -> None:

@@ -18,6 +18,8 @@ VERBS = {
     'topic': ('zros.cli.topic', 'Inspect and publish topics'),
     'node': ('zros.cli.node', 'Inspect nodes'),
     'interface': ('zros.cli.interface', 'Show message, service and action definitions'),
+    'service': ('zros.cli.service', 'Inspect and call services'),
+    'param': ('zros.cli.param', 'Inspect and change node parameters'),
 }
 
 

@@ -1,0 +1,137 @@
+"""Service clients: a request is one Zenoh get; its reply completes a Future.
+
+Replies complete the future on Zenoh's thread, so a blocking `call()` works even from inside
+a callback of a single-threaded executor (rclpy deadlocks there). Done-callbacks still run on
+the node's executor. A call fails with ServiceCallError when the server raises or refuses the
+request, when it disappears (Zenoh finalizes the query at once), or after `timeout_sec`.
+"""
+from __future__ import annotations
+
+import itertools
+import os
+import struct
+import time
+from typing import TYPE_CHECKING, Any
+
+import msgpack
+
+from zros.errors import ServiceCallError
+from zros.graph import EntityKind
+from zros.publisher import ATTACHMENT_MAGIC, attachment_tail
+from zros.qos import QoSProfile
+from zros.task import Future
+
+if TYPE_CHECKING:
+    from zros.node import Node
+
+__all__ = ['Client']
+
+_SEQ_TIME = struct.Struct('<Qq')
+# rclpy's call_async has no timeout; Zenoh needs one. A day is "never" for a request, and a
+# server that dies still fails the call at once.
+_NO_TIMEOUT = 86_400.0
+
+
+class Client:
+    """Made by `Node.create_client`."""
+
+    def __init__(self, node: 'Node', srv_type: type, name: str, qos: QoSProfile, callback_group: Any) -> None:
+        from zros.keys import service_key
+        self._node = node
+        self.srv_type = srv_type
+        self.srv_name = name
+        self.qos_profile = qos
+        self.callback_group = callback_group
+        self._key = service_key(node.context.domain_id, name)
+        self._att_head = ATTACHMENT_MAGIC + os.urandom(16)
+        self._att_tail = attachment_tail(srv_type)
+        self._seq = itertools.count(1)
+        self._entity = node._declare_entity(EntityKind.CLIENT, name, srv_type, qos)
+        self._destroyed = False
+
+    @property
+    def service_name(self) -> str:
+        return self.srv_name
+
+    def _servers(self, entities: list) -> list:
+        return [e for e in entities if e.kind == EntityKind.SERVICE and e.name == self.srv_name]
+
+    def service_is_ready(self) -> bool:
+        return bool(self._servers(self._node.context.graph.entities()))
+
+    def wait_for_service(self, timeout_sec: float | None = None) -> bool:
+        """Wait (on graph changes, not by polling) until a server exists; False on timeout."""
+        return self._node.context.graph.wait_for(lambda entities: bool(self._servers(entities)), timeout_sec)
+
+    def call_async(self, request: Any, *, timeout_sec: float | None = None) -> Future:
+        """Send `request`; the Future gets the Response, or a ServiceCallError."""
+        import zenoh
+        if type(request) is not self.srv_type.Request:
+            raise TypeError(f"client of '{self.srv_name}' expects {self.srv_type._TYPE} Request, "
+                            f'got {getattr(type(request), "_TYPE", type(request).__name__)}')
+        if self._destroyed:
+            raise RuntimeError(f"client of '{self.srv_name}' has been destroyed")
+        future = Future(executor=self._node._executor)
+        response_type = self.srv_type.Response
+        name = self.srv_name
+        timeout = _NO_TIMEOUT if timeout_sec is None else max(0.001, timeout_sec)
+        started = time.monotonic()
+
+        def on_reply(reply: Any) -> None:
+            if future.done():
+                return
+            ok = reply.ok
+            if ok is not None:
+                try:
+                    future.set_result(response_type._FROM_WIRE(msgpack.unpackb(ok.payload.to_bytes())))
+                except Exception as exc:  # noqa: BLE001 - a bad reply fails this call only
+                    future.set_exception(ServiceCallError(
+                        f"service '{name}' sent a reply that is not a valid response ({exc})"))
+            else:
+                text = reply.err.payload.to_bytes().decode(errors='replace')
+                if text == 'Timeout':  # Zenoh's own reply when the query's timeout expires
+                    text = f'did not answer: timed out after {time.monotonic() - started:.2f} s'
+                else:
+                    text = f'failed: {text}'
+                future.set_exception(ServiceCallError(f"service '{name}' {text}"))
+
+        def on_done() -> None:
+            if not future.done():
+                waited = time.monotonic() - started
+                reason = ('timed out' if waited >= timeout * 0.99
+                          else 'the server went away before answering (or none is running)')
+                future.set_exception(ServiceCallError(
+                    f"service '{name}' did not answer: {reason} after {waited:.2f} s"))
+
+        payload = msgpack.packb(request._TO_WIRE(request))
+        attachment = self._att_head + _SEQ_TIME.pack(next(self._seq), time.time_ns()) + self._att_tail
+        self._node.context.session.get(
+            self._key, zenoh.handlers.Callback(on_reply, on_done), payload=payload, attachment=attachment,
+            timeout=timeout, consolidation=zenoh.ConsolidationMode.NONE)
+        return future
+
+    def call(self, request: Any, timeout_sec: float | None = None) -> Any:
+        """Blocking call; raises ServiceCallError (a TimeoutError too, on timeout)."""
+        future = self.call_async(request, timeout_sec=timeout_sec)
+        if not future.wait(None if timeout_sec is None else timeout_sec + 1.0):
+            raise ServiceCallTimeout(f"service '{self.srv_name}' did not answer within {timeout_sec} s")
+        exc = future.exception()
+        if exc is not None:
+            if timeout_sec is not None and 'timed out' in str(exc):
+                raise ServiceCallTimeout(str(exc))
+            raise exc
+        return future.result()
+
+    @property
+    def handle(self) -> Any:
+        return self._entity
+
+    def destroy(self) -> None:
+        if self._destroyed:
+            return
+        self._destroyed = True
+        self._node._undeclare_entity(self._entity)
+
+
+class ServiceCallTimeout(ServiceCallError, TimeoutError):
+    """`Client.call` with a timeout raises this (rclpy raises TimeoutError)."""

@@ -1,0 +1,55 @@
+"""The exceptions rclpy users catch by name (rclpy.exceptions), raised by zros's parameter API."""
+from __future__ import annotations
+
+from zros.errors import InvalidNameError, ZrosError
+
+__all__ = ['ParameterException', 'ParameterNotDeclaredException', 'ParameterAlreadyDeclaredException',
+           'InvalidParameterException', 'InvalidParameterValueException', 'InvalidParameterTypeException',
+           'ParameterImmutableException', 'ParameterUninitializedException', 'InvalidServiceNameException',
+           'InvalidTopicNameException', 'InvalidNodeNameException', 'InvalidNamespaceException']
+
+# rclpy has one class per kind of name; zros raises InvalidNameError for all of them.
+InvalidServiceNameException = InvalidTopicNameException = InvalidNameError
+InvalidNodeNameException = InvalidNamespaceException = InvalidNameError
+
+
+class ParameterException(ZrosError):
+    def __init__(self, error_msg: str, parameters: object = None) -> None:
+        super().__init__(error_msg if parameters is None else f'{error_msg}: {parameters}')
+
+
+class ParameterNotDeclaredException(ParameterException):
+    def __init__(self, parameters: object) -> None:
+        super().__init__('Invalid access to undeclared parameter(s)', parameters)
+
+
+class ParameterAlreadyDeclaredException(ParameterException):
+    def __init__(self, parameters: object) -> None:
+        super().__init__('Parameter(s) already declared', parameters)
+
+
+class InvalidParameterException(ParameterException):
+    def __init__(self, parameter: object) -> None:
+        super().__init__('Invalid parameter name', parameter)
+
+
+class InvalidParameterValueException(ParameterException):
+    def __init__(self, parameter: object, value: object, reason: str) -> None:
+        ZrosError.__init__(self, f"Invalid parameter value ({value!r}) for parameter '{parameter}'. Reason: {reason}")
+        self.reason = reason
+
+
+class InvalidParameterTypeException(ParameterException):
+    def __init__(self, desired_parameter: object, expected_type: str) -> None:
+        ZrosError.__init__(self, f"Trying to set parameter '{getattr(desired_parameter, 'name', desired_parameter)}' "
+                                 f'to a value of type {getattr(desired_parameter, "type_", "?")}, expected {expected_type}')
+
+
+class ParameterImmutableException(ParameterException):
+    def __init__(self, parameters: object) -> None:
+        super().__init__('Attempted to modify read-only parameter', parameters)
+
+
+class ParameterUninitializedException(ParameterException):
+    def __init__(self, parameter_name: str) -> None:
+        ZrosError.__init__(self, f"The parameter '{parameter_name}' is not initialized")

@@ -1,0 +1,231 @@
+"""Parameters (rclpy.parameter): typed values with ROS 2's type rules, and their messages.
+
+Also where parameter overrides are read: `--params-file` YAML in the ROS 2 layout
+(`node: ros__parameters: {...}`, with `/**` and `*` wildcards in node names) and
+`-p name:=value` values, both YAML-typed as in ROS 2.
+"""
+from __future__ import annotations
+
+import enum
+import fnmatch
+import re
+from typing import Any
+
+__all__ = ['Parameter', 'parameter_value_to_python', 'load_parameter_file', 'parse_parameter_value',
+           'ParameterFileError']
+
+from zros.errors import ZrosError
+
+
+class ParameterFileError(ZrosError):
+    """A parameter file that cannot be read; the message names the file."""
+
+
+class Parameter:
+    class Type(enum.IntEnum):
+        NOT_SET = 0
+        BOOL = 1
+        INTEGER = 2
+        DOUBLE = 3
+        STRING = 4
+        BYTE_ARRAY = 5
+        BOOL_ARRAY = 6
+        INTEGER_ARRAY = 7
+        DOUBLE_ARRAY = 8
+        STRING_ARRAY = 9
+
+        @classmethod
+        def from_parameter_value(cls, value: Any) -> 'Parameter.Type':
+            """The type ROS 2 infers for a Python value (rclpy's rules, homogeneous lists)."""
+            if value is None:
+                return cls.NOT_SET
+            if isinstance(value, bool):
+                return cls.BOOL
+            if isinstance(value, int):
+                return cls.INTEGER
+            if isinstance(value, float):
+                return cls.DOUBLE
+            if isinstance(value, str):
+                return cls.STRING
+            if isinstance(value, (bytes, bytearray)):
+                return cls.BYTE_ARRAY
+            if hasattr(value, 'tolist') and not isinstance(value, (list, tuple)):
+                value = value.tolist()
+            if isinstance(value, (list, tuple)):
+                if all(isinstance(v, bytes) for v in value):
+                    return cls.BYTE_ARRAY
+                if all(isinstance(v, bool) for v in value):
+                    return cls.BOOL_ARRAY
+                if all(isinstance(v, int) and not isinstance(v, bool) for v in value):
+                    return cls.INTEGER_ARRAY
+                if all(isinstance(v, float) for v in value):
+                    return cls.DOUBLE_ARRAY
+                if all(isinstance(v, str) for v in value):
+                    return cls.STRING_ARRAY
+                raise TypeError(f'the elements of a parameter array must all have one type '
+                                f'(bool, int, float or str), got {value!r:.80}')
+            raise TypeError(f'unsupported parameter value type {type(value).__name__}')
+
+        def check(self, value: Any) -> bool:
+            try:
+                return self == Parameter.Type.NOT_SET or Parameter.Type.from_parameter_value(value) == self
+            except TypeError:
+                return False
+
+    def __init__(self, name: str, type_: 'Parameter.Type | None' = None, value: Any = None) -> None:
+        if type_ is None:
+            type_ = Parameter.Type.from_parameter_value(value)
+        type_ = Parameter.Type(type_)
+        if hasattr(value, 'tolist') and not isinstance(value, (list, tuple)):
+            value = value.tolist()
+        if isinstance(value, tuple):
+            value = list(value)
+        if type_ == Parameter.Type.DOUBLE and isinstance(value, int) and not isinstance(value, bool):
+            value = float(value)
+        if type_ == Parameter.Type.DOUBLE_ARRAY and isinstance(value, list):
+            value = [float(v) if isinstance(v, int) and not isinstance(v, bool) else v for v in value]
+        if not type_.check(value):
+            raise TypeError(f"type {type(value).__name__} of value {value!r:.60} does not match "
+                            f'parameter type {type_.name} (parameter {name})')
+        self._name = name
+        self._type = type_
+        self._value = value
+
+    @property
+    def name(self) -> str:
+        return self._name
+
+    @property
+    def type_(self) -> 'Parameter.Type':
+        return self._type
+
+    @property
+    def value(self) -> Any:
+        return self._value
+
+    def get_parameter_value(self):
+        from interfaces.rcl_interfaces.msg import ParameterValue
+        T = Parameter.Type
+        msg = ParameterValue(type=int(self._type))
+        field = {T.BOOL: 'bool_value', T.INTEGER: 'integer_value', T.DOUBLE: 'double_value',
+                 T.STRING: 'string_value', T.BYTE_ARRAY: 'byte_array_value', T.BOOL_ARRAY: 'bool_array_value',
+                 T.INTEGER_ARRAY: 'integer_array_value', T.DOUBLE_ARRAY: 'double_array_value',
+                 T.STRING_ARRAY: 'string_array_value'}.get(self._type)
+        if field is not None:
+            value = self._value
+            if self._type == T.BYTE_ARRAY:
+                value = b''.join(v if isinstance(v, bytes) else bytes([v]) for v in value) \
+                    if isinstance(value, list) else bytes(value)
+            setattr(msg, field, value)
+        return msg
+
+    def to_parameter_msg(self):
+        from interfaces.rcl_interfaces.msg import Parameter as ParameterMsg
+        return ParameterMsg(name=self._name, value=self.get_parameter_value())
+
+    @classmethod
+    def from_parameter_msg(cls, msg) -> 'Parameter':
+        return cls(msg.name, Parameter.Type(msg.value.type), parameter_value_to_python(msg.value))
+
+    def __eq__(self, other: object) -> bool:
+        return (isinstance(other, Parameter) and (self._name, self._type, self._value)
+                == (other._name, other._type, other._value))
+
+    def __repr__(self) -> str:
+        return f'Parameter(name={self._name!r}, type_={self._type.name}, value={self._value!r})'
+
+
+def parameter_value_to_python(msg) -> Any:
+    """The Python value of an rcl_interfaces/msg/ParameterValue (None for NOT_SET)."""
+    T = Parameter.Type
+    kind = T(msg.type)
+    if kind == T.NOT_SET:
+        return None
+    if kind == T.BOOL:
+        return bool(msg.bool_value)
+    if kind == T.INTEGER:
+        return int(msg.integer_value)
+    if kind == T.DOUBLE:
+        return float(msg.double_value)
+    if kind == T.STRING:
+        return msg.string_value
+    if kind == T.BYTE_ARRAY:
+        return [bytes([int(b)]) for b in msg.byte_array_value]
+    if kind == T.BOOL_ARRAY:
+        return [bool(b) for b in msg.bool_array_value]
+    if kind == T.INTEGER_ARRAY:
+        return [int(v) for v in msg.integer_array_value]
+    if kind == T.DOUBLE_ARRAY:
+        return [float(v) for v in msg.double_array_value]
+    return list(msg.string_array_value)
+
+
+def parse_parameter_value(text: str) -> Any:
+    """A `-p name:=value` value, typed by YAML as ROS 2 does ('1' int, '1.0' float, 'true' bool)."""
+    import yaml
+    try:
+        value = yaml.safe_load(text)
+    except yaml.YAMLError:
+        return text
+    if value is None or isinstance(value, dict):
+        return text  # as ros2 param: what YAML cannot type is a string
+    return value
+
+
+def _flatten(prefix: str, tree: dict, out: dict) -> None:
+    for key, value in tree.items():
+        name = f'{prefix}.{key}' if prefix else str(key)
+        if isinstance(value, dict):
+            _flatten(name, value, out)
+        else:
+            out[name] = value
+
+
+def _node_pattern_matches(pattern: str, node_fqn: str) -> bool:
+    """ROS 2's node-name wildcards: `*` one token, `**` any number; a key without a leading
+    '/' matches a node of that name in any namespace (so files work under `namespace:`)."""
+    if pattern in ('/**', '**'):
+        return True
+    anchored = pattern.startswith('/')
+    if not anchored:
+        pattern = '/**/' + pattern
+    regex = ''
+    for token in pattern.strip('/').split('/'):
+        if token == '**':
+            regex += r'(/[^/]+)*'
+        else:
+            regex += '/' + fnmatch.translate(token).replace(r'(?s:', '(?:').replace(r')\Z', ')').replace('.*', '[^/]*')
+    return re.fullmatch(regex, node_fqn) is not None
+
+
+def load_parameter_file(path: str, node_fqn: str, *, use_wildcard: bool = True) -> dict[str, Any]:
+    """Parameters for `node_fqn` from a ROS 2 parameter YAML file, in file order
+    (`use_wildcard=False` ignores `/**` entries, as `ros2 param load --no-use-wildcard`)."""
+    import yaml
+    try:
+        with open(path, encoding='utf-8') as stream:
+            document = yaml.safe_load(stream)
+    except OSError as exc:
+        raise ParameterFileError(f"cannot read parameter file '{path}': {exc.strerror}") from None
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, 'problem_mark', None)
+        where = f':{mark.line + 1}' if mark else ''
+        raise ParameterFileError(f"{path}{where}: invalid YAML: {getattr(exc, 'problem', exc)}") from None
+    if document is None:
+        return {}
+    if not isinstance(document, dict):
+        raise ParameterFileError(f"{path}: expected a mapping of node names at the top level")
+    values: dict[str, Any] = {}
+    for node_key, body in document.items():
+        if not isinstance(body, dict) or 'ros__parameters' not in body:
+            raise ParameterFileError(f"{path}: node entry '{node_key}' has no 'ros__parameters' key")
+        params = body['ros__parameters']
+        if params is None:
+            continue
+        if not isinstance(params, dict):
+            raise ParameterFileError(f"{path}: 'ros__parameters' of '{node_key}' must be a mapping")
+        if not use_wildcard and str(node_key) in ('/**', '**'):
+            continue
+        if _node_pattern_matches(str(node_key), node_fqn):
+            _flatten('', params, values)
+    return values

@@ -1,0 +1,76 @@
+"""The six services through which any node's parameters are read and changed remotely.
+
+Named as in ROS 2 (`<node>/list_parameters`, `get_parameters`, `get_parameter_types`,
+`set_parameters`, `set_parameters_atomically`, `describe_parameters`) with the rcl_interfaces
+types, so `zros param` and any ROS-style client talk to them the same way.
+"""
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from zros.exceptions import ParameterException
+from zros.parameter import Parameter
+from zros.qos import qos_profile_parameters
+
+if TYPE_CHECKING:
+    from zros.node import Node
+
+__all__ = ['ParameterService', 'PARAMETER_SERVICES']
+
+PARAMETER_SERVICES = ('describe_parameters', 'get_parameters', 'get_parameter_types', 'list_parameters',
+                      'set_parameters', 'set_parameters_atomically')
+
+
+class ParameterService:
+    def __init__(self, node: 'Node') -> None:
+        from interfaces.rcl_interfaces import srv
+        self._node = node
+        store = node._parameters
+        self._store = store
+        fq = node.get_fully_qualified_name()
+        make = node.create_service
+        make(srv.DescribeParameters, f'{fq}/describe_parameters', self._describe, qos_profile=qos_profile_parameters)
+        make(srv.GetParameters, f'{fq}/get_parameters', self._get, qos_profile=qos_profile_parameters)
+        make(srv.GetParameterTypes, f'{fq}/get_parameter_types', self._get_types, qos_profile=qos_profile_parameters)
+        make(srv.ListParameters, f'{fq}/list_parameters', self._list, qos_profile=qos_profile_parameters)
+        make(srv.SetParameters, f'{fq}/set_parameters', self._set, qos_profile=qos_profile_parameters)
+        make(srv.SetParametersAtomically, f'{fq}/set_parameters_atomically', self._set_atomically,
+             qos_profile=qos_profile_parameters)
+
+    def _describe(self, request: Any, response: Any) -> Any:
+        from interfaces.rcl_interfaces.msg import ParameterDescriptor
+        out = []
+        for name in request.names:
+            try:
+                out.append(self._store.describe(name))
+            except ParameterException:
+                out.append(ParameterDescriptor(name=name))
+        response.descriptors = out
+        return response
+
+    def _get(self, request: Any, response: Any) -> Any:
+        values = []
+        for name in request.names:
+            param = self._store.get_or(name)
+            values.append(param.get_parameter_value())
+        response.values = values
+        return response
+
+    def _get_types(self, request: Any, response: Any) -> Any:
+        response.types = [int(self._store.get_or(name).type_) for name in request.names]
+        return response
+
+    def _list(self, request: Any, response: Any) -> Any:
+        names, prefixes = self._store.list(list(request.prefixes), int(request.depth))
+        response.result.names = names
+        response.result.prefixes = prefixes
+        return response
+
+    def _set(self, request: Any, response: Any) -> Any:
+        response.results = [self._store.set_atomically([Parameter.from_parameter_msg(p)])
+                            for p in request.parameters]
+        return response
+
+    def _set_atomically(self, request: Any, response: Any) -> Any:
+        response.result = self._store.set_atomically([Parameter.from_parameter_msg(p) for p in request.parameters])
+        return response

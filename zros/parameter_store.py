@@ -1,0 +1,258 @@
+"""A node's parameters: declarations, ROS 2's typing and range rules, callbacks and events.
+
+Node's parameter methods delegate here. Every change, local or remote, goes through
+`set_atomically`, so the rules, the user's callbacks and the /parameter_events message are
+the same whichever way a value arrives.
+"""
+from __future__ import annotations
+
+import math
+import threading
+from typing import TYPE_CHECKING, Any, Callable
+
+from zros.exceptions import (InvalidParameterTypeException, InvalidParameterValueException,
+                             ParameterAlreadyDeclaredException, ParameterImmutableException,
+                             ParameterNotDeclaredException, ParameterUninitializedException)
+from zros.parameter import Parameter, load_parameter_file, parse_parameter_value
+
+if TYPE_CHECKING:
+    from zros.node import Node
+
+__all__ = ['ParameterStore']
+
+_FLOAT_TOLERANCE = 1e-6
+T = Parameter.Type
+
+
+def _descriptor_class():
+    from interfaces.rcl_interfaces.msg import ParameterDescriptor
+    return ParameterDescriptor
+
+
+def _result(successful: bool, reason: str = ''):
+    from interfaces.rcl_interfaces.msg import SetParametersResult
+    return SetParametersResult(successful=successful, reason=reason)
+
+
+class ParameterStore:
+    def __init__(self, node: 'Node', *, overrides: dict[str, Any], allow_undeclared: bool) -> None:
+        self._node = node
+        self._lock = threading.RLock()
+        self._values: dict[str, Parameter] = {}
+        self._descriptors: dict[str, Any] = {}
+        self.overrides = overrides
+        self.allow_undeclared = allow_undeclared
+        self._pre_set: list[Callable] = []
+        self._on_set: list[Callable] = []
+        self._post_set: list[Callable] = []
+        self._events = None  # publisher of /parameter_events, set by the node
+
+    @staticmethod
+    def collect_overrides(node_fqn: str, arg_sets: list, explicit: list[Parameter] | None) -> dict[str, Any]:
+        """Overrides in ROS 2's order: parameter files, then `-p`, then the constructor's list."""
+        values: dict[str, Any] = {}
+        for args in reversed(arg_sets):  # global arguments first, the node's own win
+            for path in args.params_files:
+                values.update(load_parameter_file(path, node_fqn))
+            for name, text in args.params:
+                values[name] = parse_parameter_value(text)
+        for param in explicit or []:
+            values[param.name] = param.value
+        return values
+
+    # -- declaration -----------------------------------------------------------------------
+    def declare(self, name: str, value: Any = None, descriptor: Any = None, ignore_override: bool = False) -> Parameter:
+        with self._lock:
+            if name in self._values:
+                raise ParameterAlreadyDeclaredException([name])
+            if not name or not isinstance(name, str):
+                raise InvalidParameterValueException(name, value, 'parameter name must be a non-empty string')
+            descriptor = descriptor if descriptor is not None else _descriptor_class()()
+            descriptor.name = name
+            if isinstance(value, Parameter.Type):
+                declared_type, value = value, None
+            else:
+                declared_type = None
+            if not ignore_override and name in self.overrides:
+                value = self.overrides[name]
+            if isinstance(value, Parameter):
+                value = value.value
+            try:
+                param = Parameter(name, value=value)
+            except TypeError as exc:
+                raise InvalidParameterValueException(name, value, str(exc)) from None
+            if declared_type is not None and param.type_ != T.NOT_SET and param.type_ != declared_type:
+                if not (declared_type == T.DOUBLE and param.type_ == T.INTEGER):
+                    raise InvalidParameterTypeException(param, declared_type.name)
+                param = Parameter(name, T.DOUBLE, float(value))
+            if not descriptor.dynamic_typing:
+                descriptor.type = int(declared_type if declared_type is not None else param.type_)
+            result = self.set_atomically([param], descriptors={name: descriptor}, declaring=True)
+            if not result.successful:
+                raise InvalidParameterValueException(name, value, result.reason)
+            return self._values[name]
+
+    def undeclare(self, name: str) -> None:
+        with self._lock:
+            if name not in self._values:
+                raise ParameterNotDeclaredException([name])
+            if self._descriptors[name].read_only:
+                raise ParameterImmutableException([name])
+            del self._values[name]
+            del self._descriptors[name]
+        self._publish_event(deleted=[Parameter(name)])
+
+    # -- reads -----------------------------------------------------------------------------
+    def has(self, name: str) -> bool:
+        return name in self._values
+
+    def get(self, name: str) -> Parameter:
+        param = self._values.get(name)
+        if param is None:
+            if self.allow_undeclared:
+                return Parameter(name, T.NOT_SET, None)
+            raise ParameterNotDeclaredException([name])
+        if param.type_ == T.NOT_SET and self._descriptors[name].type != T.NOT_SET:
+            raise ParameterUninitializedException(name)
+        return param
+
+    def get_or(self, name: str, alternative: Parameter | None = None) -> Parameter:
+        return self._values.get(name, alternative if alternative is not None else Parameter(name, T.NOT_SET))
+
+    def names(self) -> list[str]:
+        return sorted(self._values)
+
+    def describe(self, name: str) -> Any:
+        if name not in self._descriptors:
+            if self.allow_undeclared:
+                return _descriptor_class()(name=name)
+            raise ParameterNotDeclaredException([name])
+        return self._descriptors[name]
+
+    def list(self, prefixes: list[str], depth: int) -> tuple[list[str], list[str]]:
+        """(names, prefixes) as the ListParameters service answers them."""
+        names, found_prefixes = [], set()
+        for name in sorted(self._values):
+            if prefixes and not any(name == p or name.startswith(p + '.') for p in prefixes):
+                continue
+            dots = name.count('.')
+            if depth and dots >= depth:
+                continue
+            names.append(name)
+            if '.' in name:
+                found_prefixes.add(name.rsplit('.', 1)[0])
+        return names, sorted(found_prefixes)
+
+    # -- callbacks -------------------------------------------------------------------------
+    def add_pre_set(self, callback: Callable) -> None:
+        self._pre_set.insert(0, callback)
+
+    def add_on_set(self, callback: Callable) -> None:
+        self._on_set.insert(0, callback)
+
+    def add_post_set(self, callback: Callable) -> None:
+        self._post_set.insert(0, callback)
+
+    def remove_callback(self, callback: Callable) -> None:
+        for chain in (self._pre_set, self._on_set, self._post_set):
+            if callback in chain:
+                chain.remove(callback)
+                return
+        raise ValueError('callback is not registered')
+
+    # -- writes ----------------------------------------------------------------------------
+    def set_each(self, parameters: list[Parameter]) -> list[Any]:
+        return [self.set_atomically([p]) for p in parameters]
+
+    def set_atomically(self, parameters: list[Parameter], *, descriptors: dict | None = None,
+                       declaring: bool = False) -> Any:
+        """Apply all or none of `parameters`; a SetParametersResult says which and why."""
+        with self._lock:
+            if self._pre_set and not declaring:
+                for callback in self._pre_set:
+                    parameters = callback(list(parameters))
+                if not parameters:
+                    return _result(False, 'parameter list cannot be empty, this might be due to '
+                                          'pre_set_parameters_callback modifying the original parameters list')
+            staged: list[tuple[Parameter, Any]] = []
+            for param in parameters:
+                descriptor = (descriptors or {}).get(param.name) or self._descriptors.get(param.name)
+                if descriptor is None:
+                    if not self.allow_undeclared:
+                        return _result(False, f"parameter '{param.name}' is not declared")
+                    descriptor = _descriptor_class()(name=param.name, dynamic_typing=True)
+                if (param.type_ == T.INTEGER and descriptor.type == T.DOUBLE
+                        and not descriptor.dynamic_typing):
+                    param = Parameter(param.name, T.DOUBLE, float(param.value))  # `set x 2` on a double
+                reason = self._check(param, descriptor, declaring)
+                if reason:
+                    return _result(False, reason)
+                staged.append((param, descriptor))
+            for callback in self._on_set:
+                result = callback([p for p, _ in staged])
+                if result is None or not getattr(result, 'successful', False):
+                    return result if result is not None else _result(False, 'on_set_parameters_callback returned None')
+            new, changed, deleted = [], [], []
+            for param, descriptor in staged:
+                if param.type_ == T.NOT_SET and not declaring:
+                    if param.name in self._values:
+                        del self._values[param.name]
+                        del self._descriptors[param.name]
+                        deleted.append(param)
+                    continue
+                (changed if param.name in self._values else new).append(param)
+                self._values[param.name] = param
+                self._descriptors[param.name] = descriptor
+        self._publish_event(new=new, changed=changed, deleted=deleted)
+        if not declaring:
+            for callback in self._post_set:
+                callback([p for p, _ in staged])
+        return _result(True)
+
+    @staticmethod
+    def _check(param: Parameter, descriptor: Any, declaring: bool) -> str:
+        """Why `param` may not be set under `descriptor` ('' when it may)."""
+        if descriptor.read_only and not declaring:
+            return f'Trying to set a read-only parameter: {param.name}.'
+        if param.type_ == T.NOT_SET:
+            return ''
+        if not descriptor.dynamic_typing and descriptor.type not in (T.NOT_SET, param.type_):
+            return (f'Wrong parameter type, parameter {{{param.name}}} is of type {{{T(descriptor.type).name}}}, '
+                    f'setting it to {{{param.type_.name}}} is not allowed.')
+        if param.type_ == T.INTEGER and len(descriptor.integer_range):
+            rng = descriptor.integer_range[0]
+            value = param.value
+            if not rng.from_value <= value <= rng.to_value:
+                return f'Parameter {param.name} out of range. Min: {rng.from_value}, Max: {rng.to_value}'
+            if rng.step and value != rng.to_value and (value - rng.from_value) % rng.step:
+                return (f'The parameter value ({value}) is not a valid step from {rng.from_value} '
+                        f'with step {rng.step}')
+        if param.type_ == T.DOUBLE and len(descriptor.floating_point_range):
+            rng = descriptor.floating_point_range[0]
+            value = param.value
+            if not (rng.from_value - _FLOAT_TOLERANCE <= value <= rng.to_value + _FLOAT_TOLERANCE):
+                return f'Parameter {param.name} out of range. Min: {rng.from_value}, Max: {rng.to_value}'
+            if rng.step and not math.isclose(value, rng.to_value, abs_tol=_FLOAT_TOLERANCE):
+                steps = (value - rng.from_value) / rng.step
+                if abs(steps - round(steps)) * rng.step > _FLOAT_TOLERANCE:
+                    return (f'The parameter value ({value}) is not a valid step from {rng.from_value} '
+                            f'with step {rng.step}')
+        return ''
+
+    # -- events ----------------------------------------------------------------------------
+    def attach_event_publisher(self, publisher: Any) -> None:
+        self._events = publisher
+
+    def _publish_event(self, new: list = (), changed: list = (), deleted: list = ()) -> None:
+        if self._events is None or not (new or changed or deleted):
+            return
+        from interfaces.rcl_interfaces.msg import ParameterEvent
+        event = ParameterEvent(node=self._node.get_fully_qualified_name(),
+                               new_parameters=[p.to_parameter_msg() for p in new],
+                               changed_parameters=[p.to_parameter_msg() for p in changed],
+                               deleted_parameters=[p.to_parameter_msg() for p in deleted])
+        event.stamp = self._node.get_clock().now().to_msg()
+        try:
+            self._events.publish(event)
+        except Exception:  # noqa: BLE001 - events are best effort once the node is going away
+            pass

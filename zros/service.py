@@ -1,0 +1,130 @@
+"""Service servers: Zenoh queryables whose requests are answered on the executor.
+
+A query arrives on a Zenoh thread and waits in the service's queue; the executor decodes it,
+runs the user's callback and replies. Whatever goes wrong is answered, never left hanging: a
+request of the wrong type, an undecodable payload, or a callback that raises gets a Zenoh error
+reply whose text reaches the client's future (the server logs it and keeps serving).
+"""
+from __future__ import annotations
+
+from collections import deque
+from typing import TYPE_CHECKING, Any, Callable
+
+import msgpack
+
+from zros.graph import EntityKind
+from zros.publisher import ATTACHMENT_MAGIC, attachment_tail
+from zros.qos import QoSProfile
+
+if TYPE_CHECKING:
+    from zros.node import Node
+
+__all__ = ['Service']
+
+_TAIL_AT = len(ATTACHMENT_MAGIC) + 16 + 16
+# Requests waiting for the executor beyond this are refused with an error reply, so an
+# overloaded server fails calls fast instead of letting them time out silently.
+_MAX_PENDING = 10_000
+
+
+class Service:
+    """Made by `Node.create_service`."""
+
+    def __init__(self, node: 'Node', srv_type: type, name: str, callback: Callable[[Any, Any], Any],
+                 qos: QoSProfile, callback_group: Any) -> None:
+        from zros.keys import service_key
+        self._node = node
+        self.srv_type = srv_type
+        self.srv_name = name
+        self.callback = callback
+        self.qos_profile = qos
+        self.callback_group = callback_group
+        self._tail = attachment_tail(srv_type)
+        self._queue: deque = deque()
+        self._queryable = node.context.session.declare_queryable(
+            service_key(node.context.domain_id, name), self._on_query, complete=True)
+        self._entity = node._declare_entity(EntityKind.SERVICE, name, srv_type, qos)
+        self._destroyed = False
+        others = [e for e in node.context.graph.entities()
+                  if e.kind == EntityKind.SERVICE and e.name == name and e.entity_id != self._entity.entity_id]
+        if others:
+            node.get_logger().warn(
+                f"service '{name}' is already served by {', '.join(sorted(e.node_fqn for e in others))}: "
+                'clients will reach only one of the servers')
+
+    @property
+    def service_name(self) -> str:
+        return self.srv_name
+
+    # Zenoh thread.
+    def _on_query(self, query: Any) -> None:
+        if len(self._queue) >= _MAX_PENDING:
+            query.reply_err(f"service '{self.srv_name}' is overloaded ({_MAX_PENDING} requests waiting)".encode())
+            query.drop()
+            return
+        payload = query.payload
+        attachment = query.attachment
+        self._queue.append((query, payload.to_bytes() if payload is not None else b'',
+                            attachment.to_bytes() if attachment is not None else b''))
+        executor = self._node._executor
+        if executor is not None:
+            executor._enqueue(self)
+
+    def _has_work(self) -> bool:
+        return bool(self._queue)
+
+    # Executor thread.
+    def _execute(self) -> None:
+        try:
+            query, payload, attachment = self._queue.popleft()
+        except IndexError:
+            return
+        try:
+            self._answer(query, payload, attachment)
+        finally:
+            query.drop()
+
+    def _answer(self, query: Any, payload: bytes, attachment: bytes) -> None:
+        if attachment[:2] == ATTACHMENT_MAGIC and attachment[_TAIL_AT:] != self._tail:
+            theirs = attachment[_TAIL_AT + 8:].decode(errors='replace')
+            query.reply_err(f"service '{self.srv_name}' is of type {self.srv_type._TYPE}, "
+                            f'the request was sent as {theirs}'.encode())
+            return
+        try:
+            request = self.srv_type.Request._FROM_WIRE(msgpack.unpackb(payload))
+        except Exception as exc:  # noqa: BLE001 - a malformed request is answered, not fatal
+            query.reply_err(f'request is not a valid {self.srv_type._TYPE} request '
+                            f'({type(exc).__name__}: {exc})'.encode())
+            return
+        try:
+            response = self.callback(request, self.srv_type.Response())
+        except Exception as exc:  # noqa: BLE001 - report to the client and keep serving
+            self._node.get_logger().error(
+                f"service '{self.srv_name}' callback raised {type(exc).__name__}: {exc}")
+            query.reply_err(f'{type(exc).__name__}: {exc}'.encode())
+            return
+        if type(response) is not self.srv_type.Response:
+            text = (f"service '{self.srv_name}' callback returned {type(response).__name__}, "
+                    f'expected {self.srv_type._TYPE} Response')
+            self._node.get_logger().error(text)
+            query.reply_err(text.encode())
+            return
+        query.reply(query.key_expr, msgpack.packb(response._TO_WIRE(response)))
+
+    @property
+    def handle(self) -> Any:
+        return self._entity
+
+    def destroy(self) -> None:
+        if self._destroyed:
+            return
+        self._destroyed = True
+        self._node._undeclare_entity(self._entity)
+        try:
+            self._queryable.undeclare()
+        except Exception:  # noqa: BLE001 - the session may be closing already
+            pass
+        while self._queue:
+            query = self._queue.popleft()[0]
+            query.reply_err(f"service '{self.srv_name}' was destroyed".encode())
+            query.drop()
