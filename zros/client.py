@@ -71,7 +71,7 @@ class Client:
                             f'got {getattr(type(request), "_TYPE", type(request).__name__)}')
         if self._destroyed:
             raise RuntimeError(f"client of '{self.srv_name}' has been destroyed")
-        future = Future(executor=self._node._executor)
+        future = Future(node=self._node)
         response_type = self.srv_type.Response
         name = self.srv_name
         timeout = _NO_TIMEOUT if timeout_sec is None else max(0.001, timeout_sec)

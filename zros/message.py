@@ -24,7 +24,7 @@ import numpy as np
 from zros.errors import DecodeError, MessageTypeError
 from zros.idl import ActionSpec, Field, FieldType, MessageSpec, ServiceSpec
 
-__all__ = ['Message', 'make_message_class', 'make_service_class', 'make_action_class',
+__all__ = ['Message', 'MessageArray', 'make_message_class', 'make_service_class', 'make_action_class',
            'NUMPY_DTYPES', 'serialize', 'deserialize']
 
 #: numpy dtype of each numeric primitive, as it travels on the wire (little-endian).
@@ -45,6 +45,20 @@ _INT_RANGES = {
     'int64': (-2**63, 2**63 - 1), 'uint64': (0, 2**64 - 1),
 }
 _FLOAT32_MAX = 3.4028234663852886e38
+
+
+class MessageArray(np.ndarray):
+    """The numpy array of a numeric array field.
+
+    Iterating gives Python numbers (as rclpy's array.array does), so `list(msg.sequence)` and
+    `for r in scan.ranges` behave like ROS code expects; everything else is plain numpy.
+    """
+
+    def __iter__(self):
+        return iter(self.tolist())
+
+    def __repr__(self) -> str:
+        return repr(self.view(np.ndarray))
 
 
 class Message:
@@ -220,7 +234,7 @@ def _make_setter(msg_type: str, field: Field, nested: type | None) -> Callable[[
                 if array.ndim != 1:
                     raise MessageTypeError(f'{msg_type}.{name} must be one-dimensional')
             _check_length(msg_type, name, ftype, len(array))
-            set_slot(self, slot, array)
+            set_slot(self, slot, array.view(MessageArray))
         return set_numeric_array
     check = _scalar_checker(msg_type, name, ftype, nested)
     if ftype.is_array:
@@ -243,10 +257,10 @@ def _default_factory(field: Field, nested: type | None) -> Callable[[], Any]:
         if ftype.base in NUMPY_DTYPES:
             dtype = NUMPY_DTYPES[ftype.base]
             if field.has_default:
-                values = np.array(field.default, dtype=dtype)
+                values = np.array(field.default, dtype=dtype).view(MessageArray)
                 return values.copy
             size = ftype.array_size if ftype.array == 'fixed' else 0
-            return lambda: np.zeros(size, dtype)
+            return lambda: np.zeros(size, dtype).view(MessageArray)
         if field.has_default:
             values = list(field.default)
             return values.copy
@@ -293,7 +307,7 @@ def type_hash(spec: MessageSpec, nested_hashes: dict[str, str]) -> str:
 def _generate_codec(cls: type, spec: MessageSpec, nested: dict[str, type]) -> None:
     """Compile `cls._TO_WIRE` (message -> plain dict) and `cls._FROM_WIRE` (dict -> message)."""
     env: dict[str, Any] = {'_new': object.__new__, '_frombuffer': np.frombuffer, '_cls': cls,
-                           '_set': object.__setattr__, '_memoryview': memoryview}
+                           '_memoryview': memoryview, '_MessageArray': MessageArray}
     enc, dec = [], []
     for i, field in enumerate(spec.fields):
         ftype, slot, key = field.type, '_' + field.name, field.name
@@ -309,7 +323,7 @@ def _generate_codec(cls: type, spec: MessageSpec, nested: dict[str, type]) -> No
         elif ftype.is_array and ftype.base in NUMPY_DTYPES:
             env[f'_dt{i}'] = NUMPY_DTYPES[ftype.base]
             enc.append(f'{key!r}: _memoryview(m.{slot})')
-            dec.append(f'm.{slot} = _frombuffer(d[{key!r}], _dt{i})')
+            dec.append(f'm.{slot} = _frombuffer(d[{key!r}], _dt{i}).view(_MessageArray)')
         elif ftype.is_array:
             enc.append(f'{key!r}: m.{slot}')
             dec.append(f'm.{slot} = list(d[{key!r}])')
@@ -365,16 +379,14 @@ def make_service_class(spec: ServiceSpec, request: type, response: type) -> type
     })
 
 
-def make_action_class(spec: ActionSpec, goal: type, result: type, feedback: type,
-                      extra: dict[str, Any] | None = None) -> type:
-    """An action type holds Goal, Result and Feedback (and the protocol types in `extra`)."""
+def make_action_class(spec: ActionSpec, goal: type, result: type, feedback: type) -> type:
+    """An action type holds Goal, Result and Feedback (zros.action adds its protocol types)."""
     namespace = {
         '__module__': f'interfaces.{spec.full_name.split("/")[0]}.action',
         '_TYPE': spec.full_name, '_SPEC': spec, 'Goal': goal, 'Result': result, 'Feedback': feedback,
         '_HASH': hashlib.sha256(f'{goal._HASH};{result._HASH};{feedback._HASH}'.encode()).hexdigest()[:16],
         '__doc__': spec.text,
     }
-    namespace.update(extra or {})
     return type(spec.full_name.split('/')[-1], (), namespace)
 
 

@@ -276,6 +276,14 @@ class Node:
                 for _ in range(len(entity._queue)):
                     executor._enqueue(entity)
 
+    def _run_on_executor(self, fn: Callable, *args: Any) -> None:
+        """Run `fn(*args)` as a task of this node's executor (inline when it has none)."""
+        executor = self._executor
+        if executor is None:
+            fn(*args)
+        else:
+            executor.create_task(fn, *args)
+
     def _detach_executor(self, executor: Any) -> None:
         if self._executor is executor:
             self._executor = None

@@ -19,12 +19,48 @@ from zros.qos import QoSProfile
 if TYPE_CHECKING:
     from zros.node import Node
 
-__all__ = ['Service']
+__all__ = ['Service', 'DeferredResponse']
 
 _TAIL_AT = len(ATTACHMENT_MAGIC) + 16 + 16
 # Requests waiting for the executor beyond this are refused with an error reply, so an
 # overloaded server fails calls fast instead of letting them time out silently.
 _MAX_PENDING = 10_000
+
+
+class DeferredResponse:
+    """Returned by a service callback that will answer later (an action's get-result waits for
+    the goal to finish). `resolve(response)` replies and finalizes the query, from any thread;
+    `fail(text)` replies with an error."""
+
+    def __init__(self) -> None:
+        self._query = None
+        self._early: tuple[str, Any] | None = None
+
+    def _bind(self, query: Any) -> None:
+        self._query = query
+        if self._early is not None:
+            kind, value = self._early
+            self._finish(kind, value)
+
+    def resolve(self, response: Any) -> None:
+        self._finish('ok', response)
+
+    def fail(self, text: str) -> None:
+        self._finish('err', text)
+
+    def _finish(self, kind: str, value: Any) -> None:
+        query = self._query
+        if query is None:
+            self._early = (kind, value)  # answered before the service handed the query over
+            return
+        self._query = None
+        try:
+            if kind == 'ok':
+                query.reply(query.key_expr, msgpack.packb(value._TO_WIRE(value)))
+            else:
+                query.reply_err(str(value).encode())
+        finally:
+            query.drop()
 
 
 class Service:
@@ -79,37 +115,44 @@ class Service:
             query, payload, attachment = self._queue.popleft()
         except IndexError:
             return
+        deferred = None
         try:
-            self._answer(query, payload, attachment)
+            deferred = self._answer(query, payload, attachment)
         finally:
-            query.drop()
+            if deferred is None:
+                query.drop()
+            else:
+                deferred._bind(query)
 
-    def _answer(self, query: Any, payload: bytes, attachment: bytes) -> None:
+    def _answer(self, query: Any, payload: bytes, attachment: bytes) -> DeferredResponse | None:
         if attachment[:2] == ATTACHMENT_MAGIC and attachment[_TAIL_AT:] != self._tail:
             theirs = attachment[_TAIL_AT + 8:].decode(errors='replace')
             query.reply_err(f"service '{self.srv_name}' is of type {self.srv_type._TYPE}, "
                             f'the request was sent as {theirs}'.encode())
-            return
+            return None
         try:
             request = self.srv_type.Request._FROM_WIRE(msgpack.unpackb(payload))
         except Exception as exc:  # noqa: BLE001 - a malformed request is answered, not fatal
             query.reply_err(f'request is not a valid {self.srv_type._TYPE} request '
                             f'({type(exc).__name__}: {exc})'.encode())
-            return
+            return None
         try:
             response = self.callback(request, self.srv_type.Response())
         except Exception as exc:  # noqa: BLE001 - report to the client and keep serving
             self._node.get_logger().error(
                 f"service '{self.srv_name}' callback raised {type(exc).__name__}: {exc}")
             query.reply_err(f'{type(exc).__name__}: {exc}'.encode())
-            return
+            return None
+        if isinstance(response, DeferredResponse):
+            return response
         if type(response) is not self.srv_type.Response:
             text = (f"service '{self.srv_name}' callback returned {type(response).__name__}, "
                     f'expected {self.srv_type._TYPE} Response')
             self._node.get_logger().error(text)
             query.reply_err(text.encode())
-            return
+            return None
         query.reply(query.key_expr, msgpack.packb(response._TO_WIRE(response)))
+        return None
 
     @property
     def handle(self) -> Any:

@@ -1,8 +1,8 @@
 """Futures, as rclpy.task.Future: completed by one thread, awaited or polled by another.
 
-Done callbacks run in the thread that completes the future, unless an executor is attached
-(`_set_executor`), in which case they are scheduled on it so user code stays on executor
-threads.
+Done callbacks run on an executor when the future knows one: the executor it was given, or
+the executor of its node at the moment it completes (rclpy code often sends a request before it
+starts spinning). Only a future with neither runs its callbacks in the completing thread.
 """
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ __all__ = ['Future']
 
 
 class Future:
-    def __init__(self, *, executor: Any = None) -> None:
+    def __init__(self, *, executor: Any = None, node: Any = None) -> None:
         self._state = 'pending'  # pending | done | cancelled
         self._result: Any = None
         self._exception: BaseException | None = None
@@ -21,6 +21,7 @@ class Future:
         self._lock = threading.Lock()
         self._done_event = threading.Event()
         self._executor = executor
+        self._node = node
 
     def done(self) -> bool:
         return self._state != 'pending'
@@ -55,12 +56,19 @@ class Future:
         self._done_event.set()
         for callback in callbacks:
             self._schedule(callback)
+        executor = self._current_executor()
+        if executor is not None:
+            executor.wake()
+
+    def _current_executor(self) -> Any:
         if self._executor is not None:
-            self._executor.wake()
+            return self._executor
+        return getattr(self._node, '_executor', None)
 
     def _schedule(self, callback: Callable[['Future'], None]) -> None:
-        if self._executor is not None:
-            self._executor.create_task(callback, self)
+        executor = self._current_executor()
+        if executor is not None:
+            executor.create_task(callback, self)
         else:
             callback(self)
 

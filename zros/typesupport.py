@@ -19,7 +19,6 @@ from zros.message import make_action_class, make_message_class, make_service_cla
 __all__ = [
     'KINDS', 'search_roots', 'get_type', 'get_message', 'get_service', 'get_action',
     'list_packages', 'list_interfaces', 'interface_file', 'normalize_type_name', 'type_name_of',
-    'register_action_extras',
 ]
 
 KINDS = ('msg', 'srv', 'action')
@@ -28,7 +27,6 @@ _BUILTIN_ROOT = Path(__file__).resolve().parent.parent / 'interfaces'
 
 _lock = threading.RLock()
 _cache: dict[str, Any] = {}
-_hooks: list[Any] = []  # see register_action_extras
 
 
 def search_roots() -> list[Path]:
@@ -124,11 +122,7 @@ def _build(full: str) -> Any:
                 _cache[full] = cls
                 return cls
         spec = _load_spec(package, kind, name)
-        parts = [_message_part(s) for s in (spec.goal, spec.result, spec.feedback)]
-        extra: dict[str, Any] = {}
-        for hook in _hooks:
-            extra.update(hook(spec, *parts))
-        cls = make_action_class(spec, *parts, extra=extra)
+        cls = make_action_class(spec, *[_message_part(s) for s in (spec.goal, spec.result, spec.feedback)])
     _cache[full] = cls
     return cls
 
@@ -137,12 +131,6 @@ def _message_part(spec: idl.MessageSpec) -> type:
     cls = make_message_class(spec, get_message)
     _cache[spec.full_name] = cls
     return cls
-
-
-def register_action_extras(hook: Any) -> None:
-    """Let the action layer add its protocol types (SendGoal, GetResult, ...) to action classes."""
-    with _lock:
-        _hooks.append(hook)
 
 
 def get_message(name: str) -> type:

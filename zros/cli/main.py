@@ -20,6 +20,7 @@ VERBS = {
     'interface': ('zros.cli.interface', 'Show message, service and action definitions'),
     'service': ('zros.cli.service', 'Inspect and call services'),
     'param': ('zros.cli.param', 'Inspect and change node parameters'),
+    'action': ('zros.cli.action', 'Inspect actions and send goals'),
 }
 
 

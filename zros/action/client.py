@@ -1,0 +1,224 @@
+"""Action clients (rclpy.action.ActionClient's interface).
+
+The client subscribes at creation to its own feedback topic (the server sends a client only
+the feedback of its own goals) and to the status topic. The get-result request has no
+timeout, so arbitrarily long goals are fine; if the server dies, Zenoh finalizes the request
+and the result future fails with a clear error instead of hanging.
+"""
+from __future__ import annotations
+
+import os
+import threading
+from typing import TYPE_CHECKING, Any, Callable
+
+from zros.action.server import GoalStatus
+from zros.action.types import protocol_types
+from zros.errors import ServiceCallError
+from zros.graph import EntityKind
+from zros.qos import QoSProfile, qos_profile_action_status_default, qos_profile_services_default
+from zros.task import Future
+
+if TYPE_CHECKING:
+    from zros.node import Node
+
+__all__ = ['ActionClient', 'ClientGoalHandle']
+
+_EARLY_FEEDBACK_LIMIT = 100
+
+
+class ClientGoalHandle:
+    """A goal as the client sees it; made by ActionClient."""
+
+    def __init__(self, client: 'ActionClient', goal_id: Any, stamp: Any, accepted: bool) -> None:
+        self._client = client
+        self._goal_id = goal_id
+        self._stamp = stamp
+        self._accepted = accepted
+        self._status = GoalStatus.ACCEPTED if accepted else GoalStatus.UNKNOWN
+
+    @property
+    def goal_id(self) -> Any:
+        return self._goal_id
+
+    @property
+    def stamp(self) -> Any:
+        return self._stamp
+
+    @property
+    def accepted(self) -> bool:
+        return self._accepted
+
+    @property
+    def status(self) -> int:
+        return int(self._status)
+
+    def get_result_async(self) -> Future:
+        if not self._accepted:
+            raise RuntimeError('cannot get the result of a goal that was not accepted')
+        return self._client._get_result_async(self)
+
+    def get_result(self) -> Any:
+        """Blocking: the GetResult response (`.status`, `.result`)."""
+        future = self.get_result_async()
+        future.wait()
+        return future.result()
+
+    def cancel_goal_async(self) -> Future:
+        return self._client._cancel_goal_async(self)
+
+    def cancel_goal(self) -> Any:
+        future = self.cancel_goal_async()
+        future.wait()
+        return future.result()
+
+    def __repr__(self) -> str:
+        return f'ClientGoalHandle(goal_id={bytes(self._goal_id.uuid).hex()}, accepted={self._accepted})'
+
+
+class ActionClient:
+    """`ActionClient(node, action_type, action_name)` as in rclpy."""
+
+    def __init__(self, node: 'Node', action_type: type, action_name: str, *, callback_group: Any = None,
+                 goal_service_qos_profile: QoSProfile = qos_profile_services_default,
+                 result_service_qos_profile: QoSProfile = qos_profile_services_default,
+                 cancel_service_qos_profile: QoSProfile = qos_profile_services_default,
+                 feedback_sub_qos_profile: QoSProfile = QoSProfile(depth=100),
+                 status_sub_qos_profile: QoSProfile = qos_profile_action_status_default) -> None:
+        from interfaces.action_msgs.msg import GoalStatusArray
+        from interfaces.action_msgs.srv import CancelGoal
+        self._node = node
+        self._action_type = action_type
+        self._types = protocol_types(action_type)
+        self._name = node.resolve_service_name(action_name)
+        self.callback_group = callback_group or node.default_callback_group
+        self._client_id = os.urandom(8).hex()
+        self._lock = threading.Lock()
+        self._feedback_callbacks: dict[bytes, Callable] = {}
+        self._early_feedback: dict[bytes, list] = {}
+        self._handles: dict[bytes, ClientGoalHandle] = {}
+        group = self.callback_group
+        self._send_client = node.create_client(self._types.SendGoal, f'{self._name}/_action/send_goal',
+                                               qos_profile=goal_service_qos_profile, callback_group=group)
+        self._cancel_client = node.create_client(CancelGoal, f'{self._name}/_action/cancel_goal',
+                                                 qos_profile=cancel_service_qos_profile, callback_group=group)
+        self._result_client = node.create_client(self._types.GetResult, f'{self._name}/_action/get_result',
+                                                 qos_profile=result_service_qos_profile, callback_group=group)
+        self._feedback_sub = node.create_subscription(
+            self._types.FeedbackMessage, f'{self._name}/_action/feedback/c{self._client_id}', self._on_feedback,
+            feedback_sub_qos_profile, callback_group=group)
+        self._status_sub = node.create_subscription(
+            GoalStatusArray, f'{self._name}/_action/status', self._on_status, status_sub_qos_profile,
+            callback_group=group)
+        self._entity = node._declare_entity(EntityKind.ACTION_CLIENT, self._name, action_type)
+        self._destroyed = False
+        node._add(self)
+
+    @property
+    def action_name(self) -> str:
+        return self._name
+
+    def _servers(self, entities: list) -> list:
+        return [e for e in entities if e.kind == EntityKind.ACTION_SERVER and e.name == self._name]
+
+    def server_is_ready(self) -> bool:
+        return bool(self._servers(self._node.context.graph.entities()))
+
+    def wait_for_server(self, timeout_sec: float | None = None) -> bool:
+        return self._node.context.graph.wait_for(lambda entities: bool(self._servers(entities)), timeout_sec)
+
+    # -- goals ---------------------------------------------------------------------------------
+    def send_goal_async(self, goal: Any, feedback_callback: Callable | None = None,
+                        goal_uuid: Any = None) -> Future:
+        """Future of a ClientGoalHandle (check `.accepted`). Goal ids come from the server."""
+        if type(goal) is not self._action_type.Goal:
+            raise TypeError(f"action '{self._name}' expects {self._action_type._TYPE} Goal, "
+                            f'got {getattr(type(goal), "_TYPE", type(goal).__name__)}')
+        outer = Future(node=self._node)
+        inner = self._send_client.call_async(self._types.SendGoal.Request(goal=goal, client_id=self._client_id))
+
+        def on_response(done: Future) -> None:
+            exc = done.exception()
+            if exc is not None:
+                outer.set_exception(exc)
+                return
+            response = done.result()
+            handle = ClientGoalHandle(self, response.goal_id, response.stamp, response.accepted)
+            if response.accepted:
+                key = response.goal_id.uuid.tobytes()
+                with self._lock:
+                    self._handles[key] = handle
+                    if feedback_callback is not None:
+                        self._feedback_callbacks[key] = feedback_callback
+                    early = self._early_feedback.pop(key, [])
+                for message in early:
+                    if feedback_callback is not None:
+                        feedback_callback(message)
+            outer.set_result(handle)
+        inner.add_done_callback(on_response)
+        return outer
+
+    def send_goal(self, goal: Any, feedback_callback: Callable | None = None, goal_uuid: Any = None) -> Any:
+        """Blocking: send, wait for acceptance, then for the result (None if rejected)."""
+        future = self.send_goal_async(goal, feedback_callback, goal_uuid)
+        future.wait()
+        handle = future.result()
+        if not handle.accepted:
+            return None
+        return handle.get_result()
+
+    def _get_result_async(self, handle: ClientGoalHandle) -> Future:
+        outer = Future(node=self._node)
+        inner = self._result_client.call_async(self._types.GetResult.Request(goal_id=handle.goal_id))
+        name = self._name
+
+        def on_result(done: Future) -> None:
+            exc = done.exception()
+            if exc is not None:
+                outer.set_exception(ServiceCallError(
+                    f"action server '{name}' did not deliver the result of goal "
+                    f'{bytes(handle.goal_id.uuid).hex()}: {exc}'))
+                return
+            response = done.result()
+            handle._status = GoalStatus(response.status)
+            with self._lock:
+                key = handle.goal_id.uuid.tobytes()
+                self._feedback_callbacks.pop(key, None)
+                self._handles.pop(key, None)
+            outer.set_result(response)
+        inner.add_done_callback(on_result)
+        return outer
+
+    def _cancel_goal_async(self, handle: ClientGoalHandle) -> Future:
+        from interfaces.action_msgs.msg import GoalInfo
+        from interfaces.action_msgs.srv import CancelGoal
+        return self._cancel_client.call_async(CancelGoal.Request(goal_info=GoalInfo(goal_id=handle.goal_id)))
+
+    # -- topics (executor) ---------------------------------------------------------------------
+    def _on_feedback(self, message: Any) -> None:
+        key = message.goal_id.uuid.tobytes()
+        with self._lock:
+            callback = self._feedback_callbacks.get(key)
+            if callback is None and key not in self._handles:
+                # Feedback can overtake the send-goal reply; keep it for the handle.
+                early = self._early_feedback.setdefault(key, [])
+                if len(early) < _EARLY_FEEDBACK_LIMIT:
+                    early.append(message)
+                return
+        if callback is not None:
+            callback(message)
+
+    def _on_status(self, array: Any) -> None:
+        with self._lock:
+            for status in array.status_list:
+                handle = self._handles.get(status.goal_info.goal_id.uuid.tobytes())
+                if handle is not None:
+                    handle._status = GoalStatus(status.status)
+
+    def destroy(self) -> None:
+        if self._destroyed:
+            return
+        self._destroyed = True
+        self._node._undeclare_entity(self._entity)
+        for entity in (self._send_client, self._cancel_client, self._result_client, self._feedback_sub,
+                       self._status_sub):
+            self._node._destroy_entity(entity)

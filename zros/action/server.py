@@ -1,0 +1,378 @@
+"""Action servers (rclpy.action.ActionServer's interface) on zros services and topics.
+
+Goals are accepted by default and cancels rejected by default, as in rclpy. The goal's
+execute callback runs as an executor task outside any callback group (as rclpy does), so
+with a MultiThreadedExecutor several goals run at once while new goals and cancel requests
+are still answered. Results stay available for `result_timeout` seconds after a goal ends;
+a get-result request for a running goal is answered when the goal ends, however long it runs.
+"""
+from __future__ import annotations
+
+import enum
+import threading
+import time
+import uuid
+from typing import TYPE_CHECKING, Any, Callable
+
+from zros.action.types import protocol_types
+from zros.graph import EntityKind
+from zros.publisher import Publisher
+from zros.qos import QoSProfile, qos_profile_action_status_default, qos_profile_services_default
+from zros.service import DeferredResponse
+
+if TYPE_CHECKING:
+    from zros.node import Node
+
+__all__ = ['ActionServer', 'ServerGoalHandle', 'GoalResponse', 'CancelResponse', 'GoalStatus',
+           'default_goal_callback', 'default_cancel_callback', 'default_handle_accepted_callback']
+
+
+class GoalResponse(enum.IntEnum):
+    REJECT = 1
+    ACCEPT = 2
+
+
+class CancelResponse(enum.IntEnum):
+    REJECT = 1
+    ACCEPT = 2
+
+
+class GoalStatus(enum.IntEnum):
+    """action_msgs/msg/GoalStatus codes."""
+    UNKNOWN = 0
+    ACCEPTED = 1
+    EXECUTING = 2
+    CANCELING = 3
+    SUCCEEDED = 4
+    CANCELED = 5
+    ABORTED = 6
+
+
+_ACTIVE = (GoalStatus.ACCEPTED, GoalStatus.EXECUTING, GoalStatus.CANCELING)
+# action_msgs/srv/CancelGoal return codes
+_CANCEL_OK, _CANCEL_REJECTED, _CANCEL_UNKNOWN_GOAL, _CANCEL_TERMINATED = 0, 1, 2, 3
+
+
+def default_goal_callback(goal_request: Any) -> GoalResponse:
+    """Accept all goals."""
+    return GoalResponse.ACCEPT
+
+
+def default_cancel_callback(goal_handle: Any) -> CancelResponse:
+    """Reject all cancel requests."""
+    return CancelResponse.REJECT
+
+
+def default_handle_accepted_callback(goal_handle: 'ServerGoalHandle') -> None:
+    """Start executing the goal at once."""
+    goal_handle.execute()
+
+
+class ServerGoalHandle:
+    """One goal on the server. Made by ActionServer only; user code gets it in callbacks."""
+
+    def __init__(self, server: 'ActionServer', goal_id: Any, request: Any, client_id: str) -> None:
+        self._server = server
+        self._goal_id = goal_id
+        self._request = request
+        self._client_id = client_id
+        self._status = GoalStatus.ACCEPTED
+        self._stamp = server._node.get_clock().now().to_msg()
+        self._result: Any = None
+        self._waiters: list[DeferredResponse] = []
+        self._lock = threading.Lock()
+
+    @property
+    def goal_id(self) -> Any:
+        return self._goal_id
+
+    @property
+    def request(self) -> Any:
+        return self._request
+
+    @property
+    def status(self) -> int:
+        return int(self._status)
+
+    @property
+    def is_active(self) -> bool:
+        return self._status in _ACTIVE
+
+    @property
+    def is_executing(self) -> bool:
+        return self._status == GoalStatus.EXECUTING
+
+    @property
+    def is_cancel_requested(self) -> bool:
+        return self._status == GoalStatus.CANCELING
+
+    def execute(self, execute_callback: Callable | None = None) -> None:
+        """Move to EXECUTING and run the execute callback on the executor."""
+        self._server._start_execution(self, execute_callback)
+
+    def publish_feedback(self, feedback: Any) -> None:
+        self._server._publish_feedback(self, feedback)
+
+    def succeed(self) -> None:
+        self._transition(GoalStatus.SUCCEEDED, (GoalStatus.EXECUTING, GoalStatus.CANCELING))
+
+    def abort(self) -> None:
+        self._transition(GoalStatus.ABORTED, _ACTIVE)
+
+    def canceled(self) -> None:
+        self._transition(GoalStatus.CANCELED, (GoalStatus.CANCELING,))
+
+    def _transition(self, new: GoalStatus, allowed: tuple) -> None:
+        with self._lock:
+            if self._status not in allowed:
+                raise RuntimeError(f'goal {self._hex()} cannot go from {self._status.name} to {new.name}')
+            self._status = new
+        self._server._publish_status()
+
+    def _request_cancel(self) -> bool:
+        with self._lock:
+            if self._status not in (GoalStatus.ACCEPTED, GoalStatus.EXECUTING):
+                return False
+            self._status = GoalStatus.CANCELING
+        return True
+
+    def _hex(self) -> str:
+        return bytes(self._goal_id.uuid).hex()
+
+
+class ActionServer:
+    """`ActionServer(node, action_type, action_name, execute_callback, ...)` as in rclpy."""
+
+    def __init__(self, node: 'Node', action_type: type, action_name: str, execute_callback: Callable, *,
+                 callback_group: Any = None, goal_callback: Callable = default_goal_callback,
+                 handle_accepted_callback: Callable = default_handle_accepted_callback,
+                 cancel_callback: Callable = default_cancel_callback,
+                 goal_service_qos_profile: QoSProfile = qos_profile_services_default,
+                 result_service_qos_profile: QoSProfile = qos_profile_services_default,
+                 cancel_service_qos_profile: QoSProfile = qos_profile_services_default,
+                 feedback_pub_qos_profile: QoSProfile = QoSProfile(depth=10),
+                 status_pub_qos_profile: QoSProfile = qos_profile_action_status_default,
+                 result_timeout: float = 900) -> None:
+        from interfaces.action_msgs.msg import GoalStatusArray
+        from interfaces.action_msgs.srv import CancelGoal
+        self._node = node
+        self._action_type = action_type
+        self._types = protocol_types(action_type)
+        self._name = node.resolve_service_name(action_name)
+        self._execute_callback = execute_callback
+        self._goal_callback = goal_callback
+        self._handle_accepted_callback = handle_accepted_callback
+        self._cancel_callback = cancel_callback
+        self._result_timeout = result_timeout
+        self._feedback_qos = feedback_pub_qos_profile
+        self.callback_group = callback_group or node.default_callback_group
+        self._goals: dict[bytes, ServerGoalHandle] = {}
+        self._feedback_pubs: dict[str, Publisher] = {}
+        self._lock = threading.RLock()
+        self._destroyed = False
+        self._status_pub = Publisher(node, GoalStatusArray, f'{self._name}/_action/status',
+                                     status_pub_qos_profile, self.callback_group)
+        group = self.callback_group
+        self._services = [
+            node.create_service(self._types.SendGoal, f'{self._name}/_action/send_goal', self._on_send_goal,
+                                qos_profile=goal_service_qos_profile, callback_group=group),
+            node.create_service(CancelGoal, f'{self._name}/_action/cancel_goal', self._on_cancel,
+                                qos_profile=cancel_service_qos_profile, callback_group=group),
+            node.create_service(self._types.GetResult, f'{self._name}/_action/get_result', self._on_get_result,
+                                qos_profile=result_service_qos_profile, callback_group=group),
+        ]
+        self._entity = node._declare_entity(EntityKind.ACTION_SERVER, self._name, action_type)
+        node._add(self)
+
+    @property
+    def action_name(self) -> str:
+        return self._name
+
+    # -- protocol handlers (executor threads) -------------------------------------------------
+    def _on_send_goal(self, request: Any, response: Any) -> Any:
+        from interfaces.unique_identifier_msgs.msg import UUID
+        try:
+            decision = self._goal_callback(request.goal)
+        except Exception as exc:  # noqa: BLE001 - a failing user callback rejects the goal
+            self._node.get_logger().error(f"goal callback of action '{self._name}' raised {type(exc).__name__}: {exc}")
+            decision = GoalResponse.REJECT
+        response.accepted = decision == GoalResponse.ACCEPT
+        response.stamp = self._node.get_clock().now().to_msg()
+        if not response.accepted:
+            return response
+        goal_id = UUID(uuid=uuid.uuid4().bytes)
+        handle = ServerGoalHandle(self, goal_id, request.goal, request.client_id)
+        response.goal_id = goal_id
+        with self._lock:
+            self._goals[goal_id.uuid.tobytes()] = handle
+        self._feedback_publisher(request.client_id)
+        self._publish_status()
+        # Accepted-callback after the reply is sent: the client learns the id before feedback.
+        self._node._run_on_executor(self._handle_accepted, handle)
+        return response
+
+    def _handle_accepted(self, handle: ServerGoalHandle) -> None:
+        try:
+            self._handle_accepted_callback(handle)
+        except Exception as exc:  # noqa: BLE001 - log with the goal id and abort the goal
+            self._node.get_logger().error(
+                f'handle_accepted_callback raised {type(exc).__name__}: {exc} (goal {handle._hex()})')
+            if handle.is_active:
+                handle.abort()
+                self._finish(handle, self._action_type.Result())
+
+    def _on_cancel(self, request: Any, response: Any) -> Any:
+        from interfaces.action_msgs.msg import GoalInfo
+        target = request.goal_info.goal_id.uuid.tobytes()
+        stamp = request.goal_info.stamp
+        before_ns = stamp.sec * 1_000_000_000 + stamp.nanosec
+        with self._lock:
+            goals = list(self._goals.values())
+        if any(target):
+            candidates = [g for g in goals if g._goal_id.uuid.tobytes() == target]
+            if not candidates:
+                response.return_code = _CANCEL_UNKNOWN_GOAL
+                return response
+            if before_ns:
+                candidates += [g for g in goals if g not in candidates and _ns(g._stamp) <= before_ns]
+        elif before_ns:
+            candidates = [g for g in goals if _ns(g._stamp) <= before_ns]
+        else:
+            candidates = goals
+        active = [g for g in candidates if g.is_active]
+        if candidates and not active:
+            response.return_code = _CANCEL_TERMINATED
+            return response
+        canceling = []
+        for handle in active:
+            try:
+                decision = self._cancel_callback(handle)
+            except Exception as exc:  # noqa: BLE001 - a failing cancel callback rejects
+                self._node.get_logger().error(f'cancel callback raised {type(exc).__name__}: {exc}')
+                decision = CancelResponse.REJECT
+            if decision == CancelResponse.ACCEPT and handle._request_cancel():
+                canceling.append(GoalInfo(goal_id=handle.goal_id, stamp=handle._stamp))
+        response.goals_canceling = canceling
+        response.return_code = _CANCEL_OK if canceling or not active else _CANCEL_REJECTED
+        if canceling:
+            self._publish_status()
+        return response
+
+    def _on_get_result(self, request: Any, response: Any) -> Any:
+        with self._lock:
+            handle = self._goals.get(request.goal_id.uuid.tobytes())
+        if handle is None:
+            response.status = int(GoalStatus.UNKNOWN)
+            return response
+        with handle._lock:
+            if handle._result is None:
+                deferred = DeferredResponse()
+                handle._waiters.append(deferred)
+                return deferred
+        response.status = handle.status
+        response.result = handle._result
+        return response
+
+    # -- execution ---------------------------------------------------------------------------
+    def _start_execution(self, handle: ServerGoalHandle, execute_callback: Callable | None) -> None:
+        with handle._lock:
+            if handle._status != GoalStatus.ACCEPTED:
+                if handle._status == GoalStatus.EXECUTING:
+                    raise RuntimeError(f'goal {handle._hex()} is already executing')
+                return  # canceled before it started: the cancel path ends it
+            handle._status = GoalStatus.EXECUTING
+        self._publish_status()
+        self._node._run_on_executor(self._run, handle, execute_callback or self._execute_callback)
+
+    def _run(self, handle: ServerGoalHandle, execute_callback: Callable) -> None:
+        try:
+            result = execute_callback(handle)
+        except Exception as exc:  # noqa: BLE001 - log with the goal id, abort, keep serving
+            self._node.get_logger().error(
+                f"execute callback of action '{self._name}' raised {type(exc).__name__}: {exc} "
+                f'(goal {handle._hex()}); aborting the goal')
+            result = None
+            if handle.is_active:
+                handle._status = GoalStatus.ABORTED
+        if handle.is_active:
+            self._node.get_logger().warn(
+                f'Goal state not set, assuming aborted. Goal ID: {handle._hex()}')
+            handle._status = GoalStatus.ABORTED
+        if type(result) is not self._action_type.Result:
+            if result is not None:
+                self._node.get_logger().error(
+                    f'execute callback returned {type(result).__name__}, expected {self._action_type._TYPE} Result')
+            result = self._action_type.Result()
+        self._finish(handle, result)
+
+    def _finish(self, handle: ServerGoalHandle, result: Any) -> None:
+        with handle._lock:
+            handle._result = result
+            waiters, handle._waiters = handle._waiters, []
+        self._publish_status()
+        response = self._types.GetResult.Response(status=handle.status, result=result)
+        for waiter in waiters:
+            waiter.resolve(response)
+        expiry = threading.Timer(self._result_timeout, self._expire, args=(handle,))
+        expiry.daemon = True
+        expiry.start()
+
+    def _expire(self, handle: ServerGoalHandle) -> None:
+        with self._lock:
+            self._goals.pop(handle._goal_id.uuid.tobytes(), None)
+        self._publish_status()
+
+    # -- topics -------------------------------------------------------------------------------
+    def _feedback_publisher(self, client_id: str) -> Publisher:
+        with self._lock:
+            pub = self._feedback_pubs.get(client_id)
+            if pub is None:
+                topic = f'{self._name}/_action/feedback/c{client_id}'
+                pub = Publisher(self._node, self._types.FeedbackMessage, topic, self._feedback_qos,
+                                self.callback_group)
+                self._feedback_pubs[client_id] = pub
+            return pub
+
+    def _publish_feedback(self, handle: ServerGoalHandle, feedback: Any) -> None:
+        if type(feedback) is not self._action_type.Feedback:
+            raise TypeError(f'publish_feedback expects {self._action_type._TYPE} Feedback, '
+                            f'got {type(feedback).__name__}')
+        message = self._types.FeedbackMessage(goal_id=handle.goal_id, feedback=feedback)
+        self._feedback_publisher(handle._client_id).publish(message)
+
+    def _publish_status(self) -> None:
+        from interfaces.action_msgs.msg import GoalInfo, GoalStatus as GoalStatusMsg, GoalStatusArray
+        if self._destroyed:
+            return
+        with self._lock:
+            goals = list(self._goals.values())
+        array = GoalStatusArray(status_list=[
+            GoalStatusMsg(goal_info=GoalInfo(goal_id=g.goal_id, stamp=g._stamp), status=g.status) for g in goals])
+        try:
+            self._status_pub.publish(array)
+        except RuntimeError:
+            pass  # destroyed while a goal was finishing
+
+    def destroy(self) -> None:
+        if self._destroyed:
+            return
+        self._destroyed = True
+        self._node._undeclare_entity(self._entity)
+        for service in self._services:
+            self._node.destroy_service(service)
+        with self._lock:
+            pubs = list(self._feedback_pubs.values())
+            self._feedback_pubs.clear()
+            goals = list(self._goals.values())
+        for pub in pubs:
+            pub.destroy()
+        self._status_pub.destroy()
+        for handle in goals:
+            with handle._lock:
+                waiters, handle._waiters = handle._waiters, []
+            for waiter in waiters:
+                waiter.fail(f"action server '{self._name}' was destroyed")
+
+
+def _ns(stamp: Any) -> int:
+    return stamp.sec * 1_000_000_000 + stamp.nanosec
