@@ -63,6 +63,7 @@ class Node:
         self._entities: list[Any] = []
         self._timers: list[Timer] = []
         self._tokens: dict[int, Any] = {}
+        self._qos_monitor = None
         self._node_id = self._context.next_id()
         self._zid = str(self._context.session.info.zid())
         self._destroyed = False
@@ -161,6 +162,11 @@ class Node:
 
     def _add(self, entity: Any) -> Any:
         self._entities.append(entity)
+        if self._qos_monitor is None and isinstance(entity, (Publisher, Subscription)):
+            from zros.qos_monitor import QoSMonitor
+            self._qos_monitor = QoSMonitor(self)
+        elif self._qos_monitor is not None and isinstance(entity, (Publisher, Subscription)):
+            self._qos_monitor.check()
         if self._executor is not None:
             self._executor.wake()
         return entity
@@ -264,6 +270,9 @@ class Node:
     @property
     def timers(self) -> Iterable[Timer]:
         return list(self._timers)
+
+    def _own_endpoints(self) -> list[Entity]:
+        return [e.handle for e in list(self._entities) if isinstance(e, (Publisher, Subscription))]
 
     def _timers_snapshot(self) -> list[Timer]:
         return self._timers[:]
@@ -477,6 +486,8 @@ class Node:
             self._executor.remove_node(self)
         if self._rosout_sink is not None:
             remove_sink(self._rosout_sink)
+        if self._qos_monitor is not None:
+            self._qos_monitor.close()
         for entity in list(self._entities):
             self._destroy_entity(entity)
         if self._rosout is not None:
