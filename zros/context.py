@@ -31,6 +31,7 @@ class Context:
         self._is_hub = False
         self._settings: SessionSettings | None = None
         self._graph = None
+        self._graph_service = None
         self._args = RosArgs()
         self._argv: list[str] = []
         self._ok = False
@@ -57,6 +58,10 @@ class Context:
             self._graph = None
             self._closed.clear()
             self._ok = True
+            if self._is_hub:
+                from zros.graph import GraphService
+                self.graph.start()
+                self._graph_service = GraphService(self._session, settings.domain_id, self.graph)
         _register_exit_hook(self)
         if install_signal_handlers:
             _install_sigterm_handler()
@@ -87,6 +92,9 @@ class Context:
         for node in list(self._nodes):
             node.destroy_node()
         with self._lock:
+            if self._graph_service is not None:
+                self._graph_service.close()
+                self._graph_service = None
             if self._graph is not None:
                 self._graph.close()
                 self._graph = None
@@ -145,7 +153,7 @@ class Context:
         from zros.graph import Graph
         with self._lock:
             if self._graph is None:
-                self._graph = Graph(self.session, self.domain_id)
+                self._graph = Graph(self.session, self.domain_id, is_hub=self._is_hub)
             return self._graph
 
     def next_id(self) -> int:

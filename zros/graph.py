@@ -4,6 +4,13 @@ Each node and each of its entities declares one token (format below, protocol v1
 vanishes when its entity is destroyed, its process exits or its link dies, so the graph tracks
 crashes within Zenoh's link-failure detection (immediate on loopback).
 
+A process that has just opened its session has not yet been linked to every peer (Zenoh's
+gossip takes 0.1-0.5 s), so a plain liveliness query could miss most of the graph. The hub
+process therefore keeps the whole graph (every process connects to it) and serves it on the
+queryable `@zros/v1/<domain>/graph`; readers ask it and retry until it answers. Without a hub
+(explicit ZROS_CONNECT set-ups) readers collect tokens with a liveliness subscriber until they
+stop arriving.
+
     @zros/v1/<domain>/<zid>/<node_id>/<entity_id>/NN/<ns>/<node>
     @zros/v1/<domain>/<zid>/<node_id>/<entity_id>/<KIND>/<ns>/<node>/<name>/<type>/<hash>/<qos>
 
@@ -13,12 +20,13 @@ AS (action server), AC (action client). <ns>, <name> and <type> are mangled by z
 from __future__ import annotations
 
 import threading
+import time
 from typing import Callable, Iterable, NamedTuple
 
 from zros.keys import liveliness_prefix, mangle, unmangle
 
 __all__ = [
-    'Entity', 'EntityKind', 'entity_token', 'parse_token', 'Graph', 'fetch_entities',
+    'Entity', 'EntityKind', 'entity_token', 'parse_token', 'Graph', 'fetch_entities', 'GraphService',
     'node_names_and_namespaces', 'names_and_types', 'endpoints',
 ]
 
@@ -83,16 +91,81 @@ def parse_token(key: str) -> Entity | None:
         return None
 
 
-def fetch_entities(session, domain: int, timeout: float = 1.0) -> list[Entity]:
-    """One-shot read of the whole graph (what the CLI uses: no subscriber to set up)."""
-    found = []
-    for reply in session.liveliness().get(f'{liveliness_prefix(domain)}/**', timeout=timeout):
-        ok = reply.ok
-        if ok is not None:
-            entity = parse_token(str(ok.key_expr))
-            if entity is not None:
-                found.append(entity)
-    return found
+def _graph_key(domain: int) -> str:
+    return f'{liveliness_prefix(domain)}/graph'
+
+
+def _parse_all(keys: Iterable[str]) -> list[Entity]:
+    return [e for e in (parse_token(k) for k in keys) if e is not None]
+
+
+def fetch_entities(session, domain: int, timeout: float = 1.0, *, is_hub: bool = False) -> list[Entity]:
+    """One-shot read of the whole graph (what the CLI uses)."""
+    import msgpack
+    deadline = time.monotonic() + timeout
+    if not is_hub:
+        while time.monotonic() < deadline:
+            for reply in session.get(_graph_key(domain), timeout=max(0.05, min(0.5, deadline - time.monotonic()))):
+                if reply.ok is not None:
+                    keys = msgpack.unpackb(reply.ok.payload.to_bytes())
+                    own = [str(r.ok.key_expr) for r in session.liveliness().get(
+                        f'{liveliness_prefix(domain)}/**', timeout=0.2) if r.ok is not None]
+                    return _parse_all(set(keys) | set(own))
+            time.sleep(0.01)  # the hub's queryable is not known to this fresh session yet
+    return _collect(session, domain, max(0.3, deadline - time.monotonic()), wait_for_peers=is_hub)
+
+
+def _collect(session, domain: int, limit: float, *, wait_for_peers: bool) -> list[Entity]:
+    """Tokens from a liveliness subscriber, until none has arrived for a moment."""
+    keys: dict[str, bool] = {}
+    last_change = [time.monotonic()]
+
+    def on_sample(sample) -> None:
+        import zenoh
+        key = str(sample.key_expr)
+        if sample.kind == zenoh.SampleKind.DELETE:
+            keys.pop(key, None)
+        else:
+            keys[key] = True
+        last_change[0] = time.monotonic()
+    subscriber = session.liveliness().declare_subscriber(f'{liveliness_prefix(domain)}/**', on_sample, history=True)
+    try:
+        started = time.monotonic()
+        end = started + limit
+        # A hub that nobody has connected to yet may have peers reconnecting from a hub that
+        # just exited; give them a moment, then stop as soon as the tokens stop coming.
+        quiet = 0.1
+        while time.monotonic() < end:
+            time.sleep(0.02)
+            now = time.monotonic()
+            if wait_for_peers and not list(session.info.peers_zid()) and now - started < 0.3:
+                continue
+            if now - last_change[0] >= quiet and now - started >= quiet:
+                break
+    finally:
+        subscriber.undeclare()
+    return _parse_all(list(keys))
+
+
+class GraphService:
+    """Run by the hub process: serves its complete copy of the graph to fresh readers."""
+
+    def __init__(self, session, domain: int, graph: 'Graph') -> None:
+        self._graph = graph
+        self._queryable = session.declare_queryable(_graph_key(domain), self._on_query, complete=True)
+
+    def _on_query(self, query) -> None:
+        import msgpack
+        try:
+            query.reply(query.key_expr, msgpack.packb(self._graph.token_keys()))
+        finally:
+            query.drop()
+
+    def close(self) -> None:
+        try:
+            self._queryable.undeclare()
+        except Exception:  # noqa: BLE001 - the session may already be closing
+            pass
 
 
 class Graph:
@@ -102,9 +175,10 @@ class Graph:
     which is how `wait_for_service` and friends avoid polling the network.
     """
 
-    def __init__(self, session, domain: int) -> None:
+    def __init__(self, session, domain: int, *, is_hub: bool = False) -> None:
         self._session = session
         self._domain = domain
+        self._is_hub = is_hub
         self._entities: dict[str, Entity] = {}
         self._changed = threading.Condition()
         self._listeners: list[Callable[[], None]] = []
@@ -118,12 +192,15 @@ class Graph:
         with self._start_lock:
             if self._started.is_set():
                 return
-            # Seed from a query first: the history of a liveliness subscriber arrives
-            # asynchronously, and callers expect the graph to be complete on return.
-            for entity in fetch_entities(self._session, self._domain):
-                self._entities[entity_token(self._domain, entity)] = entity
             self._subscriber = self._session.liveliness().declare_subscriber(
                 f'{liveliness_prefix(self._domain)}/**', self._on_sample, history=True)
+            # The subscriber's history arrives as links form; callers expect a complete graph
+            # on return, so seed it from the hub (or a settled collection) as well.
+            if not self._is_hub:
+                seeded = fetch_entities(self._session, self._domain)
+                with self._changed:
+                    for entity in seeded:
+                        self._entities.setdefault(entity_token(self._domain, entity), entity)
             self._started.set()
 
     def _on_sample(self, sample) -> None:
@@ -151,6 +228,13 @@ class Graph:
         with self._changed:
             if listener in self._listeners:
                 self._listeners.remove(listener)
+
+    def start(self) -> None:
+        self._ensure_started()
+
+    def token_keys(self) -> list[str]:
+        with self._changed:
+            return list(self._entities)
 
     def entities(self) -> list[Entity]:
         self._ensure_started()

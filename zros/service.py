@@ -82,7 +82,7 @@ class Service:
         self._entity = node._declare_entity(EntityKind.SERVICE, name, srv_type, qos)
         self._destroyed = False
         others = [e for e in node.context.graph.entities()
-                  if e.kind == EntityKind.SERVICE and e.name == name and e.entity_id != self._entity.entity_id]
+                  if e.kind == EntityKind.SERVICE and e.name == name and e != self._entity]
         if others:
             node.get_logger().warn(
                 f"service '{name}' is already served by {', '.join(sorted(e.node_fqn for e in others))}: "
