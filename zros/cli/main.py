@@ -21,6 +21,7 @@ VERBS = {
     'service': ('zros.cli.service', 'Inspect and call services'),
     'param': ('zros.cli.param', 'Inspect and change node parameters'),
     'action': ('zros.cli.action', 'Inspect actions and send goals'),
+    'launch': ('zros.cli.launch', 'Run a YAML launch file'),
 }
 
 

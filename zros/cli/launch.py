@@ -1,0 +1,109 @@
+"""`zros launch`: run a ROS 2 YAML launch file (like ros2 launch).
+
+    zros launch FILE [name:=value ...] [--print] [--show-args] [--log-dir DIR] [--debug]
+    zros launch PKG FILE [name:=value ...]      # FILE looked up in the package (docs/launch.md)
+
+Options may come before or after the file. Launch-file errors print one line,
+`file:line: <tag>: <key>: reason`, and nothing is started. The launch system itself
+(zros.launch) is imported only when this verb runs.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+
+__all__ = ['add_arguments', 'main']
+
+
+def _add_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument('-p', '--print', '--print-description', dest='print_plan', action='store_true',
+                        help='print the resolved plan (processes, command lines, env, params); start nothing')
+    parser.add_argument('-s', '--show-args', '--show-arguments', dest='show_args', action='store_true',
+                        help='list the launch arguments (defaults, descriptions, choices) and exit')
+    parser.add_argument('--log-dir', metavar='DIR', default=None,
+                        help='write this run\'s logs to DIR (default: $ZROS_LOG_DIR or ~/.zros/log, '
+                             'in a timestamped directory)')
+    parser.add_argument('-d', '--debug', action='store_true', help='print the supervisor\'s debug messages')
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.formatter_class = argparse.RawDescriptionHelpFormatter
+    parser.epilog = ('examples:\n  zros launch configs/talker_listener.launch.yaml topic:=news\n'
+                     '  zros launch zros talker_listener.launch.yaml --print\n'
+                     '  zros launch configs/talker_listener.launch.yaml --show-args')
+    _add_options(parser)
+    parser.add_argument('arguments', nargs=argparse.REMAINDER, metavar='[PKG] FILE [name:=value ...]',
+                        help='a launch file (or a package and a file in it), then launch arguments')
+    parser.set_defaults(handler=main)
+
+
+def _late_options(items: list[str]) -> argparse.Namespace:
+    """Options written after the file (`zros launch f.yaml --print`): argparse stops at the
+    first positional, so the rest is parsed again here, options and items intermixed."""
+    parser = argparse.ArgumentParser(prog='zros launch', add_help=False)
+    _add_options(parser)
+    parser.add_argument('items', nargs='*')
+    return parser.parse_intermixed_args(items)
+
+
+def _locate(items: list[str]) -> tuple[str, list[str]]:
+    from zros.errors import CliError
+    from zros.launch.packages import find_launch_file
+    if not items:
+        raise CliError('usage: zros launch [PKG] FILE [name:=value ...] (see zros launch -h)')
+    first = items[0]
+    if os.path.isfile(first):
+        return first, items[1:]
+    if ':=' not in first and len(items) > 1 and ':=' not in items[1]:
+        return str(find_launch_file(first, items[1])), items[2:]
+    raise CliError(f"no such launch file '{first}' (or give a package and a file: zros launch PKG FILE)")
+
+
+def _show_arguments(path: str, launch_arguments: dict[str, str]) -> None:
+    from zros.launch import declared_arguments
+    arguments = declared_arguments(path, launch_arguments)
+    print("Arguments (pass arguments as '<name>:=<value>'):")
+    if not arguments:
+        print('\n  No arguments.')
+        return
+    for argument in arguments:
+        print(f"\n    '{argument.name}':" + ('*' if argument.conditional else ''))
+        print('        ' + (argument.description.strip().replace('\n', '\n        ') or 'no description given'))
+        if argument.choices:
+            print(f"        Valid choices are: {', '.join(argument.choices)}")
+        if argument.default is not None:
+            print(f"        (default: '{argument.default}')")
+        else:
+            print('        (required)')
+    if any(a.conditional for a in arguments):
+        print('\n* argument(s) which are only used if specific conditions occur')
+
+
+def main(args: argparse.Namespace) -> int:
+    from zros.launch import LaunchError, parse_launch_arguments, resolve
+    from zros.launch.supervisor import Supervisor, make_log_dir
+    late = _late_options(list(args.arguments))
+    print_plan = args.print_plan or late.print_plan
+    show_args = args.show_args or late.show_args
+    debug = args.debug or late.debug
+    log_dir_option = late.log_dir or args.log_dir
+    try:
+        path, rest = _locate(late.items)
+        launch_arguments = parse_launch_arguments(rest)
+        if show_args:
+            _show_arguments(path, launch_arguments)
+            return 0
+        log_dir = make_log_dir(log_dir_option)
+        plan = resolve(path, launch_arguments=launch_arguments, log_dir=str(log_dir))
+    except LaunchError as exc:
+        print(str(exc), file=sys.stderr)
+        return 1
+    if print_plan:
+        sys.stdout.write(plan.describe())
+        return 0
+    try:
+        return Supervisor(plan, log_dir=log_dir, debug=debug).run()
+    except LaunchError as exc:
+        print(str(exc), file=sys.stderr)
+        return 1

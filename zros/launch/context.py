@@ -1,0 +1,138 @@
+"""The state a launch file is resolved in: launch configurations, environment, ROS scope.
+
+Resolution walks the parsed actions in order (`zros.launch.description.resolve`); actions read
+and change this context and add effects (processes to start, messages to log, timers) to the
+plan. Groups push and pop scopes, includes push and pop the current file, timers capture their
+children's effects. Nothing here starts a process or touches the file system.
+"""
+from __future__ import annotations
+
+import copy
+import os
+from dataclasses import dataclass, field
+from typing import Any, NamedTuple
+
+from zros.launch.errors import LaunchFileError, Origin
+from zros.launch.substitutions import make_anon_name
+
+__all__ = ['LaunchContext', 'RosScope', 'DeclaredArgument']
+
+
+@dataclass
+class RosScope:
+    """What launch_ros keeps in launch configurations: the pushed namespace and the
+    `set_parameter` / `set_remap` / `set_use_sim_time` values that apply to later nodes."""
+
+    namespace: str = ''
+    params: list[tuple[str, Any]] = field(default_factory=list)
+    remaps: list[tuple[str, str]] = field(default_factory=list)
+
+
+class DeclaredArgument(NamedTuple):
+    """An `arg` tag, as `--show-args` and the error messages list it."""
+
+    name: str
+    default: str | None            # the default as written (substitutions not evaluated)
+    description: str
+    choices: tuple[str, ...]
+    origin: Origin
+    conditional: bool = False      # inside an if/unless (may not be declared at all)
+
+
+class _Scope(NamedTuple):
+    configurations: dict[str, str]
+    environment: dict[str, str]
+    ros: RosScope
+
+
+class LaunchContext:
+    """Mutable resolution state; one per `resolve()` call.
+
+    Args:
+        launch_arguments: `name:=value` pairs from the command line (set as configurations
+            before the file is read, as ros2 launch does).
+        environment: the environment the launch starts from (default: os.environ).
+        log_dir: this run's log directory (for `$(log_dir)` and generated parameter files).
+    """
+
+    def __init__(self, *, launch_arguments: dict[str, str] | None = None,
+                 environment: dict[str, str] | None = None, log_dir: str = '') -> None:
+        self.launch_arguments = dict(launch_arguments or {})
+        self.configurations: dict[str, str] = dict(self.launch_arguments)
+        self.base_environment = dict(os.environ if environment is None else environment)
+        self.environment: dict[str, str] = dict(self.base_environment)
+        self.ros = RosScope()
+        self.log_dir = log_dir
+        self.declared: dict[str, DeclaredArgument] = {}
+        self.known_arguments: dict[str, DeclaredArgument] = {}   # from a static walk, for messages
+        self._scopes: list[_Scope] = []
+        self._files: list[tuple[str, Origin | None]] = []
+        self._captures: list[list] = [[]]
+        self._anon: dict[str, str] = {}
+
+    # -- files (for $(dirname), $(filename) and include cycles) --------------------------------
+    @property
+    def current_file(self) -> str:
+        return self._files[-1][0] if self._files else ''
+
+    @property
+    def file_stack(self) -> list[str]:
+        return [path for path, _ in self._files]
+
+    def enter_file(self, path: str, origin: Origin | None) -> None:
+        real = os.path.realpath(path)
+        stack = [os.path.realpath(p) for p in self.file_stack]
+        if real in stack:
+            chain = ' -> '.join([*self.file_stack[stack.index(real):], path])
+            raise LaunchFileError(origin, f'include cycle: {chain}')
+        self._files.append((path, origin))
+
+    def leave_file(self) -> None:
+        self._files.pop()
+
+    # -- scopes (group) ------------------------------------------------------------------------
+    def push_scope(self) -> None:
+        self._scopes.append(_Scope(dict(self.configurations), dict(self.environment), copy.deepcopy(self.ros)))
+
+    def pop_scope(self) -> None:
+        scope = self._scopes.pop()
+        self.configurations, self.environment, self.ros = scope.configurations, scope.environment, scope.ros
+
+    def reset_configurations(self, keep: dict[str, str]) -> None:
+        """`forwarding: false`: the group starts with only `keep` (and a fresh ROS scope)."""
+        self.configurations = dict(keep)
+        self.ros = RosScope()
+
+    # -- effects -------------------------------------------------------------------------------
+    def emit(self, effect: Any) -> None:
+        self._captures[-1].append(effect)
+
+    def begin_capture(self) -> None:
+        self._captures.append([])
+
+    def end_capture(self) -> list:
+        return self._captures.pop()
+
+    @property
+    def effects(self) -> list:
+        return self._captures[0]
+
+    # -- helpers -------------------------------------------------------------------------------
+    def anon_name(self, name: str) -> str:
+        if name not in self._anon:
+            self._anon[name] = make_anon_name(name)
+        return self._anon[name]
+
+    def environment_changes(self) -> dict[str, str | None]:
+        """Variables that differ from the starting environment (None: unset)."""
+        changes: dict[str, str | None] = {}
+        for name, value in self.environment.items():
+            if self.base_environment.get(name) != value:
+                changes[name] = value
+        for name in self.base_environment:
+            if name not in self.environment:
+                changes[name] = None
+        return changes
+
+    def declared_names(self) -> list[str]:
+        return sorted(set(self.declared) | set(self.known_arguments))

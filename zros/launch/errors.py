@@ -1,0 +1,49 @@
+"""Errors of the launch system.
+
+Every problem in a launch file is reported as one line that starts with where it is, so an
+editor can jump to it: `file:line: <tag>: <key>: reason`. Problems found while the launch runs
+(a process that cannot be started) are `LaunchError`s without a location.
+"""
+from __future__ import annotations
+
+from typing import NamedTuple
+
+from zros.errors import ZrosError
+
+__all__ = ['LaunchError', 'LaunchFileError', 'SubstitutionError', 'Origin']
+
+
+class LaunchError(ZrosError):
+    """A launch cannot go on: bad command line, bad file, or a process that cannot start."""
+
+
+class SubstitutionError(LaunchError):
+    """A substitution cannot be parsed or evaluated; the caller adds where it was written."""
+
+
+class Origin(NamedTuple):
+    """Where something was written: file, 1-based line, the tag and (optionally) the key."""
+
+    path: str
+    line: int
+    tag: str
+    key: str | None = None
+
+    def __str__(self) -> str:
+        where = f'{self.path}:{self.line}: {self.tag}'
+        return f'{where}: {self.key}' if self.key else where
+
+    def with_key(self, key: str | None, line: int | None = None) -> 'Origin':
+        return Origin(self.path, self.line if line is None else line, self.tag, key)
+
+    def error(self, reason: str) -> 'LaunchFileError':
+        return LaunchFileError(self, reason)
+
+
+class LaunchFileError(LaunchError):
+    """A launch file is wrong; str() is `file:line: <tag>: <key>: reason` on one line."""
+
+    def __init__(self, origin: Origin | None, reason: str) -> None:
+        self.origin = origin
+        self.reason = ' '.join(str(reason).split()) if '\n' in str(reason) else str(reason)
+        super().__init__(f'{origin}: {self.reason}' if origin is not None else self.reason)

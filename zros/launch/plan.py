@@ -1,0 +1,197 @@
+"""The resolved launch: what will happen, in order, with every substitution already evaluated.
+
+Resolution turns a launch file into a `Plan` of effects; the supervisor carries the plan out
+and `zros launch --print` shows it. Keeping the two apart is what lets a launch validate every
+node (packages, executables, names, parameter files) before it starts any process.
+"""
+from __future__ import annotations
+
+import shlex
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import NamedTuple, Union
+
+import yaml
+
+from zros.launch.context import DeclaredArgument
+from zros.launch.errors import Origin
+
+__all__ = ['ParamsFile', 'GeneratedParams', 'NodeInfo', 'ProcessSpec', 'LogMessage', 'TimerEffect',
+           'ShutdownEffect', 'Effect', 'Plan', 'OUTPUT_MODES']
+
+OUTPUT_MODES = ('log', 'screen', 'both', 'own_log')
+
+
+class ParamsFile(NamedTuple):
+    """A parameter file written by the user, passed as `--params-file` unchanged."""
+
+    path: str
+
+
+class GeneratedParams(NamedTuple):
+    """Parameters written in the launch file: a ROS-layout document the supervisor writes to
+    `<log dir>/params/<process>.yaml` and passes as `--params-file`."""
+
+    document: dict
+
+    def to_yaml(self) -> str:
+        return yaml.safe_dump(self.document, default_flow_style=False, sort_keys=False)
+
+
+class NodeInfo(NamedTuple):
+    package: str
+    executable: str
+    name: str | None          # the node name set with `name:` (None: the node's own)
+    namespace: str            # '/' when none
+
+    def display_name(self) -> str:
+        name = self.name or f'<{self.executable}>'
+        return f"{'' if self.namespace == '/' else self.namespace}/{name}"
+
+
+@dataclass(frozen=True)
+class ProcessSpec:
+    """One process to start: `cmd_head + --params-file ... + cmd_tail`, fully resolved.
+
+    `label` is the name in output prefixes without the counter (`talker` -> `[talker-1]`).
+    """
+
+    label: str
+    cmd_head: tuple[str, ...]
+    params: tuple[Union[ParamsFile, GeneratedParams], ...] = ()
+    cmd_tail: tuple[str, ...] = ()
+    env: tuple[tuple[str, str | None], ...] = ()   # changes to the supervisor's environment
+    cwd: str | None = None
+    shell_text: str | None = None                   # the command line as written, for `shell: true`
+    output: str = 'log'
+    respawn: bool = False
+    respawn_delay: float = 0.0
+    respawn_max_retries: int = -1
+    sigterm_timeout: float = 5.0
+    sigkill_timeout: float = 5.0
+    on_exit_shutdown: bool = False
+    origin: Origin | None = None
+    node: NodeInfo | None = None
+
+    def command(self, params_paths: list[str]) -> list[str]:
+        """The argv, given where each GeneratedParams entry was written."""
+        middle: list[str] = []
+        for path in params_paths:
+            middle += ['--params-file', path]
+        return [*self.cmd_head, *middle, *self.cmd_tail]
+
+    def generated_params_paths(self, directory: Path, process_name: str) -> list[str]:
+        """Where the supervisor writes this process's parameter files (and --print shows)."""
+        paths, generated = [], 0
+        for source in self.params:
+            if isinstance(source, ParamsFile):
+                paths.append(source.path)
+            else:
+                generated += 1
+                suffix = '' if generated == 1 else f'-{generated}'
+                paths.append(str(directory / f'{process_name}{suffix}.yaml'))
+        return paths
+
+
+class LogMessage(NamedTuple):
+    level: str            # DEBUG, INFO, WARNING, ERROR
+    message: str
+    origin: Origin | None = None
+
+
+class TimerEffect(NamedTuple):
+    period: float
+    effects: list
+    origin: Origin | None = None
+
+
+class ShutdownEffect(NamedTuple):
+    reason: str
+    origin: Origin | None = None
+
+
+Effect = Union[ProcessSpec, LogMessage, TimerEffect, ShutdownEffect]
+
+
+@dataclass
+class Plan:
+    """Everything a launch file resolved to."""
+
+    launch_file: str
+    effects: list = field(default_factory=list)
+    arguments: dict[str, str] = field(default_factory=dict)          # final values of declared args
+    declared: dict[str, DeclaredArgument] = field(default_factory=dict)
+    log_dir: str = ''
+
+    def processes_in_start_order(self) -> list[tuple[float, ProcessSpec]]:
+        """(start delay, spec) in the order the supervisor starts them (timers by due time)."""
+        out: list[tuple[float, ProcessSpec]] = []
+        pending: list[tuple[float, int, list]] = [(0.0, 0, self.effects)]
+        counter = 1
+        while pending:
+            pending.sort(key=lambda item: (item[0], item[1]))
+            when, _, effects = pending.pop(0)
+            for effect in effects:
+                if isinstance(effect, ProcessSpec):
+                    out.append((when, effect))
+                elif isinstance(effect, TimerEffect):
+                    pending.append((when + effect.period, counter, effect.effects))
+                    counter += 1
+                elif isinstance(effect, ShutdownEffect):
+                    return out
+        return out
+
+    def describe(self) -> str:
+        """The plan as `zros launch --print` shows it."""
+        lines = [f'launch file: {self.launch_file}']
+        if self.arguments:
+            lines.append('arguments:')
+            lines += [f'  {name}:={value}' for name, value in self.arguments.items()]
+        lines.append(f'log directory: {self.log_dir}')
+        numbers: dict[int, str] = {}
+        for index, (_, spec) in enumerate(self.processes_in_start_order(), start=1):
+            numbers.setdefault(id(spec), f'{spec.label}-{index}')
+        lines.append('')
+        self._describe_effects(self.effects, lines, numbers, indent='')
+        return '\n'.join(lines).rstrip() + '\n'
+
+    def _describe_effects(self, effects: list, lines: list[str], numbers: dict, indent: str) -> None:
+        for effect in effects:
+            if isinstance(effect, ProcessSpec):
+                self._describe_process(effect, lines, numbers.get(id(effect), effect.label), indent)
+            elif isinstance(effect, LogMessage):
+                lines.append(f'{indent}log [{effect.level}]: {effect.message}')
+            elif isinstance(effect, TimerEffect):
+                lines.append(f'{indent}after {effect.period:g} s:')
+                self._describe_effects(effect.effects, lines, numbers, indent + '  ')
+            elif isinstance(effect, ShutdownEffect):
+                lines.append(f'{indent}shutdown' + (f': {effect.reason}' if effect.reason else ''))
+
+    def _describe_process(self, spec: ProcessSpec, lines: list[str], name: str, indent: str) -> None:
+        where = f'  ({spec.origin.path}:{spec.origin.line})' if spec.origin else ''
+        lines.append(f'{indent}process [{name}]{where}')
+        sub = indent + '    '
+        if spec.node is not None:
+            lines.append(f'{sub}node: {spec.node.display_name()}  (package {spec.node.package}, '
+                         f'executable {spec.node.executable})')
+        paths = spec.generated_params_paths(Path(self.log_dir) / 'params', name)
+        cmd = spec.shell_text if spec.shell_text is not None else shlex.join(spec.command(paths))
+        lines.append(f'{sub}cmd: {cmd}' + ('   (run by /bin/sh)' if spec.shell_text is not None else ''))
+        if spec.cwd:
+            lines.append(f'{sub}cwd: {spec.cwd}')
+        if spec.env:
+            changes = [f'{k}={v}' if v is not None else f'unset {k}' for k, v in spec.env]
+            lines.append(f'{sub}env: ' + ', '.join(changes))
+        for source, path in zip(spec.params, paths):
+            if isinstance(source, GeneratedParams):
+                lines.append(f'{sub}params ({path}):')
+                lines += [f'{sub}  {line}' for line in source.to_yaml().rstrip().splitlines()]
+        options = [f'output: {spec.output}']
+        if spec.respawn:
+            retries = 'forever' if spec.respawn_max_retries < 0 else f'max {spec.respawn_max_retries} retries'
+            options.append(f'respawn after {spec.respawn_delay:g} s ({retries})')
+        if spec.on_exit_shutdown:
+            options.append('on exit: shutdown')
+        options.append(f'sigterm after {spec.sigterm_timeout:g} s, sigkill {spec.sigkill_timeout:g} s later')
+        lines.append(f'{sub}' + '; '.join(options))
+

@@ -1,0 +1,556 @@
+"""The supervisor: carries out a resolved Plan and keeps its processes in line.
+
+One thread (the main thread) does everything: it starts processes, reads their output through
+a selector, fires timers and respawns, and handles signals, which arrive as bytes on a wakeup
+pipe. That thread starting every child matters: `PR_SET_PDEATHSIG` fires when the *thread*
+that forked the child dies, so children spawned from the main thread die exactly when the
+supervisor does, even by SIGKILL. Children also get their own session (process group), so a
+Ctrl-C in the terminal reaches only the supervisor, which then shuts them down in order:
+SIGINT to each process group, SIGTERM after `sigterm_timeout`, SIGKILL `sigkill_timeout` later.
+
+While the launch runs the supervisor holds a zros Context, so the first launch of a domain is
+the loopback discovery hub for all its nodes (DESIGN §5) and the hub lives as long as the
+launch; the context is closed only after every child is gone.
+"""
+from __future__ import annotations
+
+import ctypes
+import datetime
+import errno
+import heapq
+import itertools
+import os
+import selectors
+import shlex
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+from typing import Any, Callable, TextIO
+
+from zros.launch.errors import LaunchError
+from zros.launch.plan import GeneratedParams, LogMessage, Plan, ProcessSpec, ShutdownEffect, TimerEffect
+
+__all__ = ['Supervisor', 'LaunchLog', 'make_log_dir', 'default_log_base']
+
+_PR_SET_PDEATHSIG = 1
+_READ_CHUNK = 65536
+_POLL_INTERVAL_S = 0.25   # re-check children even if a SIGCHLD wakeup got lost
+
+
+def default_log_base() -> Path:
+    """`ZROS_LOG_DIR`, else `~/.zros/log` (each run gets a timestamped directory inside)."""
+    configured = os.environ.get('ZROS_LOG_DIR')
+    return Path(configured).expanduser() if configured else Path.home() / '.zros' / 'log'
+
+
+def make_log_dir(log_dir: str | None) -> Path:
+    """The run's log directory path (not created): `log_dir` as given, or
+    `<base>/<YYYY-MM-DD-HH-MM-SS-micro>` under `default_log_base()`."""
+    if log_dir:
+        return Path(log_dir).expanduser().resolve()
+    stamp = datetime.datetime.now().strftime('%Y-%m-%d-%H-%M-%S-%f')
+    return default_log_base() / stamp
+
+
+def _make_preexec() -> Callable[[], None] | None:
+    """A preexec_fn that ties the child's life to this thread (Linux) and checks the parent
+    did not die before that took effect. Everything it needs is looked up here, before fork."""
+    if not sys.platform.startswith('linux'):
+        return None
+    try:
+        prctl = ctypes.CDLL(None, use_errno=True).prctl
+    except (OSError, AttributeError):
+        return None
+    parent = os.getpid()
+    sigkill = int(signal.SIGKILL)
+    getppid, exit_now = os.getppid, os._exit
+
+    def preexec() -> None:
+        prctl(_PR_SET_PDEATHSIG, sigkill, 0, 0, 0)
+        if getppid() != parent:
+            exit_now(1)
+    return preexec
+
+
+class LaunchLog:
+    """Supervisor messages and child output, to the screen and to `launch.log`.
+
+    Screen format is ros2 launch's: `[INFO] [talker-1]: process started with pid [N]` and
+    `[talker-1] <line>`; launch.log lines carry a wall-clock timestamp in front.
+    """
+
+    def __init__(self, log_dir: Path | None, *, debug: bool = False, screen: TextIO | None = None) -> None:
+        self.debug_enabled = debug
+        self._screen = screen or sys.stdout
+        self._file = open(log_dir / 'launch.log', 'a', encoding='utf-8') if log_dir is not None else None
+        self._lock = threading.Lock()
+
+    def _write_screen(self, text: str) -> None:
+        try:
+            self._screen.write(text)
+            self._screen.flush()
+        except (BrokenPipeError, ValueError, OSError):
+            pass
+
+    def message(self, level: str, name: str, text: str) -> None:
+        line = f'[{level}] [{name}]: {text}'
+        with self._lock:
+            if level != 'DEBUG' or self.debug_enabled:
+                self._write_screen(line + '\n')
+            if self._file is not None:
+                self._file.write(f'{time.time():.7f} {line}\n')
+                self._file.flush()
+
+    def info(self, name: str, text: str) -> None:
+        self.message('INFO', name, text)
+
+    def warning(self, name: str, text: str) -> None:
+        self.message('WARNING', name, text)
+
+    def error(self, name: str, text: str) -> None:
+        self.message('ERROR', name, text)
+
+    def debug(self, name: str, text: str) -> None:
+        self.message('DEBUG', name, text)
+
+    def output(self, name: str, line: str, *, to_screen: bool, to_file: bool) -> None:
+        with self._lock:
+            if to_screen:
+                self._write_screen(f'[{name}] {line}\n')
+            if to_file and self._file is not None:
+                self._file.write(f'{time.time():.7f} [{name}] {line}\n')
+
+    def flush(self) -> None:
+        with self._lock:
+            if self._file is not None:
+                self._file.flush()
+
+    def close(self) -> None:
+        with self._lock:
+            if self._file is not None:
+                self._file.close()
+                self._file = None
+
+
+class _Process:
+    """One process of the plan, across its respawns (same name, same log file)."""
+
+    def __init__(self, spec: ProcessSpec, name: str, log_dir: Path | None) -> None:
+        self.spec = spec
+        self.name = name
+        self.popen: subprocess.Popen | None = None
+        self.starts = 0
+        self.stage = 0            # 0 running normally, 1 SIGINT sent, 2 SIGTERM sent, 3 SIGKILL sent
+        self.buffers: dict[int, bytearray] = {}
+        self.command: list[str] = []
+        self.log = open(log_dir / f'{name}.log', 'a', encoding='utf-8') if log_dir is not None else None
+
+    @property
+    def running(self) -> bool:
+        return self.popen is not None and self.popen.returncode is None
+
+    def close(self) -> None:
+        if self.log is not None:
+            self.log.close()
+            self.log = None
+
+
+class Supervisor:
+    """Runs a Plan to the end.
+
+    Construct it and call `run()` from the main thread (it installs signal handlers and must
+    be the thread that forks the children). `run()` returns when every process has exited and
+    no timer or respawn is pending, or after a shutdown; the exit status is 0, or 1 when a
+    process could not be started at all.
+
+    Args:
+        plan: the resolved launch.
+        log_dir: where launch.log, per-process logs and generated parameter files go (created);
+            None keeps no files (output still reaches the screen).
+        debug: also print DEBUG messages (command lines, environment, signals).
+        hub: open a zros Context for the launch's duration (local discovery for the nodes).
+    """
+
+    def __init__(self, plan: Plan, *, log_dir: Path | None, debug: bool = False, hub: bool = True,
+                 screen: TextIO | None = None) -> None:
+        self.plan = plan
+        self.log_dir = log_dir
+        self.debug = debug
+        self.hub = hub
+        self._screen = screen
+        self.log: LaunchLog | None = None
+        self._processes: list[_Process] = []
+        self._counter = itertools.count(1)
+        self._timers: list[tuple[float, int, str, Callable[[], None]]] = []   # (due, seq, kind, callback)
+        self._timer_seq = itertools.count()
+        self._selector: selectors.BaseSelector | None = None
+        self._signals: list[int] = []
+        self._shutting_down = False
+        self._failed_start = False
+        self._preexec = None
+        self._wakeup_read = self._wakeup_write = -1
+        self._context = None
+
+    # -- life cycle ----------------------------------------------------------------------------
+    def run(self) -> int:
+        if threading.current_thread() is not threading.main_thread():
+            raise RuntimeError('Supervisor.run() must be called from the main thread')
+        if self.log_dir is not None:
+            self.log_dir.mkdir(parents=True, exist_ok=True)
+            _update_latest_link(self.log_dir)
+        self.log = LaunchLog(self.log_dir, debug=self.debug, screen=self._screen)
+        self._preexec = _make_preexec()
+        self._selector = selectors.DefaultSelector()
+        previous = self._install_signals()
+        try:
+            if self.log_dir is not None:
+                self.log.info('launch', f'All log files can be found below {self.log_dir}')
+            self.log.info('launch', 'Default logging verbosity is set to ' + ('DEBUG' if self.debug else 'INFO'))
+            if self.hub:
+                self._open_hub()
+            self._run_effects(self.plan.effects)
+            self._loop()
+        finally:
+            self._kill_all()
+            self._restore_signals(previous)
+            self._close_hub()
+            for process in self._processes:
+                process.close()
+            self._selector.close()
+            self.log.close()
+        return 1 if self._failed_start else 0
+
+    def _open_hub(self) -> None:
+        from zros.context import Context
+        self._context = Context().init([], install_signal_handlers=False)
+        role = 'is the discovery hub' if self._context.is_hub else 'joined the running discovery hub'
+        self.log.debug('launch', f'zros domain {self._context.domain_id}: this launch {role}')
+
+    def _close_hub(self) -> None:
+        if self._context is not None:
+            self._context.shutdown()
+            self._context = None
+
+    # -- signals -------------------------------------------------------------------------------
+    def _install_signals(self) -> dict:
+        self._wakeup_read, self._wakeup_write = os.pipe()
+        os.set_blocking(self._wakeup_read, False)
+        os.set_blocking(self._wakeup_write, False)
+        self._selector.register(self._wakeup_read, selectors.EVENT_READ, None)
+        previous = {'wakeup': signal.set_wakeup_fd(self._wakeup_write, warn_on_full_buffer=False)}
+
+        def on_signal(signum: int, frame: Any) -> None:
+            self._signals.append(signum)
+
+        for signum in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP, signal.SIGCHLD):
+            previous[signum] = signal.signal(signum, on_signal if signum != signal.SIGCHLD else _ignore)
+        return previous
+
+    def _restore_signals(self, previous: dict) -> None:
+        for signum, handler in previous.items():
+            if signum != 'wakeup':
+                signal.signal(signum, handler if handler is not None else signal.SIG_DFL)
+        signal.set_wakeup_fd(previous['wakeup'])
+        for fd in (self._wakeup_read, self._wakeup_write):
+            try:
+                os.close(fd)
+            except OSError:
+                pass
+
+    def _handle_signals(self) -> None:
+        while self._signals:
+            signum = self._signals.pop(0)
+            if signum == signal.SIGINT:
+                what = 'user interrupted with ctrl-c (SIGINT)'
+            else:
+                what = f'received {signal.Signals(signum).name}'
+            if not self._shutting_down:
+                self.log.warning('launch', what)
+                self.shutdown(what)
+            else:
+                self.log.warning('launch', f'{what} again, escalating')
+                self._escalate_all()
+
+    # -- effects -------------------------------------------------------------------------------
+    def _run_effects(self, effects: list) -> None:
+        for effect in effects:
+            if self._shutting_down:
+                return
+            if isinstance(effect, ProcessSpec):
+                process = _Process(effect, f'{effect.label}-{next(self._counter)}', self.log_dir)
+                self._processes.append(process)
+                self._start(process)
+            elif isinstance(effect, LogMessage):
+                self.log.message(effect.level, 'launch.user', effect.message)
+            elif isinstance(effect, TimerEffect):
+                self._schedule(effect.period, 'timer', lambda e=effect: self._run_effects(e.effects))
+            elif isinstance(effect, ShutdownEffect):
+                self.shutdown(effect.reason or 'shutdown requested by the launch file')
+                return
+
+    def _schedule(self, delay: float, kind: str, callback: Callable[[], None]) -> None:
+        heapq.heappush(self._timers, (time.monotonic() + delay, next(self._timer_seq), kind, callback))
+
+    # -- processes -----------------------------------------------------------------------------
+    def _params_paths(self, process: _Process) -> list[str]:
+        spec = process.spec
+        directory = (self.log_dir or Path('.')) / 'params'
+        paths = spec.generated_params_paths(directory, process.name)
+        if process.starts == 0 and self.log_dir is not None:
+            for source, path in zip(spec.params, paths):
+                if isinstance(source, GeneratedParams):
+                    directory.mkdir(parents=True, exist_ok=True)
+                    Path(path).write_text(source.to_yaml(), encoding='utf-8')
+        return paths
+
+    def _environment(self, spec: ProcessSpec) -> dict[str, str]:
+        env = dict(os.environ)
+        for name, value in spec.env:
+            if value is None:
+                env.pop(name, None)
+            else:
+                env[name] = value
+        env['PYTHONUNBUFFERED'] = '1'   # lines arrive as they are printed
+        return env
+
+    def _start(self, process: _Process) -> None:
+        spec = process.spec
+        if self.log_dir is None and any(isinstance(s, GeneratedParams) for s in spec.params):
+            raise LaunchError('inline parameters need a log directory')
+        process.command = spec.command(self._params_paths(process))
+        shown = spec.shell_text if spec.shell_text is not None else shlex.join(process.command)
+        self.log.debug(process.name, f'cmd: {shown}')
+        if spec.env:
+            self.log.debug(process.name, 'env: ' + ', '.join(
+                f'{k}={v}' if v is not None else f'unset {k}' for k, v in spec.env))
+        try:
+            popen = subprocess.Popen(
+                process.command, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                env=self._environment(spec), cwd=spec.cwd, start_new_session=True, preexec_fn=self._preexec)
+        except OSError as exc:
+            self.log.error(process.name, f'failed to start process: {exc.strerror or exc} (cmd {shown!r})')
+            self._failed_start = True
+            if spec.on_exit_shutdown:
+                self.shutdown(f'process[{process.name}] failed to start')
+            return
+        process.popen = popen
+        process.starts += 1
+        process.stage = 0
+        for stream in (popen.stdout, popen.stderr):
+            fd = stream.fileno()
+            os.set_blocking(fd, False)
+            process.buffers[fd] = bytearray()
+            self._selector.register(fd, selectors.EVENT_READ, (process, stream))
+        self.log.info(process.name, f'process started with pid [{popen.pid}]')
+        if self._shutting_down:   # a shutdown came in while this one was being started
+            self._signal(process, signal.SIGINT)
+
+    def _read(self, process: _Process, stream: Any) -> None:
+        fd = stream.fileno()
+        while True:
+            try:
+                data = os.read(fd, _READ_CHUNK)
+            except BlockingIOError:
+                return
+            except OSError as exc:
+                if exc.errno == errno.EINTR:
+                    continue
+                data = b''
+            if not data:
+                self._close_stream(process, stream)
+                return
+            buffer = process.buffers[fd]
+            buffer.extend(data)
+            if b'\n' in data:
+                *lines, rest = bytes(buffer).split(b'\n')
+                buffer[:] = rest
+                for line in lines:
+                    self._emit(process, stream is process.popen.stderr, line)
+
+    def _close_stream(self, process: _Process, stream: Any) -> None:
+        fd = stream.fileno()
+        rest = process.buffers.pop(fd, b'')
+        if rest:
+            self._emit(process, stream is process.popen.stderr, bytes(rest))
+        try:
+            self._selector.unregister(fd)
+        except (KeyError, ValueError):
+            pass
+        stream.close()
+
+    def _emit(self, process: _Process, is_stderr: bool, raw: bytes) -> None:
+        line = raw.decode('utf-8', errors='replace').rstrip('\r')
+        output = process.spec.output
+        to_screen = output in ('screen', 'both') or (is_stderr and output == 'log')
+        self.log.output(process.name, line, to_screen=to_screen, to_file=output != 'own_log')
+        if process.log is not None:
+            process.log.write(line + '\n')
+
+    def _reap(self) -> None:
+        for process in self._processes:
+            if process.popen is None or process.popen.returncode is not None:
+                continue
+            code = process.popen.poll()
+            if code is None:
+                continue
+            for stream in (process.popen.stdout, process.popen.stderr):
+                if not stream.closed:
+                    self._read(process, stream)
+                    if not stream.closed:   # a grandchild still holds the pipe: stop reading it
+                        self._close_stream(process, stream)
+            if process.log is not None:
+                process.log.flush()
+            self._on_exit(process, code)
+
+    def _on_exit(self, process: _Process, code: int) -> None:
+        spec, pid = process.spec, process.popen.pid
+        if code == 0:
+            self.log.info(process.name, f'process has finished cleanly [pid {pid}]')
+        else:
+            cmd = spec.shell_text if spec.shell_text is not None else ' '.join(process.command)
+            self.log.error(process.name, f"process has died [pid {pid}, exit code {code}, cmd '{cmd}'].")
+        if spec.on_exit_shutdown:
+            self.shutdown(f'process[{process.name}] exited and has on_exit: shutdown')
+            return
+        retries = process.starts - 1
+        if spec.respawn and not self._shutting_down and (spec.respawn_max_retries < 0
+                                                         or retries < spec.respawn_max_retries):
+            self.log.debug(process.name, f'respawning in {spec.respawn_delay:g} s')
+            self._schedule(spec.respawn_delay, 'respawn', lambda p=process: self._respawn(p))
+
+    def _respawn(self, process: _Process) -> None:
+        if not self._shutting_down:
+            self._start(process)
+
+    # -- shutdown ------------------------------------------------------------------------------
+    def shutdown(self, reason: str) -> None:
+        """Stop the launch: cancel timers and respawns, SIGINT every process, escalate later."""
+        if self._shutting_down:
+            return
+        self._shutting_down = True
+        self.log.info('launch', f'shutting down: {reason}')
+        self._timers = [t for t in self._timers if t[2] == 'escalate']
+        heapq.heapify(self._timers)
+        for process in self._processes:
+            if process.running:
+                self._signal(process, signal.SIGINT)
+
+    def _signal(self, process: _Process, signum: signal.Signals) -> None:
+        stage = {signal.SIGINT: 1, signal.SIGTERM: 2, signal.SIGKILL: 3}[signum]
+        if not process.running or process.stage >= stage:
+            return
+        previous = process.stage
+        process.stage = stage
+        if previous:
+            timeout = process.spec.sigterm_timeout if previous == 1 else process.spec.sigkill_timeout
+            before = {1: 'SIGINT', 2: 'SIGTERM'}[previous]
+            self.log.error(process.name, f"process[{process.name}] failed to terminate '{timeout:g}' seconds "
+                                         f"after receiving '{before}', escalating to '{signum.name}'")
+        self.log.info(process.name, f"sending signal '{signum.name}' to process[{process.name}]")
+        try:
+            os.killpg(process.popen.pid, signum)
+        except (ProcessLookupError, PermissionError):
+            try:
+                process.popen.send_signal(signum)
+            except (ProcessLookupError, OSError):
+                pass
+        if stage == 1:
+            self._schedule(process.spec.sigterm_timeout, 'escalate',
+                           lambda p=process, n=process.starts: self._escalate(p, n, signal.SIGTERM))
+        elif stage == 2:
+            self._schedule(process.spec.sigkill_timeout, 'escalate',
+                           lambda p=process, n=process.starts: self._escalate(p, n, signal.SIGKILL))
+
+    def _escalate(self, process: _Process, start: int, signum: signal.Signals) -> None:
+        if process.starts == start and process.running:
+            self._signal(process, signum)
+
+    def _escalate_all(self) -> None:
+        for process in self._processes:
+            if process.running:
+                self._signal(process, signal.SIGTERM if process.stage < 2 else signal.SIGKILL)
+
+    def _kill_all(self) -> None:
+        """Last resort when run() ends early (an exception): nothing may outlive the launch."""
+        for process in self._processes:
+            if process.popen is None:
+                continue
+            try:
+                os.killpg(process.popen.pid, signal.SIGKILL)
+            except (ProcessLookupError, PermissionError):
+                pass
+            if process.popen.returncode is None:
+                try:
+                    process.popen.wait(timeout=5)
+                except subprocess.TimeoutExpired:  # pragma: no cover - SIGKILL does not fail
+                    pass
+            for stream in (process.popen.stdout, process.popen.stderr):
+                if stream is not None and not stream.closed:
+                    try:
+                        self._selector.unregister(stream.fileno())
+                    except (KeyError, ValueError):
+                        pass
+                    stream.close()
+
+    # -- the loop ------------------------------------------------------------------------------
+    def _busy(self) -> bool:
+        # Escalation timers of processes that already exited keep nothing alive.
+        return any(p.running for p in self._processes) or any(t[2] != 'escalate' for t in self._timers)
+
+    def _loop(self) -> None:
+        while True:
+            self._handle_signals()
+            self._reap()
+            now = time.monotonic()
+            while self._timers and self._timers[0][0] <= now:
+                _, _, _, callback = heapq.heappop(self._timers)
+                callback()
+                self._handle_signals()
+            if not self._busy():
+                return
+            timeout = _POLL_INTERVAL_S
+            if self._timers:
+                timeout = max(0.0, min(timeout, self._timers[0][0] - time.monotonic()))
+            for key, _ in self._selector.select(timeout):
+                if key.data is None:
+                    _drain(self._wakeup_read)
+                else:
+                    process, stream = key.data
+                    if not stream.closed:
+                        self._read(process, stream)
+            self.log.flush()
+            for process in self._processes:
+                if process.log is not None:
+                    process.log.flush()
+
+
+def _ignore(signum: int, frame: Any) -> None:
+    """SIGCHLD handler: nothing to do, the wakeup pipe byte is the point."""
+
+
+def _drain(fd: int) -> None:
+    try:
+        while os.read(fd, 4096):
+            pass
+    except (BlockingIOError, OSError):
+        pass
+
+
+def _update_latest_link(log_dir: Path) -> None:
+    """`<base>/latest` -> this run, when the run lives in the default base (as ~/.ros/log/latest)."""
+    base = default_log_base()
+    if log_dir.parent != base:
+        return
+    link = base / 'latest'
+    try:
+        if link.is_symlink() or not link.exists():
+            tmp = base / f'.latest-{os.getpid()}'
+            if tmp.is_symlink():
+                tmp.unlink()
+            tmp.symlink_to(log_dir.name)
+            os.replace(tmp, link)
+    except OSError:
+        pass
