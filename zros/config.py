@@ -108,7 +108,11 @@ def build_config(settings: SessionSettings, *, as_hub: bool):
     put('scouting/multicast/enabled', settings.discovery == 'subnet')
     put('scouting/gossip/enabled', True)
     put('timestamping/enabled', True)
-    put('connect/retry', {'period_init_ms': 250, 'period_max_ms': 1000, 'period_increase_factor': 2})
+    # The loopback hub is re-dialled quickly: when its process exits, the next zros process takes
+    # the port over, and a short-lived one (a CLI command) only waits ~0.3 s for peers to join.
+    retry_max_ms = 200 if settings.uses_hub else 1000
+    put('connect/retry', {'period_init_ms': min(250, retry_max_ms // 2), 'period_max_ms': retry_max_ms,
+                          'period_increase_factor': 2})
     listen = list(settings.listen)
     connect = list(settings.connect)
     if settings.uses_hub:

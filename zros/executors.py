@@ -116,15 +116,21 @@ class Executor:
                 due = timer._due_ns()
                 if due is None:
                     continue
-                if due <= now and timer._claim(now):
-                    return timer, 0
+                if due <= now:
+                    group = timer.callback_group
+                    if group is not None and not group.can_execute(timer):
+                        continue  # its group is busy; the executor is woken when the group frees
+                    if timer._claim(now):
+                        return timer, 0
                 wait = due - now
                 if soonest is None or wait < soonest:
                     soonest = wait
         return None, soonest
 
-    def _wait_for_work(self, timeout_sec: float | None) -> Any:
-        """Next piece of work, or None when the timeout passes or something only woke us."""
+    def _wait_for_work(self, timeout_sec: float | None, until: Callable[[], bool] | None = None) -> Any:
+        """Next piece of work, or None when the timeout passes, the executor stops or `until()`
+        holds. A bare wake-up (a node added, a future done) only re-checks those, as rclpy's
+        guard conditions do: it never ends the wait with nothing done."""
         deadline = None if timeout_sec is None else time.monotonic() + max(0.0, timeout_sec)
         while True:
             self._check_context()
@@ -133,18 +139,24 @@ class Executor:
                 return timer
             wait = _MAX_WAIT if wait_ns is None else min(_MAX_WAIT, wait_ns / 1e9)
             if deadline is not None:
-                remaining = deadline - time.monotonic()
-                if remaining <= 0:
-                    return None
-                wait = min(wait, remaining)
+                wait = min(wait, max(0.0, deadline - time.monotonic()))
             try:
-                item = self._queue.get(timeout=wait)
+                # A zero wait still takes work already queued (spin_once(timeout_sec=0) polls).
+                item = self._queue.get(timeout=wait) if wait > 0 else self._queue.get_nowait()
             except queue.Empty:
+                if deadline is not None and time.monotonic() >= deadline:
+                    return None
                 continue
             if item is None:
                 self._check_context()
-                return None
+                if self._stop_waiting() or (until is not None and until()):
+                    return None
+                continue
             return item
+
+    def _stop_waiting(self) -> bool:
+        """Whether a wake-up should end the current wait (subclasses add reasons)."""
+        return self._is_shutdown
 
     def _check_context(self) -> None:
         if not self._context.ok():
@@ -159,15 +171,15 @@ class Executor:
         with self._spinning():
             self._spin_once(timeout_sec)
 
-    def _spin_once(self, timeout_sec: float | None) -> bool:
+    def _spin_once(self, timeout_sec: float | None, until: Callable[[], bool] | None = None) -> bool:
         if timeout_sec is None:
             item = None
             while item is None:
-                item = self._wait_for_work(None)
-                if self._is_shutdown:
+                item = self._wait_for_work(None, until)
+                if self._is_shutdown or (item is None and until is not None and until()):
                     return False
         else:
-            item = self._wait_for_work(timeout_sec)
+            item = self._wait_for_work(timeout_sec, until)
             if item is None:
                 return False
         self._dispatch(item)
@@ -186,12 +198,13 @@ class Executor:
                 remaining = _MAX_WAIT if deadline is None else min(_MAX_WAIT, deadline - time.monotonic())
                 if remaining <= 0:
                     return
-                self._spin_once(remaining)
+                self._spin_once(remaining, future.done)
 
     def spin_once_until_future_complete(self, future: Future, timeout_sec: float | None = None) -> None:
         self._adopt(future)
         with self._spinning():
-            self._spin_once(timeout_sec)
+            if not future.done():
+                self._spin_once(timeout_sec, future.done)
 
     def _adopt(self, future: Future) -> None:
         """Make the future wake this executor when it completes (from any thread)."""
@@ -275,15 +288,15 @@ class MultiThreadedExecutor(Executor):
                     return
                 with self._backlog_lock:
                     backlog = self._backlog.get(id(group))
-                    item = backlog.pop(0) if backlog else None
+                    item = backlog.pop(0) if backlog and not self._is_shutdown else None
                 if item is None:
                     group.leave()
-                    # Work may have been parked after we looked; hand it back to the queue.
+                    # Wake the spinning thread: a timer of this group may be due by now.
+                    self.wake()
+                    # Work may have been parked after we looked; run it here.
                     with self._backlog_lock:
-                        if self._backlog.get(id(group)):
-                            self.wake()
-                            if group.try_enter():
-                                continue
+                        if self._backlog.get(id(group)) and not self._is_shutdown and group.try_enter():
+                            continue
                     return
         except BaseException as exc:  # surfaced on the spinning thread, as rclpy does
             if group is not None:
@@ -298,11 +311,16 @@ class MultiThreadedExecutor(Executor):
             return
         raise exc
 
-    def _spin_once(self, timeout_sec: float | None) -> bool:
+    def _stop_waiting(self) -> bool:
+        return super()._stop_waiting() or not self._errors.empty()
+
+    def _spin_once(self, timeout_sec: float | None, until: Callable[[], bool] | None = None) -> bool:
         self._raise_pending_error()
-        return super()._spin_once(timeout_sec)
+        return super()._spin_once(timeout_sec, until)
 
     def shutdown(self, timeout_sec: float | None = None) -> bool:
         result = super().shutdown(timeout_sec)
+        with self._backlog_lock:
+            self._backlog.clear()
         self._pool.shutdown(wait=timeout_sec is None or timeout_sec > 0, cancel_futures=True)
         return result

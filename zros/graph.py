@@ -135,11 +135,16 @@ def _collect(session, domain: int, limit: float, *, wait_for_peers: bool) -> lis
         # A hub that nobody has connected to yet may have peers reconnecting from a hub that
         # just exited; give them a moment, then stop as soon as the tokens stop coming.
         quiet = 0.1
+        had_peers = False
         while time.monotonic() < end:
             time.sleep(0.02)
             now = time.monotonic()
-            if wait_for_peers and not list(session.info.peers_zid()) and now - started < 0.3:
-                continue
+            if wait_for_peers and not had_peers:
+                if list(session.info.peers_zid()):
+                    had_peers = True
+                    last_change[0] = max(last_change[0], now)  # their tokens are on the way
+                elif now - started < 0.3:
+                    continue
             if now - last_change[0] >= quiet and now - started >= quiet:
                 break
     finally:
@@ -231,6 +236,18 @@ class Graph:
 
     def start(self) -> None:
         self._ensure_started()
+
+    def add_local(self, entity: Entity) -> None:
+        """Record an entity of this process at once (Zenoh reports it a moment later), so that
+        `count_subscribers()` right after `create_subscription()` counts it, as in rclpy."""
+        with self._changed:
+            self._entities[entity_token(self._domain, entity)] = entity
+            self._changed.notify_all()
+
+    def remove_local(self, entity: Entity) -> None:
+        with self._changed:
+            self._entities.pop(entity_token(self._domain, entity), None)
+            self._changed.notify_all()
 
     def token_keys(self) -> list[str]:
         with self._changed:

@@ -224,6 +224,11 @@ def _make_setter(msg_type: str, field: Field, nested: type | None) -> Callable[[
                         raise _type_error(msg_type, name, f'a sequence of {ftype.base} (ints)', value)
                     if dtype.kind == 'b' and probe.size and probe.dtype.kind != 'b':
                         raise _type_error(msg_type, name, 'a sequence of bool', value)
+                    if dtype.kind == 'f' and probe.size and probe.dtype.kind not in 'iufO':
+                        raise _type_error(msg_type, name, f'a sequence of {ftype.base} (numbers)', value)
+                    if (dtype == NUMPY_DTYPES['float32'] and probe.dtype.kind == 'f'
+                            and np.any(np.abs(probe[np.isfinite(probe)]) > _FLOAT32_MAX)):
+                        raise MessageTypeError(f'{msg_type}.{name} has values out of range for float32')
                     array = np.ascontiguousarray(probe, dtype=dtype) if probe.size else np.zeros(0, dtype)
                     if is_int and probe.size and (probe.min() < np.iinfo(dtype).min or probe.max() > np.iinfo(dtype).max):
                         raise MessageTypeError(f'{msg_type}.{name} has values out of range for {ftype.base}')

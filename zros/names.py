@@ -32,7 +32,7 @@ def _explain_bad_char(kind: str, name: str) -> str:
         if ch in _ZENOH_SPECIAL:
             return f"invalid {kind} '{name}': character '{ch}' is not allowed (names may not contain Zenoh wildcards)"
     for ch in name:
-        if not (ch.isalnum() and ch.isascii()) and ch not in '_/~{}':
+        if not (ch.isalnum() and ch.isascii()) and ch not in '_/':
             return f"invalid {kind} '{name}': character '{ch}' is not allowed (use letters, digits, '_' and '/')"
     return ''
 
@@ -101,7 +101,7 @@ def expand_topic_name(name: str, node_name: str, namespace: str, kind: str = 'to
     if not isinstance(name, str) or not name:
         raise InvalidNameError(f'{kind} must be a non-empty string')
     original = name
-    if '{' in name:
+    if '{' in name or '}' in name:
         ns_sub = '' if namespace == '/' else namespace
         name = name.replace('{node}', node_name).replace('{ns}', ns_sub).replace('{namespace}', ns_sub)
         if '{' in name or '}' in name:

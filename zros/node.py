@@ -67,8 +67,8 @@ class Node:
         self._node_id = self._context.next_id()
         self._zid = str(self._context.session.info.zid())
         self._destroyed = False
-        self._node_token = self._declare_token(Entity(EntityKind.NODE, self._zid, self._node_id, 0,
-                                                      self._namespace, self._name))
+        self._node_entity = Entity(EntityKind.NODE, self._zid, self._node_id, 0, self._namespace, self._name)
+        self._node_token = self._declare_token(self._node_entity)
         self._context._register_node(self)
         self._rosout = None
         self._rosout_sink = None
@@ -143,7 +143,9 @@ class Node:
 
     # -- entities --------------------------------------------------------------------------
     def _declare_token(self, entity: Entity) -> Any:
-        return self._context.session.liveliness().declare_token(entity_token(self._context.domain_id, entity))
+        token = self._context.session.liveliness().declare_token(entity_token(self._context.domain_id, entity))
+        self._context.graph.add_local(entity)
+        return token
 
     def _declare_entity(self, kind: str, name: str, iface_type: Any, qos: QoSProfile | None = None) -> Entity:
         """Announce an entity in the graph; returns its record (kept by the entity)."""
@@ -154,6 +156,8 @@ class Node:
 
     def _undeclare_entity(self, entity: Entity) -> None:
         token = self._tokens.pop(entity.entity_id, None)
+        if self._context.ok():
+            self._context.graph.remove_local(entity)
         if token is not None:
             try:
                 token.undeclare()
@@ -496,6 +500,8 @@ class Node:
         if self._parameters._events is not None:
             self._parameters._events.destroy()
             self._parameters.attach_event_publisher(None)
+        if self._context.ok():
+            self._context.graph.remove_local(self._node_entity)
         try:
             self._node_token.undeclare()
         except Exception:  # noqa: BLE001 - the session may be closing already

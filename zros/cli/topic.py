@@ -245,7 +245,7 @@ def cmd_echo(args: argparse.Namespace) -> int:
                     else:
                         import yaml
                         text = yaml.safe_dump(_plain(value), default_flow_style=args.flow_style)
-                        text = text[:-5] if text.endswith('\n...\n') else text
+                        text = text[:-4] if text.endswith('\n...\n') else text
                     out.write(text + '---\n')
                 printed = True
                 if args.once:

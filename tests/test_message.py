@@ -1,0 +1,505 @@
+"""Message classes built from the IDL, their checks, and the MessagePack codec."""
+from __future__ import annotations
+
+import copy
+import itertools
+import sys
+import threading
+import time
+
+import msgpack
+import numpy as np
+import pytest
+
+from zros import typesupport
+from zros.errors import DecodeError, MessageTypeError
+from zros.idl import FieldType
+from zros.keys import topic_key
+from zros.message import NUMPY_DTYPES, deserialize, serialize
+from zros.node import Node
+
+from interfaces.geometry_msgs.msg import Point, Pose, PoseWithCovariance, Twist, Vector3
+from interfaces.sensor_msgs.msg import Image, LaserScan
+from interfaces.std_msgs.msg import Header, Int32, String, UInt8MultiArray
+
+_unique = itertools.count()
+
+
+# -- construction, defaults, equality, repr ---------------------------------------------------
+def test_keyword_construction_and_defaults():
+    assert String().data == ''
+    assert String(data='x').data == 'x'
+    twist = Twist(linear=Vector3(x=1.0, y=2.0, z=3.0))
+    assert (twist.linear.x, twist.linear.y, twist.linear.z) == (1.0, 2.0, 3.0)
+    assert twist.angular == Vector3()
+    assert Point().x == 0.0 and isinstance(Point().x, float)
+    assert Int32().data == 0
+    header = Header()
+    assert (header.stamp.sec, header.stamp.nanosec, header.frame_id) == (0, 0, '')
+    # an int is accepted for a float field and stored as float
+    p = Point(x=1)
+    assert p.x == 1.0 and type(p.x) is float
+
+
+def test_defaults_are_not_shared_between_instances():
+    a, b = Twist(), Twist()
+    a.linear.x = 5.0
+    assert b.linear.x == 0.0
+    s1, s2 = LaserScan(), LaserScan()
+    assert s1.ranges is not s2.ranges
+    c1, c2 = PoseWithCovariance(), PoseWithCovariance()
+    c1.covariance[0] = 1.0
+    assert c2.covariance[0] == 0.0
+
+
+def test_unknown_keyword_names_the_field():
+    with pytest.raises(MessageTypeError, match=r"std_msgs/msg/String has no field\(s\) 'dta'.*fields are: data"):
+        String(dta='x')
+    with pytest.raises(TypeError):  # MessageTypeError is a TypeError, as rclpy raises
+        String(dta='x')
+
+
+def test_equality():
+    assert String(data='a') == String(data='a')
+    assert String(data='a') != String(data='b')
+    assert String(data='a') != Int32(data=1)
+    assert String() != 'a'
+    assert Twist(linear=Vector3(x=1.0)) == Twist(linear=Vector3(x=1.0))
+    assert Twist(linear=Vector3(x=1.0)) != Twist(angular=Vector3(x=1.0))
+    assert LaserScan(ranges=[1.0, 2.0]) == LaserScan(ranges=np.array([1.0, 2.0], np.float32))
+    assert LaserScan(ranges=[1.0, 2.0]) != LaserScan(ranges=[1.0])
+    with pytest.raises(TypeError):
+        hash(String())  # mutable, like rclpy messages
+
+
+def test_no_attributes_besides_fields():
+    with pytest.raises(AttributeError):
+        String().dta = 'x'  # a typo is an error, not a silently ignored attribute
+
+
+def test_repr_like_rclpy():
+    assert repr(String(data='x')) == "std_msgs.msg.String(data='x')"
+    assert repr(Int32(data=3)) == 'std_msgs.msg.Int32(data=3)'
+    assert repr(Vector3(x=1.0)) == 'geometry_msgs.msg.Vector3(x=1.0, y=0.0, z=0.0)'
+    assert repr(Twist()) == ('geometry_msgs.msg.Twist(linear=geometry_msgs.msg.Vector3(x=0.0, y=0.0, z=0.0), '
+                             'angular=geometry_msgs.msg.Vector3(x=0.0, y=0.0, z=0.0))')
+    assert 'ranges=array([1.0, 2.0], dtype=float32)' in repr(LaserScan(ranges=[1.0, 2.0])) \
+        or 'ranges=array([1., 2.], dtype=float32)' in repr(LaserScan(ranges=[1.0, 2.0]))
+
+
+def test_introspection():
+    assert String.get_fields_and_field_types() == {'data': 'string'}
+    assert Twist.get_fields_and_field_types() == {'linear': 'geometry_msgs/Vector3',
+                                                  'angular': 'geometry_msgs/Vector3'}
+    assert String._TYPE == 'std_msgs/msg/String'
+    assert len(String._HASH) == 16 and String._HASH != Int32._HASH
+
+
+def test_copy_and_deepcopy_are_independent():
+    original = Pose()
+    original.position.x = 1.0
+    for clone in (copy.copy(original), copy.deepcopy(original)):
+        assert clone == original and clone is not original
+        clone.position.x = 2.0
+        assert original.position.x == 1.0
+
+
+# -- type checks -------------------------------------------------------------------------------
+@pytest.mark.parametrize('make, pattern', [
+    (lambda: String(data=5), r'std_msgs/msg/String\.data must be a str'),
+    (lambda: String(data=b'x'), r'std_msgs/msg/String\.data must be a str'),
+    (lambda: Int32(data='1'), r'std_msgs/msg/Int32\.data must be an int'),
+    (lambda: Int32(data=1.0), r'std_msgs/msg/Int32\.data must be an int'),
+    (lambda: Int32(data=True), r'std_msgs/msg/Int32\.data must be an int'),
+    (lambda: Int32(data=2**31), r'std_msgs/msg/Int32\.data = 2147483648 is out of range for int32'),
+    (lambda: Int32(data=-2**31 - 1), r'Int32\.data = -2147483649 is out of range'),
+    (lambda: Point(x='1'), r'geometry_msgs/msg/Point\.x must be a float'),
+    (lambda: Vector3(x=None), r'Vector3\.x must be a float'),
+    (lambda: Twist(linear=Point()), r'geometry_msgs/msg/Twist\.linear must be a geometry_msgs/msg/Vector3'),
+    (lambda: Twist(linear={'x': 1.0}), r'Twist\.linear must be a geometry_msgs/msg/Vector3'),
+    (lambda: PoseWithCovariance(covariance=[0.0] * 35), r'covariance must have exactly 36 elements, got 35'),
+    (lambda: LaserScan(ranges='abc'), r'LaserScan\.ranges must be a sequence of float32'),
+    (lambda: LaserScan(ranges=[[1.0, 2.0]]), r'LaserScan\.ranges must be one-dimensional'),
+    (lambda: UInt8MultiArray(data=[256]), r'UInt8MultiArray\.data has values out of range for uint8'),
+    (lambda: UInt8MultiArray(data=[-1]), r'UInt8MultiArray\.data has values out of range for uint8'),
+    (lambda: UInt8MultiArray(data=[1.5]), r'UInt8MultiArray\.data must be a sequence of uint8'),
+    (lambda: Image(height=-1), r'sensor_msgs/msg/Image\.height = -1 is out of range for uint32'),
+])
+def test_wrong_values_raise_naming_the_field(make, pattern):
+    with pytest.raises(MessageTypeError, match=pattern):
+        make()
+
+
+def test_assignment_is_checked_and_failed_assignment_keeps_the_old_value():
+    msg = Int32(data=1)
+    with pytest.raises(MessageTypeError, match='Int32.data'):
+        msg.data = 'x'
+    assert msg.data == 1
+    msg.data = np.int16(7)  # numpy scalars are numbers too
+    assert msg.data == 7 and type(msg.data) is int
+
+
+def test_float32_range():
+    LaserScan(range_max=3.0e38)
+    LaserScan(range_max=float('inf'))
+    with pytest.raises(MessageTypeError, match='out of range for float32'):
+        LaserScan(range_max=1e39)
+
+
+def test_float_arrays_are_checked_like_float_scalars():
+    """An array element is held to the same rules as a scalar of its type (as in rclpy)."""
+    assert LaserScan(ranges=[float('inf'), -3.0e38, 1]).ranges.tolist()[1:] == [pytest.approx(-3.0e38), 1.0]
+    with pytest.raises(MessageTypeError, match=r'LaserScan\.ranges.*float32'):
+        LaserScan(ranges=[1.0, 1e39])
+    with pytest.raises(MessageTypeError, match=r'LaserScan\.ranges.*float32'):
+        LaserScan(ranges=np.array([-1e39]))
+    with pytest.raises(MessageTypeError, match=r'LaserScan\.ranges must be a sequence of float32'):
+        LaserScan(ranges=['1.0'])
+    with pytest.raises(MessageTypeError, match=r'PoseWithCovariance\.covariance must be a sequence of float64'):
+        PoseWithCovariance(covariance=['0'] * 36)
+    with pytest.raises(MessageTypeError, match=r'LaserScan\.ranges must be a sequence of float32'):
+        LaserScan(ranges=[True, False])
+
+
+# -- numpy arrays ------------------------------------------------------------------------------
+def test_numeric_arrays_are_numpy():
+    scan = LaserScan(ranges=[1.0, 2.5, 3.0])
+    assert isinstance(scan.ranges, np.ndarray)
+    assert scan.ranges.dtype == np.float32
+    assert scan.ranges.tolist() == [1.0, 2.5, 3.0]
+    assert list(scan.ranges) == [1.0, 2.5, 3.0]
+    assert LaserScan().ranges.shape == (0,)
+    pose = PoseWithCovariance()
+    assert pose.covariance.dtype == np.float64 and pose.covariance.shape == (36,)
+    given = np.arange(36, dtype=np.float64)
+    pose.covariance = given
+    assert np.array_equal(pose.covariance, given)
+
+
+def test_uint8_array_from_bytes_and_list():
+    image = Image(data=b'\x00\x01\xff')
+    assert image.data.dtype == np.uint8
+    assert image.data.tolist() == [0, 1, 255]
+    assert Image(data=bytearray(b'ab')).data.tolist() == [97, 98]
+    assert Image(data=[1, 2, 3]).data.tolist() == [1, 2, 3]
+    assert Image(data=np.array([4, 5], dtype=np.uint8)).data.tolist() == [4, 5]
+
+
+def test_numeric_array_wire_form_is_raw_little_endian_bytes():
+    scan = LaserScan(ranges=[1.0, 2.0])
+    wire = msgpack.unpackb(serialize(scan))
+    assert wire['ranges'] == np.array([1.0, 2.0], dtype='<f4').tobytes()
+    back = deserialize(serialize(scan), LaserScan)
+    assert back.ranges.dtype == np.float32 and back.ranges.tolist() == [1.0, 2.0]
+
+
+def test_large_array_round_trip():
+    data = np.random.default_rng(1).integers(0, 256, 1_000_000, dtype=np.uint8)
+    image = Image(height=1000, width=1000, encoding='mono8', step=1000, data=data)
+    back = deserialize(serialize(image), Image)
+    assert back == image
+    assert np.array_equal(back.data, data)
+
+
+# -- nested messages and arrays of messages ----------------------------------------------------
+def test_nested_messages():
+    pose = Pose()
+    pose.position.x = 1.5
+    pose.orientation.w = 1.0
+    assert pose.position == Point(x=1.5)
+    from interfaces.geometry_msgs.msg import PoseArray
+    array = PoseArray(poses=[Pose(), pose])
+    assert array.poses[1].position.x == 1.5
+    with pytest.raises(MessageTypeError, match=r'PoseArray\.poses must be a geometry_msgs/msg/Pose'):
+        PoseArray(poses=[Point()])
+    back = deserialize(serialize(array), PoseArray)
+    assert back == array and back.poses[1].orientation.w == 1.0
+
+
+# -- services and actions ----------------------------------------------------------------------
+def test_service_classes():
+    from interfaces.std_srvs.srv import SetBool
+    from interfaces.example_interfaces.srv import AddTwoInts
+    assert SetBool._TYPE == 'std_srvs/srv/SetBool'
+    request = SetBool.Request(data=True)
+    assert request.data is True
+    response = SetBool.Response(success=True, message='ok')
+    assert repr(response) == "std_srvs.srv.SetBool_Response(success=True, message='ok')"
+    assert AddTwoInts.Request(a=1, b=2).b == 2
+    with pytest.raises(MessageTypeError, match=r'AddTwoInts_Request\.a must be an int'):
+        AddTwoInts.Request(a='1')
+    assert deserialize(serialize(AddTwoInts.Response(sum=3)), AddTwoInts.Response).sum == 3
+    assert typesupport.get_type('example_interfaces/srv/AddTwoInts_Request') is AddTwoInts.Request
+
+
+def test_action_classes():
+    from interfaces.action_tutorials_interfaces.action import Fibonacci
+    assert Fibonacci._TYPE == 'action_tutorials_interfaces/action/Fibonacci'
+    goal = Fibonacci.Goal(order=5)
+    assert goal.order == 5
+    result = Fibonacci.Result(sequence=[0, 1, 1, 2])
+    assert result.sequence.dtype == np.int32
+    feedback = Fibonacci.Feedback(partial_sequence=[0, 1])
+    assert deserialize(serialize(feedback), Fibonacci.Feedback) == feedback
+    assert typesupport.get_type('action_tutorials_interfaces/action/Fibonacci_Goal') is Fibonacci.Goal
+    assert repr(goal) == 'action_tutorials_interfaces.action.Fibonacci_Goal(order=5)'
+
+
+def test_action_msgs_constants():
+    from interfaces.action_msgs.msg import GoalStatus
+    assert (GoalStatus.STATUS_UNKNOWN, GoalStatus.STATUS_SUCCEEDED, GoalStatus.STATUS_ABORTED) == (0, 4, 6)
+    assert GoalStatus().status == 0
+
+
+# -- codec round trip for every shipped type ------------------------------------------------
+def _value_for(ftype: FieldType, depth: int = 0):
+    """A non-default value of `ftype` (within its bounds), to exercise the codec."""
+    def scalar(i: int):
+        base = ftype.base
+        if base == 'bool':
+            return True
+        if base in ('float32', 'float64'):
+            return 1.5 + i
+        if base in ('string', 'wstring'):
+            text = f'é{i}✓ x'
+            return text[:ftype.string_bound] if ftype.string_bound is not None else text
+        if base in ('byte', 'char', 'uint8'):
+            return 200 + i
+        if base == 'int8':
+            return -100 - i
+        if base.startswith('uint'):
+            return 2 ** (int(base[4:]) - 1) + i
+        if base.startswith('int'):
+            return -(2 ** (int(base[3:]) - 1)) + i
+        cls = typesupport.get_message(base)
+        return _filled(cls, depth + 1)
+    if not ftype.is_array:
+        return scalar(0)
+    size = ftype.array_size if ftype.array == 'fixed' else min(2, ftype.array_size or 2)
+    return [scalar(i) for i in range(size)]
+
+
+def _filled(cls, depth: int = 0):
+    msg = cls()
+    if depth > 4:
+        return msg
+    for field in cls._SPEC.fields:
+        setattr(msg, field.name, _value_for(field.type, depth))
+    return msg
+
+
+def _all_message_classes():
+    for name in typesupport.list_interfaces():
+        cls = typesupport.get_type(name)
+        if hasattr(cls, 'Request'):
+            yield f'{name}.Request', cls.Request
+            yield f'{name}.Response', cls.Response
+        elif hasattr(cls, 'Goal'):
+            yield f'{name}.Goal', cls.Goal
+            yield f'{name}.Result', cls.Result
+            yield f'{name}.Feedback', cls.Feedback
+        else:
+            yield name, cls
+
+
+def test_every_shipped_interface_is_listed_and_loads():
+    names = typesupport.list_interfaces()
+    assert len(names) > 100
+    for expected in ('std_msgs/msg/String', 'geometry_msgs/msg/Twist', 'sensor_msgs/msg/Image',
+                     'nav_msgs/msg/Odometry', 'builtin_interfaces/msg/Time', 'std_srvs/srv/Trigger',
+                     'rcl_interfaces/srv/SetParameters', 'turtlesim/srv/Spawn', 'tf2_msgs/msg/TFMessage',
+                     'action_tutorials_interfaces/action/Fibonacci', 'diagnostic_msgs/msg/DiagnosticArray',
+                     'visualization_msgs/msg/Marker', 'example_interfaces/srv/AddTwoInts'):
+        assert expected in names
+
+
+@pytest.mark.parametrize('kind', ['default', 'filled'])
+def test_codec_round_trip_for_every_shipped_type(kind):
+    count = 0
+    for name, cls in _all_message_classes():
+        msg = cls() if kind == 'default' else _filled(cls)
+        data = serialize(msg)
+        back = deserialize(data, cls)
+        assert type(back) is cls, name
+        assert back == msg, name
+        assert serialize(back) == data, name
+        # the plain msgpack package decodes it into a dict keyed by field names
+        assert list(msgpack.unpackb(data)) == list(cls._FIELDS), name
+        count += 1
+    assert count > 150
+
+
+def test_decoded_arrays_are_read_only_views():
+    back = deserialize(serialize(LaserScan(ranges=[1.0])), LaserScan)
+    with pytest.raises(ValueError):
+        back.ranges[0] = 2.0
+    back.ranges = [2.0]  # replacing the field is fine
+    assert back.ranges.tolist() == [2.0]
+
+
+@pytest.mark.parametrize('payload', [b'', b'garbage', msgpack.packb([1, 2]), msgpack.packb({'x': 1}),
+                                     msgpack.packb({'ranges': b'\x00' * 3})])
+def test_deserialize_rejects_foreign_payloads(payload):
+    with pytest.raises(DecodeError, match='not a valid'):
+        deserialize(payload, LaserScan if b'ranges' in payload else String)
+
+
+# -- the wire format is plain msgpack ---------------------------------------------------------
+def test_plain_msgpack_decodes_what_zros_sends(context):
+    """A raw zenoh-python subscriber and the `msgpack` package read a zros topic."""
+    import zenoh
+    import zenoh.ext  # noqa: F401 - declared by zros publishers; imported for parity
+    key = topic_key(context.domain_id, '/plain')
+    samples = []
+    arrived = threading.Event()
+    session = zenoh.open(_raw_config(context.domain_id))
+    try:
+        def on_sample(sample):
+            samples.append((sample.payload.to_bytes(),
+                            sample.attachment.to_bytes() if sample.attachment is not None else None))
+            arrived.set()
+        subscriber = session.declare_subscriber(key, on_sample)
+        node = Node('plain_pub', context=context)
+        publisher = node.create_publisher(Twist, '/plain', 10)
+        deadline = time.monotonic() + 5
+        while not arrived.is_set() and time.monotonic() < deadline:
+            publisher.publish(Twist(linear=Vector3(x=1.0, y=-2.0), angular=Vector3(z=0.5)))
+            arrived.wait(0.05)
+        subscriber.undeclare()
+    finally:
+        session.close()
+    assert samples, 'the raw subscriber got nothing'
+    payload, attachment = samples[0]
+    assert msgpack.unpackb(payload) == {'linear': {'x': 1.0, 'y': -2.0, 'z': 0.0},
+                                        'angular': {'x': 0.0, 'y': 0.0, 'z': 0.5}}
+    # the attachment names the type (protocol v1): magic, gid, seq, time, hash, type name
+    assert attachment.startswith(b'Z1')
+    assert attachment.endswith(b'geometry_msgs/msg/Twist')
+    assert bytes.fromhex(Twist._HASH) in attachment
+
+
+def _raw_config(domain: int):
+    """A loopback-only raw Zenoh peer joining the domain's hub (no multicast)."""
+    import json
+    import zenoh
+    from zros.config import HUB_BASE_PORT
+    config = zenoh.Config()
+    config.insert_json5('mode', '"peer"')
+    config.insert_json5('scouting/multicast/enabled', 'false')
+    config.insert_json5('listen/endpoints', json.dumps(['tcp/127.0.0.1:0']))
+    config.insert_json5('connect/endpoints', json.dumps([f'tcp/127.0.0.1:{HUB_BASE_PORT + domain}']))
+    return config
+
+
+# -- user interface packages (ZROS_INTERFACE_PATH) -----------------------------------------
+CUSTOM_MSG = '''\
+# A message of a user's own package.
+int32 ANSWER=42
+string GREETING="hello"
+float64 PI=3.14159
+
+int32 count 7
+float64 ratio 1
+string name "abc"
+string<=5 short
+int32[3] triple
+float32[<=2] pair [1.0, 2.0]
+uint8[] blob
+bool flag true
+string[] tags ["x", "y"]
+geometry_msgs/Point where
+Header header
+'''
+
+
+@pytest.fixture
+def custom_package(tmp_path, monkeypatch):
+    """A fresh package (unique name: classes are cached per process) with msg/Custom.msg and
+    srv/Ask.srv on ZROS_INTERFACE_PATH (request it after `domain`, which clears that variable);
+    yields the package name."""
+    package = f'my_pkg_{next(_unique)}_{id(tmp_path) % 100000}'
+    (tmp_path / package / 'msg').mkdir(parents=True)
+    (tmp_path / package / 'srv').mkdir()
+    (tmp_path / package / 'msg' / 'Custom.msg').write_text(CUSTOM_MSG)
+    (tmp_path / package / 'srv' / 'Ask.srv').write_text('string question\n---\nCustom answer\n')
+    monkeypatch.setenv('ZROS_INTERFACE_PATH', str(tmp_path))
+    yield package
+    for module in [m for m in sys.modules if m.startswith(f'interfaces.{package}')]:
+        del sys.modules[module]
+
+
+def test_custom_package_import(custom_package):
+    import importlib
+    module = importlib.import_module(f'interfaces.{custom_package}.msg')
+    Custom = module.Custom
+    assert Custom._TYPE == f'{custom_package}/msg/Custom'
+    # constants
+    assert (Custom.ANSWER, Custom.GREETING, Custom.PI) == (42, 'hello', 3.14159)
+    # defaults from the IDL
+    msg = Custom()
+    assert (msg.count, msg.ratio, msg.name, msg.short, msg.flag) == (7, 1.0, 'abc', '', True)
+    assert type(msg.ratio) is float
+    assert msg.triple.tolist() == [0, 0, 0] and msg.triple.dtype == np.int32
+    assert msg.pair.tolist() == [1.0, 2.0] and msg.pair.dtype == np.float32
+    assert msg.blob.dtype == np.uint8 and len(msg.blob) == 0
+    assert msg.tags == ['x', 'y']
+    assert msg.where == Point() and msg.header == Header()
+    # a default list is not shared
+    msg.tags.append('z')
+    assert Custom().tags == ['x', 'y']
+    # bounds and sizes
+    with pytest.raises(MessageTypeError, match=r'Custom\.short is longer than its bound of 5'):
+        msg.short = 'toolong'
+    msg.short = 'five!'
+    with pytest.raises(MessageTypeError, match=r'Custom\.triple must have exactly 3 elements, got 2'):
+        msg.triple = [1, 2]
+    with pytest.raises(MessageTypeError, match=r'Custom\.pair may have at most 2 elements, got 3'):
+        msg.pair = [1.0, 2.0, 3.0]
+    with pytest.raises(MessageTypeError, match=r'Custom\.tags must be a str'):
+        msg.tags = [1]
+    with pytest.raises(MessageTypeError, match=r'Custom\.flag must be a bool'):
+        msg.flag = 1
+    msg.blob = b'\x01\x02'
+    msg.triple = [1, 2, 3]
+    # the codec
+    back = deserialize(serialize(msg), Custom)
+    assert back == msg
+    assert back.short == 'five!' and back.blob.tolist() == [1, 2] and back.tags == ['x', 'y', 'z']
+    # the `from ... import` form of the porting story
+    namespace = {}
+    exec(f'from interfaces.{custom_package}.msg import Custom as C', namespace)
+    assert namespace['C'] is Custom
+
+
+def test_custom_service_uses_custom_message(custom_package):
+    import importlib
+    Ask = importlib.import_module(f'interfaces.{custom_package}.srv').Ask
+    Custom = importlib.import_module(f'interfaces.{custom_package}.msg').Custom
+    response = Ask.Response()
+    assert type(response.answer) is Custom and response.answer.count == 7
+    assert f'{custom_package}/srv/Ask' in typesupport.list_interfaces(custom_package)
+
+
+def test_custom_message_over_the_wire(make_context, custom_package, spin_for):
+    """A custom type is usable on a topic between two sessions."""
+    import importlib
+    from zros.executors import SingleThreadedExecutor
+    Custom = importlib.import_module(f'interfaces.{custom_package}.msg').Custom
+    pub_ctx, sub_ctx = make_context(), make_context()
+    node = Node('custom_sub', context=sub_ctx)
+    received = []
+    node.create_subscription(Custom, '/custom', received.append, 10)
+    executor = SingleThreadedExecutor(context=sub_ctx)
+    executor.add_node(node)
+    publisher = Node('custom_pub', context=pub_ctx).create_publisher(Custom, '/custom', 10)
+    assert publisher.wait_for_subscribers(1, 5.0)
+    publisher.publish(Custom(count=-3, tags=['a'], where=Point(z=2.0)))
+    spin_for(executor, lambda: received, timeout=5)
+    assert received[0] == Custom(count=-3, tags=['a'], where=Point(z=2.0))
+
+
+def test_unknown_interface_import_fails_cleanly():
+    with pytest.raises(ImportError):
+        from interfaces.std_msgs.msg import NoSuchMessage  # noqa: F401
+    with pytest.raises(ImportError):
+        import interfaces.no_such_package_xyz.msg  # noqa: F401

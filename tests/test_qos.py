@@ -1,0 +1,140 @@
+"""zros.qos: profiles, presets, the token form used in the graph, and compatibility."""
+from __future__ import annotations
+
+import dataclasses
+
+import pytest
+
+from zros.qos import (KEEP_ALL_DEPTH, DurabilityPolicy, HistoryPolicy, LivelinessPolicy, QoSCompatibility,
+                      QoSPresetProfiles, QoSProfile, ReliabilityPolicy, qos_check_compatible,
+                      qos_profile_action_status_default, qos_profile_default, qos_profile_parameters,
+                      qos_profile_sensor_data, qos_profile_services_default, qos_profile_system_default,
+                      to_profile)
+
+RELIABLE, BEST_EFFORT = ReliabilityPolicy.RELIABLE, ReliabilityPolicy.BEST_EFFORT
+VOLATILE, TRANSIENT_LOCAL = DurabilityPolicy.VOLATILE, DurabilityPolicy.TRANSIENT_LOCAL
+
+
+def test_default_profile_is_ros_default():
+    profile = QoSProfile()
+    assert (profile.history, profile.depth, profile.reliability, profile.durability, profile.liveliness) == \
+        (HistoryPolicy.KEEP_LAST, 10, RELIABLE, VOLATILE, LivelinessPolicy.AUTOMATIC)
+    assert QoSProfile(depth=10) == qos_profile_default
+
+
+def test_presets():
+    assert (qos_profile_sensor_data.reliability, qos_profile_sensor_data.depth) == (BEST_EFFORT, 5)
+    assert qos_profile_sensor_data.durability == VOLATILE
+    assert qos_profile_parameters.depth == 1000 and qos_profile_parameters.reliability == RELIABLE
+    assert qos_profile_services_default.reliability == RELIABLE
+    assert qos_profile_system_default.history == HistoryPolicy.KEEP_LAST
+    assert qos_profile_action_status_default.durability == TRANSIENT_LOCAL
+    assert QoSPresetProfiles.SENSOR_DATA.value is qos_profile_sensor_data
+    assert QoSPresetProfiles.get_from_short_key('sensor_data') is qos_profile_sensor_data
+    assert QoSPresetProfiles.get_from_short_key('SYSTEM_DEFAULT') == qos_profile_system_default
+    with pytest.raises(KeyError):
+        QoSPresetProfiles.get_from_short_key('nope')
+
+
+def test_profiles_are_frozen_and_hashable():
+    profile = QoSProfile(depth=3)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        profile.depth = 4
+    assert hash(profile) == hash(QoSProfile(depth=3))
+    assert dataclasses.replace(profile, depth=4).depth == 4
+
+
+def test_plain_ints_and_system_default_are_normalised():
+    profile = QoSProfile(reliability=2, durability=1, history=1, depth=4)
+    assert (profile.reliability, profile.durability) == (BEST_EFFORT, TRANSIENT_LOCAL)
+    assert isinstance(profile.reliability, ReliabilityPolicy)
+    system = QoSProfile(history=HistoryPolicy.SYSTEM_DEFAULT, reliability=ReliabilityPolicy.SYSTEM_DEFAULT,
+                        durability=DurabilityPolicy.SYSTEM_DEFAULT, liveliness=LivelinessPolicy.SYSTEM_DEFAULT)
+    assert system == QoSProfile()
+
+
+@pytest.mark.parametrize('kwargs', [dict(depth=-1), dict(depth=0), dict(depth=1.5), dict(reliability=99)])
+def test_invalid_profiles(kwargs):
+    with pytest.raises(ValueError):
+        QoSProfile(**kwargs)
+
+
+def test_keep_all():
+    profile = QoSProfile(history=HistoryPolicy.KEEP_ALL, depth=0)
+    assert profile.queue_depth == KEEP_ALL_DEPTH
+    assert QoSProfile(depth=7).queue_depth == 7
+
+
+def test_to_profile():
+    assert to_profile(5) == QoSProfile(depth=5)
+    assert to_profile(qos_profile_sensor_data) is qos_profile_sensor_data
+    for bad in (True, '10', 1.0, None):
+        with pytest.raises(TypeError):
+            to_profile(bad)
+    with pytest.raises(ValueError):
+        to_profile(0)
+
+
+@pytest.mark.parametrize('profile, token', [
+    (QoSProfile(), 'R:V:L10'),
+    (qos_profile_sensor_data, 'B:V:L5'),
+    (QoSProfile(depth=1, durability=TRANSIENT_LOCAL), 'R:T:L1'),
+    (QoSProfile(history=HistoryPolicy.KEEP_ALL, depth=0), 'R:V:A'),
+    (QoSProfile(depth=123, reliability=BEST_EFFORT, durability=TRANSIENT_LOCAL), 'B:T:L123'),
+])
+def test_token_round_trip(profile, token):
+    assert profile.to_token() == token
+    assert QoSProfile.from_token(token) == profile
+    # a token is one key chunk: no '/', and no Zenoh wildcard characters
+    assert not set(token) & set('/*$#?')
+
+
+@pytest.mark.parametrize('garbage', ['', 'R:V', 'X:Y:Z', 'R:V:Lx', 'R:V:L0', 'a:b:c:d'])
+def test_from_token_falls_back_to_default(garbage):
+    assert QoSProfile.from_token(garbage) == QoSProfile()
+
+
+@pytest.mark.parametrize('pub, sub, expected', [
+    (QoSProfile(), QoSProfile(), QoSCompatibility.OK),
+    (QoSProfile(reliability=RELIABLE), QoSProfile(reliability=BEST_EFFORT), QoSCompatibility.OK),
+    (QoSProfile(reliability=BEST_EFFORT), QoSProfile(reliability=RELIABLE), QoSCompatibility.ERROR),
+    (QoSProfile(reliability=BEST_EFFORT), QoSProfile(reliability=BEST_EFFORT), QoSCompatibility.OK),
+    (QoSProfile(durability=TRANSIENT_LOCAL), QoSProfile(durability=VOLATILE), QoSCompatibility.OK),
+    (QoSProfile(durability=VOLATILE), QoSProfile(durability=TRANSIENT_LOCAL), QoSCompatibility.ERROR),
+    (QoSProfile(durability=TRANSIENT_LOCAL), QoSProfile(durability=TRANSIENT_LOCAL), QoSCompatibility.OK),
+    (qos_profile_sensor_data, qos_profile_default, QoSCompatibility.ERROR),
+    (qos_profile_default, qos_profile_sensor_data, QoSCompatibility.OK),
+])
+def test_compatibility(pub, sub, expected):
+    result, reason = qos_check_compatible(pub, sub)
+    assert result == expected
+    if expected == QoSCompatibility.ERROR:
+        assert reason.startswith('ERROR:')
+    else:
+        assert reason == ''
+
+
+def test_reliability_reason_names_the_policies():
+    _, reason = qos_check_compatible(QoSProfile(reliability=BEST_EFFORT), QoSProfile())
+    assert 'Best effort publisher and reliable subscription' in reason
+    _, reason = qos_check_compatible(QoSProfile(), QoSProfile(durability=TRANSIENT_LOCAL))
+    assert 'Volatile publisher and transient local subscription' in reason
+
+
+def test_profiles_reach_the_graph(context):
+    """The QoS a publisher asked for is what the graph (and `topic info -v`) shows."""
+    from zros.graph import EntityKind
+    from zros.node import Node
+    from interfaces.std_msgs.msg import String
+    node = Node('qos_node', context=context)
+    node.create_publisher(String, '/q', QoSProfile(depth=3, reliability=BEST_EFFORT, durability=TRANSIENT_LOCAL))
+    node.create_subscription(String, '/q', lambda m: None, QoSProfile(history=HistoryPolicy.KEEP_ALL, depth=0))
+    # (the graph learns about this process's own entities asynchronously: see test_pubsub's
+    # test_own_entities_are_in_the_graph_at_once)
+    assert context.graph.wait_for(lambda es: sum(e.name == '/q' for e in es) == 2, 5.0)
+    pubs = node.get_publishers_info_by_topic('/q')
+    subs = node.get_subscriptions_info_by_topic('/q')
+    assert [QoSProfile.from_token(e.qos) for e in pubs] == \
+        [QoSProfile(depth=3, reliability=BEST_EFFORT, durability=TRANSIENT_LOCAL)]
+    assert [e.qos for e in subs] == ['R:V:A']
+    assert pubs[0].kind == EntityKind.PUBLISHER
