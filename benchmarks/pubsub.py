@@ -1,0 +1,812 @@
+"""Pub/sub benchmark: zros against raw zenoh-python, same run, same machine (DESIGN §8).
+
+    python benchmarks/pubsub.py            # full run, about a minute
+    python benchmarks/pubsub.py --quick    # smaller counts, one run each, no 8 MB case
+    python benchmarks/pubsub.py --only latency:twist,throughput:twist --rounds 4 --json out.json
+
+What is measured, for both libraries, in alternating runs (raw, zros, zros, raw, ...) so that
+drifting machine load hits both alike:
+- round-trip latency, ping-pong between two processes: a `geometry_msgs/msg/Twist` and a
+  1 MB `sensor_msgs/msg/Image` (rgb8); median, p90 and p99 after a warm-up. The echo side
+  decodes each message and publishes it back; the pinging side sends the next ping from the
+  callback that received the pong;
+- throughput: one process publishes as fast as it can (reliable, CongestionControl.BLOCK),
+  the other counts what its callback receives over a fixed window; msg/s, MB/s and losses
+  (Twist, 1 MB and 8 MB images).
+
+"Raw" is what a careful user of zenoh-python writes: the same payload as zros's wire form (a
+msgpack map built by hand, no zros message classes), `declare_publisher` with the options zros
+uses for a RELIABLE publisher, `declare_subscriber` with a callback that decodes the payload on
+zenoh-python's callback thread. "zros" is the rclpy-style API: `Node.create_publisher` /
+`create_subscription` (QoS depth 10: RELIABLE, KEEP_LAST 10) and a spinning
+`SingleThreadedExecutor`; the small-message throughput is also measured with a KEEP_ALL
+subscription, to show how much of the gap the queue depth explains.
+
+Every run uses two fresh worker processes started by this script: the measuring side first,
+so it becomes the loopback hub, then its peer. Both open their session with
+`zros.config.open_session`, so raw and zros get identical transport settings (peer mode,
+listening on tcp/127.0.0.1:0, multicast scouting off, the domain's hub on loopback). Each run
+takes the first domain id from 201 up whose hub port is free, so nothing else joins. Workers
+report JSON lines on stdout and clean up (undeclare, close the session / zros.shutdown) when
+their stdin closes; the peer always goes first, and workers are killed on any error.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import platform
+import queue
+import signal
+import socket
+import struct
+import subprocess
+import sys
+import threading
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable
+
+REPO = Path(__file__).resolve().parents[1]
+if str(REPO) not in sys.path:
+    sys.path.insert(0, str(REPO))
+
+#: First domain id tried; a case moves up while a hub port is taken (or in TIME_WAIT).
+DOMAIN_BASE = 201
+#: A worker that lives longer than this kills itself (the orchestrator is gone or stuck).
+WORKER_WATCHDOG_S = 90.0
+
+PING_TOPIC, PONG_TOPIC, FLOOD_TOPIC = '/zros_bench/ping', '/zros_bench/pong', '/zros_bench/flood'
+
+# Image sizes: rgb8 rows of `width` pixels, enough rows for the nominal size.
+SIZES = {
+    'twist': None,
+    '1MB': (1024, 342),    # 1,050,624 bytes of pixels
+    '8MB': (2048, 1366),   # 8,392,704 bytes of pixels
+}
+
+# DESIGN §8 targets: (kind, bound); 'max' = zros/raw at most bound, 'min' = at least.
+LATENCY_TARGET = ('max', 1.3)     # small-message latency within 1.3x of raw
+LARGE_LATENCY_TARGET = ('max', 1.25)  # 80% of raw bandwidth = round trip at most 1/0.8 of raw
+SMALL_RATE_TARGET = ('min', 0.70)
+LARGE_RATE_TARGET = ('min', 0.80)
+
+
+# ================================================================================ payloads
+def raw_wire(case: str) -> dict:
+    """The zros wire form of the benchmark message, written by hand (what raw users send)."""
+    if case == 'twist':
+        return {'linear': {'x': 0.0, 'y': 0.5, 'z': 0.0}, 'angular': {'x': 0.0, 'y': 0.0, 'z': 0.25}}
+    width, height = SIZES[case]
+    size = width * height * 3
+    pixels = (bytes(range(256)) * (size // 256 + 1))[:size]
+    return {'header': {'stamp': {'sec': 0, 'nanosec': 0}, 'frame_id': 'camera'},
+            'height': height, 'width': width, 'encoding': 'rgb8', 'is_bigendian': 0,
+            'step': width * 3, 'data': pixels}
+
+
+def raw_set_seq(case: str, wire: dict, seq: int) -> None:
+    if case == 'twist':
+        wire['linear']['x'] = float(seq)
+    else:
+        wire['header']['stamp']['sec'] = seq
+
+
+def raw_get_seq(case: str, wire: dict) -> int:
+    return int(wire['linear']['x']) if case == 'twist' else wire['header']['stamp']['sec']
+
+
+def zros_msg(case: str) -> Any:
+    """The same message as `raw_wire(case)`, as a zros message object."""
+    import numpy as np
+    from interfaces.geometry_msgs.msg import Twist
+    from interfaces.sensor_msgs.msg import Image
+    if case == 'twist':
+        msg = Twist()
+        msg.linear.y, msg.angular.z = 0.5, 0.25
+        return msg
+    wire = raw_wire(case)
+    msg = Image(height=wire['height'], width=wire['width'], encoding='rgb8', step=wire['step'],
+                data=np.frombuffer(wire['data'], dtype=np.uint8))
+    msg.header.frame_id = 'camera'
+    return msg
+
+
+def zros_set_seq(case: str, msg: Any, seq: int) -> None:
+    if case == 'twist':
+        msg.linear.x = float(seq)
+    else:
+        msg.header.stamp.sec = seq
+
+
+def zros_get_seq(case: str, msg: Any) -> int:
+    return int(msg.linear.x) if case == 'twist' else msg.header.stamp.sec
+
+
+def zros_type(case: str) -> type:
+    from interfaces.geometry_msgs.msg import Twist
+    from interfaces.sensor_msgs.msg import Image
+    return Twist if case == 'twist' else Image
+
+
+# ================================================================================ workers
+def emit(event: str, **fields: Any) -> None:
+    """One JSON line to the orchestrator."""
+    sys.stdout.write(json.dumps({'event': event, **fields}) + '\n')
+    sys.stdout.flush()
+
+
+def watch_stdin() -> threading.Event:
+    """Set when the orchestrator closes our stdin: time to clean up and exit."""
+    stop = threading.Event()
+
+    def watch() -> None:
+        for _ in sys.stdin:
+            pass
+        stop.set()
+    threading.Thread(target=watch, daemon=True, name='bench-stdin').start()
+    return stop
+
+
+def start_watchdog() -> None:
+    """A worker must never outlive a stuck or dead orchestrator (nor hang at exit)."""
+    timer = threading.Timer(WORKER_WATCHDOG_S, lambda: os._exit(3))
+    timer.daemon = True
+    timer.start()
+
+
+class RawSide:
+    """A zenoh session opened exactly as zros opens its own (`zros.config.open_session`), with
+    the publisher options zros uses for a RELIABLE profile. A context manager: undeclares and
+    closes on the way out, whatever happened."""
+
+    def __init__(self) -> None:
+        import zenoh
+        from zros.config import open_session, settings_from_env
+        self._zenoh = zenoh
+        self._settings = settings_from_env()
+        self.session, self.is_hub = open_session(self._settings)
+        self._handles: list[Any] = []
+
+    def _key(self, topic: str) -> str:
+        from zros.keys import topic_key
+        return topic_key(self._settings.domain_id, topic)
+
+    def publisher(self, topic: str) -> Any:
+        zenoh = self._zenoh
+        pub = self.session.declare_publisher(self._key(topic), congestion_control=zenoh.CongestionControl.BLOCK,
+                                             reliability=zenoh.Reliability.RELIABLE)
+        self._handles.append(pub)
+        return pub
+
+    def subscriber(self, topic: str, callback: Callable[[Any], None]) -> Any:
+        sub = self.session.declare_subscriber(self._key(topic), callback)
+        self._handles.append(sub)
+        return sub
+
+    def __enter__(self) -> 'RawSide':
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        for handle in reversed(self._handles):
+            try:
+                handle.undeclare()
+            except Exception:  # noqa: BLE001 - closing anyway
+                pass
+        self.session.close()
+
+
+class ZrosSide:
+    """zros.init, one node and a SingleThreadedExecutor; a context manager that shuts all of
+    it down on the way out, whatever happened."""
+
+    def __init__(self, name: str) -> None:
+        import zros
+        from zros.executors import SingleThreadedExecutor
+        from zros.node import Node
+        self._zros = zros
+        self.context = zros.init(args=['pubsub_bench'])
+        self.is_hub = self.context.is_hub
+        self.node = Node(name)
+        self.executor = SingleThreadedExecutor()
+        self.executor.add_node(self.node)
+
+    def __enter__(self) -> 'ZrosSide':
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        try:
+            self.executor.shutdown()
+            self.node.destroy_node()
+        finally:
+            self._zros.shutdown()
+
+
+def percentile(sorted_values: list[int], q: float) -> float:
+    """Nearest-rank percentile of an ascending list."""
+    index = min(len(sorted_values), max(1, math.ceil(q / 100 * len(sorted_values)))) - 1
+    return sorted_values[index]
+
+
+# -- latency ----------------------------------------------------------------------------
+class PingChain:
+    """The pinging side's bookkeeping, shared by both libraries.
+
+    The first pong (answering one of the seq-0 kick-off pings, sent until the peer is there)
+    starts the chain; each pong with the expected sequence number records a round trip and
+    sends the next ping straight from the receiving callback, so only the transport and the
+    library under test sit between two pings. Stray pongs are ignored.
+    """
+
+    def __init__(self, warmup: int, count: int, send: Callable[[int], None]) -> None:
+        self.warmup, self.count, self.send = warmup, count, send
+        self.expected = 0
+        self.sent_ns = 0
+        self.rtts: list[int] = []
+        self.done = threading.Event()
+
+    def on_pong(self, seq: int, now_ns: int) -> None:
+        if seq != self.expected:
+            return
+        if seq > self.warmup:
+            self.rtts.append(now_ns - self.sent_ns)
+        if seq >= self.warmup + self.count:
+            self.done.set()
+            return
+        self.expected = seq + 1
+        self.sent_ns = time.perf_counter_ns()
+        self.send(self.expected)
+
+
+def ping_raw(side: RawSide, case: str, args: argparse.Namespace) -> dict:
+    import msgpack
+    wire = raw_wire(case)
+    pub = side.publisher(PING_TOPIC)
+
+    def send(seq: int) -> None:
+        raw_set_seq(case, wire, seq)
+        pub.put(msgpack.packb(wire))
+
+    chain = PingChain(args.warmup, args.count, send)
+
+    def on_pong(sample: Any) -> None:
+        data = msgpack.unpackb(sample.payload.to_bytes())
+        chain.on_pong(raw_get_seq(case, data), time.perf_counter_ns())
+
+    side.subscriber(PONG_TOPIC, on_pong)
+    emit('ready', is_hub=side.is_hub)
+    kick = raw_wire(case)  # a copy of its own: the chain may start on the Zenoh thread meanwhile
+    raw_set_seq(case, kick, 0)
+    kick_payload = msgpack.packb(kick)
+    deadline = time.monotonic() + args.timeout
+    while chain.expected == 0 and time.monotonic() < deadline:
+        pub.put(kick_payload)
+        time.sleep(0.05)
+    chain.done.wait(max(0.0, deadline - time.monotonic()))
+    return {'rtts_ns': chain.rtts, 'complete': chain.done.is_set()}
+
+
+def ping_zros(side: ZrosSide, case: str, args: argparse.Namespace) -> dict:
+    from zros.task import Future
+    msg, msg_type = zros_msg(case), zros_type(case)
+    pub = side.node.create_publisher(msg_type, PING_TOPIC, 10)
+    finished = Future()
+
+    def send(seq: int) -> None:
+        zros_set_seq(case, msg, seq)
+        pub.publish(msg)
+
+    chain = PingChain(args.warmup, args.count, send)
+
+    def on_pong(reply: Any) -> None:
+        chain.on_pong(zros_get_seq(case, reply), time.perf_counter_ns())
+        if chain.done.is_set():
+            finished.set_result(True)
+
+    side.node.create_subscription(msg_type, PONG_TOPIC, on_pong, 10)
+    emit('ready', is_hub=side.is_hub)
+    deadline = time.monotonic() + args.timeout
+    while chain.expected == 0 and time.monotonic() < deadline:
+        send(0)
+        side.executor.spin_once(timeout_sec=0.05)
+    side.executor.spin_until_future_complete(finished, timeout_sec=max(0.0, deadline - time.monotonic()))
+    return {'rtts_ns': chain.rtts, 'complete': chain.done.is_set()}
+
+
+def echo_raw(side: RawSide, case: str, args: argparse.Namespace, stop: threading.Event) -> None:
+    import msgpack
+    pub = side.publisher(PONG_TOPIC)
+
+    def on_ping(sample: Any) -> None:
+        pub.put(msgpack.packb(msgpack.unpackb(sample.payload.to_bytes())))
+
+    side.subscriber(PING_TOPIC, on_ping)
+    emit('ready', is_hub=side.is_hub)
+    stop.wait()
+
+
+def echo_zros(side: ZrosSide, case: str, args: argparse.Namespace, stop: threading.Event) -> None:
+    msg_type = zros_type(case)
+    pub = side.node.create_publisher(msg_type, PONG_TOPIC, 10)
+    side.node.create_subscription(msg_type, PING_TOPIC, pub.publish, 10)
+    emit('ready', is_hub=side.is_hub)
+    threading.Thread(target=lambda: (stop.wait(), side.executor.shutdown()), daemon=True).start()
+    side.executor.spin()
+
+
+# -- throughput --------------------------------------------------------------------------
+_SEQ = struct.Struct('<Q')
+
+
+class Counter:
+    """What the counting side has seen: written by the receiving thread, read by the window
+    thread (plain ints: reading one while it changes is safe under the GIL)."""
+
+    def __init__(self) -> None:
+        self.received = 0
+        self.lost = 0
+        self.last_seq = 0
+        self.first = threading.Event()
+
+
+def measure_window(counter: Counter, args: argparse.Namespace, payload_bytes: int,
+                   extra: Callable[[], dict[str, int]] = dict) -> dict:
+    """Wait for the first message, let the flow settle, then count over the window."""
+    if not counter.first.wait(args.timeout):
+        return {'error': 'no message arrived'}
+    time.sleep(args.warmup_s)
+    n0, x0, t0 = counter.received, extra(), time.perf_counter()
+    time.sleep(args.window)
+    n1, x1, t1 = counter.received, extra(), time.perf_counter()
+    return {'received': n1 - n0, 'seconds': t1 - t0, 'payload_bytes': payload_bytes,
+            **{k: x1[k] - x0[k] for k in x1}}
+
+
+def count_raw(side: RawSide, case: str, args: argparse.Namespace) -> dict:
+    import msgpack
+    counter = Counter()
+
+    def on_sample(sample: Any) -> None:
+        msgpack.unpackb(sample.payload.to_bytes())
+        seq = _SEQ.unpack(sample.attachment.to_bytes())[0]
+        last = counter.last_seq
+        if last and seq > last + 1:
+            counter.lost += seq - last - 1
+        counter.last_seq = seq
+        counter.received += 1
+        if not counter.first.is_set():
+            counter.first.set()
+
+    side.subscriber(FLOOD_TOPIC, on_sample)
+    emit('ready', is_hub=side.is_hub)
+    return measure_window(counter, args, len(msgpack.packb(raw_wire(case))),
+                          lambda: {'lost': counter.lost, 'dropped': 0})
+
+
+def count_zros(side: ZrosSide, case: str, args: argparse.Namespace) -> dict:
+    from zros.executors import ExternalShutdownException
+    from zros.message import serialize
+    counter = Counter()
+
+    def on_msg(msg: Any) -> None:
+        counter.received += 1
+        if not counter.first.is_set():
+            counter.first.set()
+
+    qos: Any = 10
+    if args.worker[1] == 'zros-keepall':
+        from zros.qos import HistoryPolicy, QoSProfile
+        qos = QoSProfile(history=HistoryPolicy.KEEP_ALL)
+    sub = side.node.create_subscription(zros_type(case), FLOOD_TOPIC, on_msg, qos)
+    emit('ready', is_hub=side.is_hub)
+    result: dict = {}
+
+    def window() -> None:  # beside the spinning main thread
+        try:
+            result.update(measure_window(counter, args, len(serialize(zros_msg(case))),
+                                         lambda: {'lost': sub.lost, 'dropped': sub.dropped}))
+        finally:
+            side.executor.shutdown()
+
+    thread = threading.Thread(target=window, name='bench-window')
+    thread.start()
+    try:
+        side.executor.spin()
+    except ExternalShutdownException:
+        pass
+    thread.join()
+    return result
+
+
+def flood_raw(side: RawSide, case: str, args: argparse.Namespace, stop: threading.Event) -> None:
+    import msgpack
+    pub = side.publisher(FLOOD_TOPIC)
+    wire = raw_wire(case)
+    emit('ready', is_hub=side.is_hub)
+    pack, put, seq_pack, stopped = msgpack.packb, pub.put, _SEQ.pack, stop.is_set
+    seq = 0
+    while not stopped():
+        seq += 1
+        put(pack(wire), attachment=seq_pack(seq))
+
+
+def flood_zros(side: ZrosSide, case: str, args: argparse.Namespace, stop: threading.Event) -> None:
+    pub = side.node.create_publisher(zros_type(case), FLOOD_TOPIC, 10)
+    msg = zros_msg(case)
+    emit('ready', is_hub=side.is_hub)
+    publish, stopped = pub.publish, stop.is_set
+    while not stopped():
+        publish(msg)
+
+
+#: role -> (measuring?, raw function, zros function). Measuring roles return a result and are
+#: the hub; peers run until their stdin closes.
+ROLES = {
+    'ping': (True, ping_raw, ping_zros),
+    'echo': (False, echo_raw, echo_zros),
+    'count': (True, count_raw, count_zros),
+    'flood': (False, flood_raw, flood_zros),
+}
+
+
+def run_worker(args: argparse.Namespace) -> None:
+    start_watchdog()
+    stop = watch_stdin()
+    role, impl, case = args.worker
+    measuring, raw_fn, zros_fn = ROLES[role]
+    with (RawSide() if impl == 'raw' else ZrosSide(f'bench_{role}')) as side:  # zros, zros-keepall
+        fn = raw_fn if impl == 'raw' else zros_fn
+        if measuring:
+            emit('result', **fn(side, case, args))
+            stop.wait()  # keep the session (the hub) up until the peer has gone
+        else:
+            fn(side, case, args, stop)
+
+
+# ================================================================================ orchestration
+class BenchError(RuntimeError):
+    pass
+
+
+class Child:
+    """A worker process; its stdout lines are read on a thread so every wait has a timeout."""
+
+    def __init__(self, argv: list[str], env: dict[str, str], label: str) -> None:
+        self.label = label
+        self.proc = subprocess.Popen([sys.executable, os.path.abspath(__file__), *argv], env=env,
+                                     stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+        self.lines: queue.Queue = queue.Queue()
+        threading.Thread(target=self._read, daemon=True).start()
+
+    def _read(self) -> None:
+        for line in self.proc.stdout:
+            self.lines.put(line)
+        self.lines.put(None)
+
+    def expect(self, event: str, timeout: float) -> dict:
+        deadline = time.monotonic() + timeout
+        while True:
+            try:
+                line = self.lines.get(timeout=max(0.0, deadline - time.monotonic()))
+            except queue.Empty:
+                raise BenchError(f'{self.label}: no {event!r} within {timeout:.0f} s') from None
+            if line is None:
+                raise BenchError(f'{self.label}: exited (code {self.proc.wait()}) before {event!r}')
+            try:
+                message = json.loads(line)
+            except ValueError:
+                print(f'[{self.label}] {line.rstrip()}', file=sys.stderr)
+                continue
+            if message.get('event') == event:
+                return message
+
+    def stop(self, timeout: float = 10.0) -> None:
+        """Close stdin (the worker cleans up and exits); kill it if it does not."""
+        try:
+            self.proc.stdin.close()
+        except OSError:
+            pass
+        try:
+            self.proc.wait(timeout)
+        except subprocess.TimeoutExpired:
+            self.kill()
+            raise BenchError(f'{self.label}: did not exit within {timeout:.0f} s of stop; killed') from None
+
+    def kill(self) -> None:
+        if self.proc.poll() is None:
+            self.proc.kill()
+            self.proc.wait()
+
+
+def hub_port_free(domain: int) -> bool:
+    from zros.config import HUB_BASE_PORT
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as probe:
+        try:
+            probe.bind(('127.0.0.1', HUB_BASE_PORT + domain))
+        except OSError:
+            return False
+    return True
+
+
+def pick_domain(after: int = DOMAIN_BASE - 1) -> int:
+    for domain in range(after + 1, 233):
+        if hub_port_free(domain):
+            return domain
+    raise BenchError(f'no free hub port for domains {after + 1}-232')
+
+
+def worker_env(domain: int) -> dict[str, str]:
+    """Loopback-only zros defaults for `domain`, whatever the caller's environment says."""
+    env = {k: v for k, v in os.environ.items()
+           if k not in ('ZROS_CONNECT', 'ZROS_LISTEN', 'ZROS_DISCOVERY', 'ZROS_CONFIG', 'ROS_DOMAIN_ID')}
+    env['ZROS_DOMAIN_ID'] = str(domain)
+    env['PYTHONPATH'] = os.pathsep.join(p for p in (str(REPO), env.get('PYTHONPATH')) if p)
+    return env
+
+
+def run_pair(measurer_argv: list[str], peer_argv: list[str], label: str, timeout: float) -> dict:
+    """Start the measuring worker (the hub), then its peer; return the measurer's result.
+
+    If something else takes the domain's hub port between our check and the worker's bind,
+    the run moves to the next free domain (up to three tries)."""
+    domain = DOMAIN_BASE - 1
+    for _ in range(3):
+        domain = pick_domain(domain)
+        result = _run_pair_in(domain, measurer_argv, peer_argv, label, timeout)
+        if result is not None:
+            return result
+    raise BenchError(f'{label}: the measuring worker never became the hub of its domain')
+
+
+def _run_pair_in(domain: int, measurer_argv: list[str], peer_argv: list[str], label: str,
+                 timeout: float) -> dict | None:
+    env = worker_env(domain)
+    children: list[Child] = []
+    try:
+        measurer = Child(measurer_argv, env, f'{label} measurer')
+        children.append(measurer)
+        if not measurer.expect('ready', 15)['is_hub']:
+            return None
+        peer = Child(peer_argv, env, f'{label} peer')
+        children.append(peer)
+        peer.expect('ready', 15)
+        result = measurer.expect('result', timeout)
+        if result.get('error'):
+            raise BenchError(f"{label}: {result['error']}")
+        peer.stop()         # the peer first, so the hub's port is not left in TIME_WAIT
+        measurer.stop()
+        return result
+    finally:
+        for child in reversed(children):
+            child.kill()
+
+
+@dataclass
+class Plan:
+    lat_small: int
+    lat_large: int
+    warmup_small: int
+    warmup_large: int
+    window_s: float
+    warmup_s: float
+    throughput_cases: tuple[str, ...]
+    lat_rounds: int
+    tput_rounds: int
+
+
+def latency_round(impl: str, case: str, count: int, warmup: int) -> list[int]:
+    """One ping-pong run in fresh processes; the round-trip times in ns."""
+    timeout = 10 + count * (0.01 if case == 'twist' else 0.2)
+    result = run_pair(['--worker', 'ping', impl, case, '--count', str(count), '--warmup', str(warmup),
+                       '--timeout', str(timeout)],
+                      ['--worker', 'echo', impl, case], f'latency {case} {impl}', timeout + 5)
+    rtts = result['rtts_ns']
+    if not result['complete'] or len(rtts) < count:
+        raise BenchError(f'latency {case} {impl}: only {len(rtts)} of {count} round trips in {timeout:.0f} s')
+    return rtts
+
+
+def latency_stats(rtts: list[int]) -> dict:
+    rtts = sorted(rtts)
+    return {'median': percentile(rtts, 50) / 1e3, 'p90': percentile(rtts, 90) / 1e3,
+            'p99': percentile(rtts, 99) / 1e3, 'n': len(rtts)}
+
+
+def throughput_round(impl: str, case: str, plan: 'Plan') -> dict:
+    """One flood run in fresh processes: what the counting side saw in its window."""
+    timeout = 15.0
+    result = run_pair(['--worker', 'count', impl, case, '--window', str(plan.window_s),
+                       '--warmup-s', str(plan.warmup_s), '--timeout', str(timeout)],
+                      ['--worker', 'flood', impl, case], f'throughput {case} {impl}',
+                      timeout + plan.warmup_s + plan.window_s + 5)
+    return result
+
+
+def throughput_stats(rounds: list[dict]) -> dict:
+    received = sum(r['received'] for r in rounds)
+    seconds = sum(r['seconds'] for r in rounds)
+    rate = received / seconds
+    return {'msgs': rate, 'mbps': rate * rounds[0]['payload_bytes'] / 1e6,
+            'lost': sum(r['lost'] for r in rounds), 'dropped': sum(r['dropped'] for r in rounds),
+            'arrived_msgs': sum(r['received'] + r['dropped'] for r in rounds) / seconds,
+            'per_round_msgs': [r['received'] / r['seconds'] for r in rounds],
+            'payload_bytes': rounds[0]['payload_bytes'], 'seconds': seconds}
+
+
+def round_orders(rounds: int, impls: tuple[str, ...] = ('raw', 'zros')) -> list[tuple[str, ...]]:
+    """raw, zros / zros, raw / ...: alternating, so drift in machine load hits all alike."""
+    return [impls if i % 2 == 0 else impls[::-1] for i in range(rounds)]
+
+
+def verdict(target: tuple[str, float], ratio: float) -> str:
+    kind, bound = target
+    ok = ratio <= bound if kind == 'max' else ratio >= bound
+    return 'PASS' if ok else 'MISS'
+
+
+def target_text(target: tuple[str, float]) -> str:
+    kind, bound = target
+    return f'<= {bound:.2f}x' if kind == 'max' else f'>= {bound:.2f}x'
+
+
+def table(headers: list[str], rows: list[list[str]]) -> str:
+    widths = [max(len(h), *(len(r[i]) for r in rows)) for i, h in enumerate(headers)]
+    def line(cells: list[str]) -> str:
+        return '  '.join(c.ljust(w) if i == 0 else c.rjust(w) for i, (c, w) in enumerate(zip(cells, widths)))
+    return '\n'.join([line(headers), line(['-' * w for w in widths]), *(line(r) for r in rows)])
+
+
+def machine_facts() -> dict:
+    import msgpack
+    from importlib.metadata import version
+    cpu = platform.processor() or ''
+    try:
+        with open('/proc/cpuinfo') as f:
+            cpu = next((l.split(':', 1)[1].strip() for l in f if l.startswith('model name')), cpu)
+    except OSError:
+        pass
+    return {'nproc': os.cpu_count(), 'cpu': cpu, 'python': platform.python_version(),
+            'eclipse-zenoh': version('eclipse-zenoh'), 'msgpack': '.'.join(map(str, msgpack.version)),
+            'platform': platform.platform()}
+
+
+def run_orchestrator(args: argparse.Namespace) -> int:
+    plan = (Plan(lat_small=500, lat_large=50, warmup_small=100, warmup_large=10, window_s=1.0, warmup_s=0.3,
+                 throughput_cases=('twist', '1MB'), lat_rounds=1, tput_rounds=1)
+            if args.quick else
+            Plan(lat_small=2000, lat_large=200, warmup_small=200, warmup_large=20, window_s=2.0, warmup_s=0.5,
+                 throughput_cases=('twist', '1MB', '8MB'), lat_rounds=6, tput_rounds=3))
+    if args.rounds:
+        plan.lat_rounds = plan.tput_rounds = args.rounds
+    wanted = set(args.only.split(',')) if args.only else None
+    facts = machine_facts()
+    print(f"zros pub/sub benchmark{' (quick)' if args.quick else ''}: nproc={facts['nproc']} "
+          f"python={facts['python']} eclipse-zenoh={facts['eclipse-zenoh']} msgpack={facts['msgpack']}")
+    print(f"cpu: {facts['cpu']}")
+    started = time.monotonic()
+
+    latency: dict[str, dict[str, dict]] = {}
+    for case, count, warmup in (('twist', plan.lat_small, plan.warmup_small),
+                                ('1MB', plan.lat_large, plan.warmup_large)):
+        if wanted is not None and f'latency:{case}' not in wanted:
+            continue
+        samples: dict[str, list[int]] = {'raw': [], 'zros': []}
+        for i, order in enumerate(round_orders(plan.lat_rounds)):
+            for impl in order:
+                print(f'  latency    {case:5} {impl:12} round {i + 1}/{plan.lat_rounds} ...', end=' ', flush=True)
+                rtts = latency_round(impl, case, count // plan.lat_rounds, warmup)
+                samples[impl] += rtts
+                res = latency_stats(rtts)
+                print(f"median {res['median']:.0f} us, p99 {res['p99']:.0f} us ({res['n']} round trips)")
+        latency[case] = {impl: latency_stats(rtts) for impl, rtts in samples.items()}
+
+    throughput: dict[str, dict[str, dict]] = {}
+    for case in plan.throughput_cases:
+        if wanted is not None and f'throughput:{case}' not in wanted:
+            continue
+        # The small message also with a KEEP_ALL subscription: how much of the gap is the depth.
+        impls = ('raw', 'zros', 'zros-keepall') if case == 'twist' else ('raw', 'zros')
+        rounds: dict[str, list[dict]] = {impl: [] for impl in impls}
+        for i, order in enumerate(round_orders(plan.tput_rounds, impls)):
+            for impl in order:
+                print(f'  throughput {case:5} {impl:12} round {i + 1}/{plan.tput_rounds} ...', end=' ', flush=True)
+                result = throughput_round(impl, case, plan)
+                rounds[impl].append(result)
+                rate = result['received'] / result['seconds']
+                print(f"{rate:.0f} msg/s, {rate * result['payload_bytes'] / 1e6:.1f} MB/s, "
+                      f"lost {result['lost']}, dropped {result['dropped']}")
+        throughput[case] = {impl: throughput_stats(r) for impl, r in rounds.items()}
+
+    print()
+    print(report(latency, throughput, plan))
+    print(f'\ntotal wall time {time.monotonic() - started:.1f} s')
+    if args.json:
+        Path(args.json).write_text(json.dumps({'facts': facts, 'plan': plan.__dict__, 'latency': latency,
+                                               'throughput': throughput}, indent=2))
+    return 0
+
+
+CASE_NAMES = {'twist': 'Twist', '1MB': 'Image 1 MB', '8MB': 'Image 8 MB'}
+
+
+def report(latency: dict, throughput: dict, plan: Plan) -> str:
+    """The comparison tables, each row judged against its DESIGN §8 target."""
+    out = []
+    rows = []
+    for case, res in latency.items():
+        raw, zr = res['raw'], res['zros']
+        target = LATENCY_TARGET if case == 'twist' else LARGE_LATENCY_TARGET
+        for stat in ('median', 'p90', 'p99'):
+            ratio = zr[stat] / raw[stat]
+            judged = stat == 'median'
+            rows.append([f'{CASE_NAMES[case]} RTT {stat}', f'{raw[stat]:.0f}', f'{zr[stat]:.0f}', f'{ratio:.2f}x',
+                         target_text(target) if judged else '(info)', verdict(target, ratio) if judged else ''])
+    if rows:
+        n = ', '.join(f"{CASE_NAMES[c]} {r['raw']['n']}" for c, r in latency.items())
+        out += [f'Round-trip latency in us, ping-pong between two processes '
+                f'({plan.lat_rounds} alternating runs each; round trips: {n})',
+                table(['case', 'raw zenoh', 'zros', 'zros/raw', 'target', 'result'], rows), '']
+    rows, loss_rows = [], []
+    for case, res in throughput.items():
+        raw = res['raw']
+        target = SMALL_RATE_TARGET if case == 'twist' else LARGE_RATE_TARGET
+        for impl, label in (('zros', ''), ('zros-keepall', ', zros KEEP_ALL')):
+            if impl not in res:
+                continue
+            zr = res[impl]
+            ratio = zr['msgs'] / raw['msgs']
+            rows.append([CASE_NAMES[case] + label, f"{raw['msgs']:.0f}", f"{zr['msgs']:.0f}", f"{raw['mbps']:.1f}",
+                         f"{zr['mbps']:.1f}", f'{ratio:.2f}x', target_text(target), verdict(target, ratio)])
+            loss_rows.append([CASE_NAMES[case] + label, str(raw['lost']), str(zr['lost']), str(zr['dropped']),
+                              f"{zr['arrived_msgs']:.0f}"])
+    if rows:
+        out += [f'Throughput: messages received per second, reliable, publisher as fast as it can '
+                f'({plan.tput_rounds} alternating runs x {plan.window_s:g} s window each)',
+                table(['case', 'raw msg/s', 'zros msg/s', 'raw MB/s', 'zros MB/s', 'zros/raw', 'target', 'result'],
+                      rows), '',
+                'Losses in the same windows',
+                table(['case', 'raw lost', 'zros lost', 'zros dropped', 'zros arrived msg/s'], loss_rows),
+                'lost: gaps in the publisher\'s sequence numbers seen by the subscriber (zros counts the '
+                'samples its own queue dropped here too);',
+                'dropped: samples the zros subscription queue (KEEP_LAST 10, or KEEP_ALL = 100000) discarded '
+                'because the executor fell behind;',
+                'arrived: what reached the zros subscription (received + dropped).']
+    return '\n'.join(out)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
+    parser.add_argument('--quick', action='store_true', help='smaller counts, 1 s windows, no 8 MB case')
+    parser.add_argument('--json', metavar='PATH', help='also write the raw numbers as JSON')
+    parser.add_argument('--rounds', type=int, help='runs per case and library, alternating raw/zros '
+                                                    '(default 2, 1 with --quick)')
+    parser.add_argument('--only', metavar='CASES',
+                        help='comma-separated subset: latency:twist, latency:1MB, throughput:twist, '
+                             'throughput:1MB, throughput:8MB')
+    # Worker mode (used by the orchestrator, not meant to be run by hand).
+    parser.add_argument('--worker', nargs=3, metavar=('ROLE', 'IMPL', 'CASE'), help=argparse.SUPPRESS)
+    parser.add_argument('--count', type=int, default=1000, help=argparse.SUPPRESS)
+    parser.add_argument('--warmup', type=int, default=100, help=argparse.SUPPRESS)
+    parser.add_argument('--window', type=float, default=3.0, help=argparse.SUPPRESS)
+    parser.add_argument('--warmup-s', type=float, default=0.5, help=argparse.SUPPRESS)
+    parser.add_argument('--timeout', type=float, default=30.0, help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+    if args.worker:
+        run_worker(args)
+        return 0
+    # SIGTERM unwinds like Ctrl-C, so every `finally` kills the workers of the current run.
+    signal.signal(signal.SIGTERM, lambda signum, frame: sys.exit(128 + signum))
+    try:
+        return run_orchestrator(args)
+    except KeyboardInterrupt:
+        print('\ninterrupted', file=sys.stderr)
+        return 130
+    except BenchError as exc:
+        print(f'\nbenchmark failed: {exc}', file=sys.stderr)
+        return 1
+
+
+if __name__ == '__main__':
+    sys.exit(main())
