@@ -21,6 +21,8 @@ VERBS = {
     'service': ('zros.cli.service', 'Inspect and call services'),
     'param': ('zros.cli.param', 'Inspect and change node parameters'),
     'action': ('zros.cli.action', 'Inspect actions and send goals'),
+    'view': ('zros.cli.view', 'Show image topics live in the browser'),
+    'image': ('zros.cli.image', 'Save a frame of an image topic as PNG'),
     'launch': ('zros.cli.launch', 'Run a YAML launch file'),
 }
 

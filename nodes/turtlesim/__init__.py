@@ -1,0 +1,1 @@
+"""turtlesim: ROS 2's first simulated robot on zros (pymunk physics, a canvas published as an image)."""

@@ -1,0 +1,276 @@
+"""The web view and `zros image save`: PNG codec, Image conversion, the HTTP endpoints, the
+CLI verbs, and a headless Chromium that loads the page and shows turtlesim's trail."""
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import threading
+import urllib.request
+from typing import Any
+
+import numpy as np
+import pytest
+
+from conftest import wait_until
+from zros.view.image import UnsupportedEncoding, image_to_array
+from zros.view.png import PngError, decode_png, encode_png
+
+BACKGROUND = (69, 86, 255)
+
+
+# -- PNG and pixels ------------------------------------------------------------------------------
+@pytest.mark.parametrize('shape', [(7, 5), (7, 5, 1), (9, 4, 2), (13, 11, 3), (3, 17, 4)])
+def test_png_round_trip(shape):
+    rng = np.random.default_rng(len(shape) * 31 + shape[0])
+    pixels = rng.integers(0, 256, size=shape, dtype=np.uint8)
+    data = encode_png(pixels)
+    assert data[:8] == b'\x89PNG\r\n\x1a\n'
+    back = decode_png(data)
+    assert back.shape == (shape[0], shape[1], shape[2] if len(shape) == 3 else 1)
+    assert (back.reshape(pixels.shape) == pixels).all()
+
+
+def test_png_reader_handles_every_row_filter():
+    import struct
+    import zlib
+    rng = np.random.default_rng(5)
+    pixels = rng.integers(0, 256, size=(5, 6, 3), dtype=np.uint8)
+    rows = pixels.reshape(5, 18).astype(np.int32)
+    bpp, raw = 3, b''
+    for y, kind in enumerate([0, 1, 2, 3, 4]):   # None, Sub, Up, Average, Paeth
+        line, prior = rows[y], rows[y - 1] if y else np.zeros(18, dtype=np.int32)
+        out = []
+        for i in range(18):
+            left = line[i - bpp] if i >= bpp else 0
+            up_left = prior[i - bpp] if i >= bpp else 0
+            if kind == 0:
+                pred = 0
+            elif kind == 1:
+                pred = left
+            elif kind == 2:
+                pred = prior[i]
+            elif kind == 3:
+                pred = (left + prior[i]) // 2
+            else:
+                p = left + prior[i] - up_left
+                pa, pb, pc = abs(p - left), abs(p - prior[i]), abs(p - up_left)
+                pred = left if pa <= pb and pa <= pc else (prior[i] if pb <= pc else up_left)
+            out.append((line[i] - pred) % 256)
+        raw += bytes([kind]) + bytes(out)
+
+    def chunk(kind: bytes, body: bytes) -> bytes:
+        return struct.pack('>I', len(body)) + kind + body + struct.pack('>I', zlib.crc32(kind + body))
+    png = (b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', struct.pack('>IIBBBBB', 6, 5, 8, 2, 0, 0, 0))
+           + chunk(b'IDAT', zlib.compress(raw)) + chunk(b'IEND', b''))
+    assert (decode_png(png) == pixels).all()
+    with pytest.raises(PngError):
+        decode_png(b'GIF89a')
+    with pytest.raises(ValueError):
+        encode_png(np.zeros((4, 4), dtype=np.float32))
+
+
+def _image(encoding: str, pixels: np.ndarray, *, step: int | None = None, bigendian: int = 0) -> Any:
+    from interfaces.sensor_msgs.msg import Image
+    height, width = pixels.shape[:2]
+    row = pixels.reshape(height, -1).view(np.uint8)
+    step = step or row.shape[1]
+    padded = np.zeros((height, step), dtype=np.uint8)
+    padded[:, :row.shape[1]] = row
+    return Image(height=height, width=width, encoding=encoding, is_bigendian=bigendian, step=step,
+                 data=padded.reshape(-1))
+
+
+def test_image_to_array_encodings():
+    rgb = np.arange(4 * 3 * 3, dtype=np.uint8).reshape(4, 3, 3)
+    assert (image_to_array(_image('rgb8', rgb)) == rgb).all()
+    assert (image_to_array(_image('bgr8', rgb[..., ::-1].copy())) == rgb).all()
+    assert (image_to_array(_image('rgb8', rgb, step=16)) == rgb).all()     # padded rows
+    rgba = np.dstack([rgb, np.full((4, 3), 200, dtype=np.uint8)])
+    assert (image_to_array(_image('bgra8', rgba[..., [2, 1, 0, 3]].copy())) == rgba).all()
+    mono16 = (np.arange(12, dtype=np.uint16).reshape(4, 3) * 5000)
+    assert (image_to_array(_image('mono16', mono16)) == (mono16 >> 8)).all()
+    assert (image_to_array(_image('mono16', mono16.astype('>u2'), bigendian=1)) == (mono16 >> 8)).all()
+    depth = np.linspace(1.0, 3.0, 12, dtype=np.float32).reshape(4, 3)
+    scaled = image_to_array(_image('32FC1', depth))
+    assert scaled.min() == 0 and scaled.max() == 255
+    with pytest.raises(UnsupportedEncoding, match="cannot show encoding 'yuv422'"):
+        image_to_array(_image('yuv422', rgb))
+    short = _image('rgb8', rgb)
+    short.height = 40
+    with pytest.raises(UnsupportedEncoding, match='too short'):
+        image_to_array(short)
+
+
+# -- the server over zros -----------------------------------------------------------------------
+class Spinner:
+    def __init__(self, executor: Any) -> None:
+        self.executor = executor
+        self.thread = threading.Thread(target=self._run, daemon=True)
+        self.thread.start()
+
+    def _run(self) -> None:
+        try:
+            self.executor.spin()
+        except Exception:  # noqa: BLE001 - ends with the context
+            pass
+
+    def close(self) -> None:
+        self.executor.shutdown(timeout_sec=2)
+        self.thread.join(timeout=5)
+
+
+def _gradient(seq: int) -> np.ndarray:
+    ys, xs = np.mgrid[0:30, 0:40]
+    return np.dstack([xs * 6, ys * 8, np.full_like(xs, seq % 256)]).astype(np.uint8)
+
+
+@pytest.fixture
+def camera(context):
+    """A node publishing a 40 x 30 rgb8 image on /camera/image every 50 ms (blue = frame count)."""
+    from interfaces.sensor_msgs.msg import Image
+    from zros.executors import SingleThreadedExecutor
+    from zros.node import Node
+    from zros.qos import qos_profile_sensor_data
+    node = Node('camera', context=context)
+    pub = node.create_publisher(Image, '/camera/image', qos_profile_sensor_data)
+    count = [0]
+
+    def tick() -> None:
+        count[0] += 1
+        pub.publish(Image(height=30, width=40, encoding='rgb8', step=120, data=_gradient(count[0]).reshape(-1)))
+    node.create_timer(0.05, tick)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(node)
+    spinner = Spinner(executor)
+    yield node
+    spinner.close()
+
+
+@pytest.fixture
+def view(make_context):
+    """A ViewServer on a free port, with its own context and node, spun in the background."""
+    from zros.executors import SingleThreadedExecutor
+    from zros.node import Node
+    from zros.view.server import ViewServer
+    ctx = make_context()
+    node = Node('view_test', context=ctx)
+    server = ViewServer(node, port=0, idle_timeout=30.0).start()
+    executor = SingleThreadedExecutor(context=ctx)
+    executor.add_node(node)
+    spinner = Spinner(executor)
+    yield server
+    server.close()
+    spinner.close()
+
+
+def _get(url: str, timeout: float = 10.0) -> tuple[int, dict[str, str], bytes]:
+    try:
+        with urllib.request.urlopen(url, timeout=timeout) as response:
+            return response.status, dict(response.headers), response.read()
+    except urllib.error.HTTPError as exc:
+        return exc.code, dict(exc.headers), exc.read()
+
+
+def test_view_lists_topics_and_serves_frames(camera, view):
+    def listed() -> Any:
+        status, _, body = _get(view.url + 'api/topics')
+        data = json.loads(body)
+        return status == 200 and {'name': '/camera/image', 'type': 'sensor_msgs/msg/Image'} in data['topics'] and data
+    data = wait_until(listed, 10, message='/camera/image in /api/topics')
+    assert data['default'] == '/camera/image'
+
+    status, headers, body = _get(view.url + 'frame.png?topic=/camera/image&timeout=5')
+    assert status == 200 and headers['Content-Type'] == 'image/png'
+    assert (headers['X-Frame-Width'], headers['X-Frame-Height'], headers['X-Frame-Encoding']) == ('40', '30', 'rgb8')
+    pixels = decode_png(body)
+    assert pixels.shape == (30, 40, 3)
+    assert (pixels[..., :2] == _gradient(0)[..., :2]).all()
+    seq = int(headers['X-Frame-Seq'])
+    # Long poll: the next request waits for a newer frame.
+    status, headers, _ = _get(view.url + f'frame.png?topic=/camera/image&after={seq}&timeout=5')
+    assert status == 200 and int(headers['X-Frame-Seq']) > seq
+
+    # The page, with the first frame as the image's own source; its script and style.
+    status, headers, page = _get(view.url + '?topic=/camera/image')
+    assert status == 200 and b'src="frame.png?topic=/camera/image&amp;timeout=3"' in page
+    assert b'data-initial-topic="&quot;/camera/image&quot;"' in page
+    for name, kind in (('app.js', 'text/javascript'), ('style.css', 'text/css')):
+        status, headers, _ = _get(view.url + 'static/' + name)
+        assert status == 200 and headers['Content-Type'].startswith(kind)
+    assert _get(view.url + 'static/../server.py')[0] == 404
+    assert _get(view.url + 'frame.png?topic=/bad%20name&timeout=0')[0] == 400
+    assert _get(view.url + 'frame.png?topic=/nothing/here&timeout=0.2')[0] == 204
+
+    # The multipart stream (for <img src=stream>) starts with a PNG part.
+    with urllib.request.urlopen(view.url + 'stream?topic=/camera/image', timeout=10) as response:
+        assert response.headers['Content-Type'].startswith('multipart/x-mixed-replace')
+        head = response.read(64)
+    assert head.startswith(b'--zrosframe\r\nContent-Type: image/png\r\n')
+
+
+def test_image_save_cli(camera, zros_cli, tmp_path):
+    out = tmp_path / 'frame.png'
+    result = zros_cli('image', 'save', '/camera/image', str(out), '--timeout', '10')
+    assert result.returncode == 0, result
+    assert 'Saved a 40x30 rgb8 frame of /camera/image to' in result.stdout
+    pixels = decode_png(out.read_bytes())
+    assert (pixels[..., :2] == _gradient(0)[..., :2]).all()
+    missing = zros_cli('image', 'save', '/no/such/image', str(tmp_path / 'x.png'), '--timeout', '0.5')
+    assert missing.returncode == 1 and "no image arrived on '/no/such/image' within 0.5 s" in missing.stderr
+
+
+def test_view_cli_prints_its_url(camera, spawn):
+    import sys
+    child = spawn(sys.executable, '-m', 'zros.cli.main', 'view', '--port', '0', '--topic', '/camera/image', name='view')
+    text = child.wait_for_output('(Ctrl-C to stop)', 15)
+    url = text.split('serving ', 1)[1].split(' ', 1)[0]
+    assert url.startswith('http://127.0.0.1:') and url.endswith('/?topic=/camera/image')
+    status, _, body = _get(url.split('?')[0] + 'frame.png?topic=/camera/image&timeout=5')
+    assert status == 200 and decode_png(body).shape == (30, 40, 3)
+
+
+# -- a real browser ------------------------------------------------------------------------------
+def _chromium() -> str | None:
+    for name in ('chromium', 'chromium-browser'):
+        path = shutil.which(name)
+        if path:
+            return path
+    return '/usr/bin/chromium' if os.path.exists('/usr/bin/chromium') else None
+
+
+def test_browser_shows_the_turtlesim_trail(spawn, view, tmp_path):
+    browser = _chromium()
+    if browser is None:
+        pytest.skip('Debian chromium is not installed (.ci/run installs it with apt-get where apt is '
+                    'available): the headless-browser test cannot run here')
+    from interfaces.turtlesim.srv import SetPen, TeleportAbsolute
+    sim = spawn.node('turtlesim', 'turtlesim_node')
+    sim.wait_for_output('Spawning turtle [turtle1]', 20)
+    node = view.node
+    for srv_type, name, request in (
+            (SetPen, '/turtle1/set_pen', SetPen.Request(r=255, g=0, b=0, width=8, off=0)),
+            (TeleportAbsolute, '/turtle1/teleport_absolute', TeleportAbsolute.Request(x=2.0, y=2.0, theta=0.0))):
+        client = node.create_client(srv_type, name)
+        assert client.wait_for_service(timeout_sec=10)
+        client.call(request, timeout_sec=5)
+    wait_until(lambda: '/turtlesim/image' in view.store.image_topics(), 10, message='/turtlesim/image')
+    shot = tmp_path / 'view.png'
+    argv = [browser, '--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+            '--disable-background-networking', '--disable-component-update', '--disable-sync',
+            '--hide-scrollbars', '--window-size=560,620', f'--user-data-dir={tmp_path / "profile"}',
+            f'--screenshot={shot}', view.page_url('/turtlesim/image')]
+    result = subprocess.run(argv, capture_output=True, timeout=90, cwd=tmp_path)
+    assert shot.exists(), f'no screenshot; chromium said:\n{result.stderr.decode(errors="replace")[-2000:]}'
+    pixels = decode_png(shot.read_bytes())[..., :3].astype(int)
+    # The canvas is where the background colour is; the trail from the middle (5.54, 5.54) to
+    # (2, 2) crosses (3.77, 3.77), at canvas pixel (170, 329).
+    background = (np.abs(pixels - BACKGROUND).sum(axis=2) <= 6)
+    rows, cols = np.nonzero(background)
+    assert rows.size > 100_000, 'the canvas is not on the page'
+    top, left = rows.min(), cols.min()
+    assert (rows.max() - top + 1, cols.max() - left + 1) == (500, 500)
+    trail = pixels[top + 329, left + 170]
+    assert np.abs(trail - (255, 0, 0)).sum() <= 12, f'expected the red trail, found {trail}'
+    assert not background[top + 329, left + 170]
