@@ -16,7 +16,7 @@ from zros.graph import EntityKind, fetch_entities
 from zros.keys import topic_key
 from zros.logging import add_sink, remove_sink
 from zros.node import Node
-from zros.publisher import ATTACHMENT_MAGIC, attachment_tail
+from zros.wire import MAGIC as ATTACHMENT_MAGIC, type_tail as attachment_tail
 from zros.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
 
 from interfaces.std_msgs.msg import Int32, String

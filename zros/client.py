@@ -7,47 +7,40 @@ request, when it disappears (Zenoh finalizes the query at once), or after `timeo
 """
 from __future__ import annotations
 
-import itertools
-import os
-import struct
 import time
 from typing import TYPE_CHECKING, Any
 
 import msgpack
 
+from zros.entity import NodeEntity
 from zros.errors import ServiceCallError
 from zros.graph import EntityKind
-from zros.publisher import ATTACHMENT_MAGIC, attachment_tail
 from zros.qos import QoSProfile
 from zros.task import Future
+from zros.wire import AttachmentWriter
 
 if TYPE_CHECKING:
     from zros.node import Node
 
 __all__ = ['Client']
 
-_SEQ_TIME = struct.Struct('<Qq')
 # rclpy's call_async has no timeout; Zenoh needs one. A day is "never" for a request, and a
 # server that dies still fails the call at once.
 _NO_TIMEOUT = 86_400.0
 
 
-class Client:
+class Client(NodeEntity):
     """Made by `Node.create_client`."""
 
     def __init__(self, node: 'Node', srv_type: type, name: str, qos: QoSProfile, callback_group: Any) -> None:
         from zros.keys import service_key
-        self._node = node
         self.srv_type = srv_type
         self.srv_name = name
         self.qos_profile = qos
         self.callback_group = callback_group
         self._key = service_key(node.context.domain_id, name)
-        self._att_head = ATTACHMENT_MAGIC + os.urandom(16)
-        self._att_tail = attachment_tail(srv_type)
-        self._seq = itertools.count(1)
-        self._entity = node._declare_entity(EntityKind.CLIENT, name, srv_type, qos)
-        self._destroyed = False
+        self._stamp = AttachmentWriter(srv_type).next
+        super().__init__(node, EntityKind.CLIENT, name, srv_type, qos)
 
     @property
     def service_name(self) -> str:
@@ -104,7 +97,7 @@ class Client:
                     f"service '{name}' did not answer: {reason} after {waited:.2f} s"))
 
         payload = msgpack.packb(request._TO_WIRE(request))
-        attachment = self._att_head + _SEQ_TIME.pack(next(self._seq), time.time_ns()) + self._att_tail
+        attachment = self._stamp()
         self._node.context.session.get(
             self._key, zenoh.handlers.Callback(on_reply, on_done), payload=payload, attachment=attachment,
             timeout=timeout, consolidation=zenoh.ConsolidationMode.NONE)
@@ -121,16 +114,6 @@ class Client:
                 raise ServiceCallTimeout(str(exc))
             raise exc
         return future.result()
-
-    @property
-    def handle(self) -> Any:
-        return self._entity
-
-    def destroy(self) -> None:
-        if self._destroyed:
-            return
-        self._destroyed = True
-        self._node._undeclare_entity(self._entity)
 
 
 class ServiceCallTimeout(ServiceCallError, TimeoutError):

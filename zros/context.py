@@ -183,8 +183,21 @@ def get_default_context() -> Context:
 
 
 def _register_exit_hook(context: Context) -> None:
-    if context not in _exit_hooked:
-        _exit_hooked.add(context)
+    """Shut the context down when the program ends without calling zros.shutdown().
+
+    Zenoh's callback threads are not daemon threads, and Python joins those *before* it runs
+    atexit handlers, so an atexit hook alone never runs and the process hangs at exit. The
+    threading module's own exit hook runs before that join (concurrent.futures uses it too).
+    """
+    if context in _exit_hooked:
+        return
+    _exit_hooked.add(context)
+    register = getattr(threading, '_register_atexit', None)
+    try:
+        if register is None:
+            raise RuntimeError
+        register(context.shutdown)
+    except RuntimeError:  # no threading hook, or the interpreter is already shutting down
         atexit.register(context.shutdown)
 
 

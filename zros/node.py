@@ -286,8 +286,7 @@ class Node:
         self._executor = executor
         for entity in self._entities:
             if getattr(entity, '_has_work', None) and entity._has_work():
-                for _ in range(len(entity._queue)):
-                    executor._enqueue(entity)
+                executor._enqueue(entity)
 
     def _run_on_executor(self, fn: Callable, *args: Any) -> None:
         """Run `fn(*args)` as a task of this node's executor (inline when it has none)."""

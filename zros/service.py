@@ -12,16 +12,16 @@ from typing import TYPE_CHECKING, Any, Callable
 
 import msgpack
 
+from zros.entity import NodeEntity
 from zros.graph import EntityKind
-from zros.publisher import ATTACHMENT_MAGIC, attachment_tail
 from zros.qos import QoSProfile
+from zros.wire import describe_type, read_header, type_tail
 
 if TYPE_CHECKING:
     from zros.node import Node
 
 __all__ = ['Service', 'DeferredResponse']
 
-_TAIL_AT = len(ATTACHMENT_MAGIC) + 16 + 16
 # Requests waiting for the executor beyond this are refused with an error reply, so an
 # overloaded server fails calls fast instead of letting them time out silently.
 _MAX_PENDING = 10_000
@@ -63,7 +63,7 @@ class DeferredResponse:
             query.drop()
 
 
-class Service:
+class Service(NodeEntity):
     """Made by `Node.create_service`."""
 
     def __init__(self, node: 'Node', srv_type: type, name: str, callback: Callable[[Any, Any], Any],
@@ -75,12 +75,12 @@ class Service:
         self.callback = callback
         self.qos_profile = qos
         self.callback_group = callback_group
-        self._tail = attachment_tail(srv_type)
+        self._tail = type_tail(srv_type)
         self._queue: deque = deque()
-        self._queryable = node.context.session.declare_queryable(
+        self._scheduled = False
+        self._zenoh = node.context.session.declare_queryable(
             service_key(node.context.domain_id, name), self._on_query, complete=True)
-        self._entity = node._declare_entity(EntityKind.SERVICE, name, srv_type, qos)
-        self._destroyed = False
+        super().__init__(node, EntityKind.SERVICE, name, srv_type, qos)
         others = [e for e in node.context.graph.entities()
                   if e.kind == EntityKind.SERVICE and e.name == name and e != self._entity]
         if others:
@@ -102,6 +102,11 @@ class Service:
         attachment = query.attachment
         self._queue.append((query, payload.to_bytes() if payload is not None else b'',
                             attachment.to_bytes() if attachment is not None else b''))
+        if not self._scheduled:
+            self._schedule()
+
+    def _schedule(self) -> None:
+        self._scheduled = True
         executor = self._node._executor
         if executor is not None:
             executor._enqueue(self)
@@ -109,11 +114,20 @@ class Service:
     def _has_work(self) -> bool:
         return bool(self._queue)
 
-    # Executor thread.
+    # Executor thread: one request per call.
     def _execute(self) -> None:
+        queue = self._queue
         try:
-            query, payload, attachment = self._queue.popleft()
+            query, payload, attachment = queue.popleft()
         except IndexError:
+            query = None
+        if queue:
+            self._schedule()
+        else:
+            self._scheduled = False
+            if queue and not self._scheduled:
+                self._schedule()
+        if query is None:
             return
         deferred = None
         try:
@@ -125,8 +139,9 @@ class Service:
                 deferred._bind(query)
 
     def _answer(self, query: Any, payload: bytes, attachment: bytes) -> DeferredResponse | None:
-        if attachment[:2] == ATTACHMENT_MAGIC and attachment[_TAIL_AT:] != self._tail:
-            theirs = attachment[_TAIL_AT + 8:].decode(errors='replace')
+        header = read_header(attachment)
+        if header is not None and header.tail != self._tail:
+            theirs = describe_type(header.tail)[0]
             query.reply_err(f"service '{self.srv_name}' is of type {self.srv_type._TYPE}, "
                             f'the request was sent as {theirs}'.encode())
             return None
@@ -154,19 +169,8 @@ class Service:
         query.reply(query.key_expr, msgpack.packb(response._TO_WIRE(response)))
         return None
 
-    @property
-    def handle(self) -> Any:
-        return self._entity
-
-    def destroy(self) -> None:
-        if self._destroyed:
-            return
-        self._destroyed = True
-        self._node._undeclare_entity(self._entity)
-        try:
-            self._queryable.undeclare()
-        except Exception:  # noqa: BLE001 - the session may be closing already
-            pass
+    def _release(self) -> None:
+        super()._release()
         while self._queue:
             query = self._queue.popleft()[0]
             query.reply_err(f"service '{self.srv_name}' was destroyed".encode())

@@ -2,31 +2,29 @@
 and handed to the callback on the executor.
 
 The queue is the QoS depth (KEEP_LAST) and drops the oldest sample when full, counting the
-drop in `dropped`; gaps in a publisher's sequence numbers are counted in `lost`; samples of the
-wrong type or that fail to decode are counted in `rejected` and logged once per publisher.
+drop in `dropped`; gaps in a publisher's sequence numbers, seen as samples arrive (before the
+depth rule), are counted in `lost`; samples of the wrong type or that fail to decode are counted
+in `rejected` and logged once per publisher. The executor is woken once per subscription with
+work, not once per sample, so a burst costs Zenoh's thread no more than an append.
 """
 from __future__ import annotations
 
 import inspect
-import struct
 import time
 from collections import deque
 from typing import TYPE_CHECKING, Any, Callable
 
 import msgpack
 
+from zros.entity import NodeEntity
 from zros.graph import EntityKind
-from zros.publisher import ATTACHMENT_MAGIC, attachment_tail
 from zros.qos import DurabilityPolicy, QoSProfile
+from zros.wire import describe_type, read_header, type_tail
 
 if TYPE_CHECKING:
     from zros.node import Node
 
 __all__ = ['Subscription', 'MessageInfo']
-
-_SEQ_TIME = struct.Struct('<Qq')
-_HEAD = len(ATTACHMENT_MAGIC) + 16
-_TAIL_AT = _HEAD + _SEQ_TIME.size
 
 MessageInfo = dict  # {'source_timestamp', 'received_timestamp', 'publication_sequence_number', ...}
 
@@ -41,7 +39,7 @@ def _wants_info(callback: Callable) -> bool:
     return len(positional) >= 2 or any(p.kind == p.VAR_POSITIONAL for p in params)
 
 
-class Subscription:
+class Subscription(NodeEntity):
     """Made by `Node.create_subscription`."""
 
     def __init__(self, node: 'Node', msg_type: type, topic: str, callback: Callable, qos: QoSProfile,
@@ -49,7 +47,7 @@ class Subscription:
         import zenoh
         import zenoh.ext
         from zros.keys import topic_key
-        self._node = node
+        self._node = node  # the Zenoh callback may run before NodeEntity.__init__ below
         self.msg_type = msg_type
         self.topic_name = topic
         self.callback = callback
@@ -58,7 +56,8 @@ class Subscription:
         self.raw = raw
         self._with_info = _wants_info(callback)
         self._queue: deque = deque(maxlen=qos.queue_depth)
-        self._tail = attachment_tail(msg_type)
+        self._tail = type_tail(msg_type)
+        self._scheduled = False
         self._last_seq: dict[bytes, int] = {}
         self._complained: set[bytes] = set()
         self.dropped = 0
@@ -68,23 +67,32 @@ class Subscription:
         session = node.context.session
         key = topic_key(node.context.domain_id, topic)
         if qos.durability == DurabilityPolicy.TRANSIENT_LOCAL:
-            self._sub = zenoh.ext.declare_advanced_subscriber(
+            self._zenoh = zenoh.ext.declare_advanced_subscriber(
                 session, key, self._on_sample,
                 history=zenoh.ext.HistoryConfig(detect_late_publishers=True, max_samples=max(1, qos.queue_depth)),
                 subscriber_detection=True)
         else:
-            self._sub = session.declare_subscriber(key, self._on_sample)
-        self._entity = node._declare_entity(EntityKind.SUBSCRIPTION, topic, msg_type, qos)
-        self._destroyed = False
+            self._zenoh = session.declare_subscriber(key, self._on_sample)
+        super().__init__(node, EntityKind.SUBSCRIPTION, topic, msg_type, qos)
 
-    # Zenoh thread: copy out and queue, nothing else.
+    # Zenoh thread: copy out, count gaps, queue; never user code.
     def _on_sample(self, sample: Any) -> None:
         attachment = sample.attachment
-        item = (sample.payload.to_bytes(), attachment.to_bytes() if attachment is not None else b'', time.time_ns())
+        header = read_header(attachment.to_bytes()) if attachment is not None else None
+        if header is not None:
+            last = self._last_seq.get(header.gid)
+            if last is not None and header.seq > last + 1:
+                self.lost += header.seq - last - 1
+            self._last_seq[header.gid] = header.seq
         queue = self._queue
         if len(queue) == queue.maxlen:
             self.dropped += 1
-        queue.append(item)
+        queue.append((sample.payload.to_bytes(), header, time.time_ns()))
+        if not self._scheduled:
+            self._schedule()
+
+    def _schedule(self) -> None:
+        self._scheduled = True
         executor = self._node._executor
         if executor is not None:
             executor._enqueue(self)
@@ -92,25 +100,31 @@ class Subscription:
     def _has_work(self) -> bool:
         return bool(self._queue)
 
-    # Executor thread.
+    # Executor thread: one sample per call, as rclpy takes one message per callback.
     def _execute(self) -> None:
+        queue = self._queue
         try:
-            payload, attachment, received = self._queue.popleft()
+            payload, header, received = queue.popleft()
         except IndexError:
-            return  # the sample this wake-up was for was dropped by the depth rule
-        self.received += 1
-        gid = attachment[2:_HEAD]
-        if attachment[:2] == ATTACHMENT_MAGIC and len(attachment) >= _TAIL_AT:
-            if attachment[_TAIL_AT:] != self._tail:
-                self._reject(gid, self._wrong_type_text(attachment))
-                return
-            seq, source_ns = _SEQ_TIME.unpack_from(attachment, _HEAD)
-            last = self._last_seq.get(gid)
-            if last is not None and seq > last + 1:
-                self.lost += seq - last - 1
-            self._last_seq[gid] = seq
+            item = None
         else:
-            seq, source_ns = 0, 0
+            item = True
+        if queue:
+            self._schedule()  # more is waiting: stay in the executor's queue
+        else:
+            self._scheduled = False
+            if queue and not self._scheduled:  # a sample arrived between the two lines above
+                self._schedule()
+        if item is None:
+            return
+        self.received += 1
+        if header is not None:
+            if header.tail != self._tail:
+                self._reject(header.gid, self._wrong_type_text(header.tail))
+                return
+            seq, source_ns, gid = header.seq, header.source_ns, header.gid
+        else:
+            seq, source_ns, gid = 0, 0, b''
         if self.raw:
             msg = payload
         else:
@@ -126,12 +140,11 @@ class Subscription:
         else:
             self.callback(msg)
 
-    def _wrong_type_text(self, attachment: bytes) -> str:
-        tail = attachment[_TAIL_AT:]
-        their_type = tail[8:].decode(errors='replace')
+    def _wrong_type_text(self, tail: bytes) -> str:
+        their_type, their_hash = describe_type(tail)
         if their_type == self.msg_type._TYPE:
             return (f'a publisher sends {their_type} with a different definition '
-                    f'(hash {tail[:8].hex()}, expected {self.msg_type._HASH})')
+                    f'(hash {their_hash}, expected {self.msg_type._HASH})')
         return f'a publisher sends {their_type}, this subscription expects {self.msg_type._TYPE}'
 
     def _reject(self, gid: bytes, reason: str) -> None:
@@ -140,17 +153,3 @@ class Subscription:
             self._complained.add(gid)
             self._node.get_logger().error(
                 f"dropping messages on '{self.topic_name}': {reason} (reported once per publisher)")
-
-    @property
-    def handle(self) -> Any:
-        return self._entity
-
-    def destroy(self) -> None:
-        if self._destroyed:
-            return
-        self._destroyed = True
-        self._node._undeclare_entity(self._entity)
-        try:
-            self._sub.undeclare()
-        except Exception:  # noqa: BLE001 - the session may be closing already
-            pass
