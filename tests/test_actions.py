@@ -257,3 +257,26 @@ def test_send_goal_cli_cancels_on_ctrl_c(fibonacci_server, spawn, client_node, F
     assert child.wait(timeout=10) == 130
     out = child.output()
     assert 'Canceling goal...' in out and 'Goal canceled.' in out
+
+
+def test_goal_canceled_before_it_executes_ends_canceled(make_context, client_node, Fibonacci):
+    pending = []
+
+    def execute(goal_handle):  # never reached: the goal is canceled first
+        goal_handle.succeed()
+        return Fibonacci.Result()
+    node, server, spinner = _in_process_server(
+        make_context, Fibonacci, execute, handle_accepted_callback=pending.append,
+        cancel_callback=lambda handle: CancelResponse.ACCEPT)
+    try:
+        client = _client(client_node, Fibonacci, 'local_fib')
+        handle = _send(client, Fibonacci.Goal(order=3))
+        cancel = handle.cancel_goal_async()
+        assert cancel.wait(5) and len(cancel.result().goals_canceling) == 1
+        pending[0].execute()
+        result = handle.get_result_async()
+        assert result.wait(5) and result.result().status == GoalStatus.CANCELED
+        server.destroy()
+        assert server not in node._entities
+    finally:
+        spinner.close()

@@ -175,11 +175,17 @@ class Node:
             self._executor.wake()
         return entity
 
-    def _destroy_entity(self, entity: Any) -> bool:
+    def _forget(self, entity: Any) -> bool:
+        """Drop `entity` from the registry (it is being destroyed by its owner)."""
         if entity in self._entities:
             self._entities.remove(entity)
             if entity in self._timers:
                 self._timers.remove(entity)
+            return True
+        return False
+
+    def _destroy_entity(self, entity: Any) -> bool:
+        if self._forget(entity):
             entity.destroy()
             return True
         return False

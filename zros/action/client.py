@@ -218,6 +218,7 @@ class ActionClient:
         if self._destroyed:
             return
         self._destroyed = True
+        self._node._forget(self)
         self._node._undeclare_entity(self._entity)
         for entity in (self._send_client, self._cancel_client, self._result_client, self._feedback_sub,
                        self._status_sub):

@@ -276,11 +276,17 @@ class ActionServer:
     # -- execution ---------------------------------------------------------------------------
     def _start_execution(self, handle: ServerGoalHandle, execute_callback: Callable | None) -> None:
         with handle._lock:
-            if handle._status != GoalStatus.ACCEPTED:
-                if handle._status == GoalStatus.EXECUTING:
-                    raise RuntimeError(f'goal {handle._hex()} is already executing')
-                return  # canceled before it started: the cancel path ends it
-            handle._status = GoalStatus.EXECUTING
+            status = handle._status
+            if status == GoalStatus.ACCEPTED:
+                handle._status = GoalStatus.EXECUTING
+        if status == GoalStatus.EXECUTING:
+            raise RuntimeError(f'goal {handle._hex()} is already executing')
+        if status == GoalStatus.CANCELING:
+            handle.canceled()  # a cancel was accepted before the goal started: it ends here
+            self._finish(handle, self._action_type.Result())
+            return
+        if status != GoalStatus.ACCEPTED:
+            return  # already finished
         self._publish_status()
         self._node._run_on_executor(self._run, handle, execute_callback or self._execute_callback)
 
@@ -357,6 +363,7 @@ class ActionServer:
         if self._destroyed:
             return
         self._destroyed = True
+        self._node._forget(self)
         self._node._undeclare_entity(self._entity)
         for service in self._services:
             self._node.destroy_service(service)
