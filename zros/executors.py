@@ -14,7 +14,9 @@ import time
 from concurrent.futures import ThreadPoolExecutor
 from typing import TYPE_CHECKING, Any, Callable
 
+from zros.subscription import Subscription
 from zros.task import Future
+from zros.timer import timer_lists_version
 
 if TYPE_CHECKING:
     from zros.node import Node
@@ -36,6 +38,9 @@ class TimeoutException(Exception):
 
 # Longest single wait, so a blocked spin notices shutdown and signals promptly.
 _MAX_WAIT = 0.5
+# How many waiting samples spin() lets one subscription deliver per turn: a burst then costs
+# one trip through the executor's queue per batch, not per message.
+_SPIN_BATCH = 64
 
 
 class _Task:
@@ -67,6 +72,10 @@ class Executor:
         self._nodes_lock = threading.Lock()
         self._spin_lock = threading.Lock()
         self._is_shutdown = False
+        self._nodes_version = 0
+        self._batch = 1
+        self._timers_key: tuple[int, int] | None = None
+        self._timers: list = []
         self._context._register_executor(self)
 
     @property
@@ -79,6 +88,7 @@ class Executor:
             if node in self._nodes:
                 return False
             self._nodes.append(node)
+            self._nodes_version += 1
         node._attach_executor(self)
         self.wake()
         return True
@@ -87,6 +97,7 @@ class Executor:
         with self._nodes_lock:
             if node in self._nodes:
                 self._nodes.remove(node)
+                self._nodes_version += 1
         node._detach_executor(self)
         self.wake()
 
@@ -109,22 +120,27 @@ class Executor:
 
     def _next_timer(self) -> tuple[Any, int | None]:
         """(due timer or None, ns until the next one is due or None)."""
+        key = (timer_lists_version(), self._nodes_version)
+        if key != self._timers_key:
+            self._timers = [t for node in self.get_nodes() for t in node._timers_snapshot()]
+            self._timers_key = key
+        if not self._timers:
+            return None, None
         now = time.monotonic_ns()
         soonest = None
-        for node in self.get_nodes():
-            for timer in node._timers_snapshot():
-                due = timer._due_ns()
-                if due is None:
-                    continue
-                if due <= now:
-                    group = timer.callback_group
-                    if group is not None and not group.can_execute(timer):
-                        continue  # its group is busy; the executor is woken when the group frees
-                    if timer._claim(now):
-                        return timer, 0
-                wait = due - now
-                if soonest is None or wait < soonest:
-                    soonest = wait
+        for timer in self._timers:
+            due = timer._due_ns()
+            if due is None:
+                continue
+            if due <= now:
+                group = timer.callback_group
+                if group is not None and not group.can_execute(timer):
+                    continue  # its group is busy; the executor is woken when the group frees
+                if timer._claim(now):
+                    return timer, 0
+            wait = due - now
+            if soonest is None or wait < soonest:
+                soonest = wait
         return None, soonest
 
     def _wait_for_work(self, timeout_sec: float | None, until: Callable[[], bool] | None = None) -> Any:
@@ -187,8 +203,12 @@ class Executor:
 
     def spin(self) -> None:
         with self._spinning():
-            while not self._is_shutdown:
-                self._spin_once(_MAX_WAIT)
+            self._batch = _SPIN_BATCH
+            try:
+                while not self._is_shutdown:
+                    self._spin_once(_MAX_WAIT)
+            finally:
+                self._batch = 1
 
     def spin_until_future_complete(self, future: Future, timeout_sec: float | None = None) -> None:
         self._adopt(future)
@@ -240,7 +260,10 @@ class SingleThreadedExecutor(Executor):
     """Runs every callback on the thread that spins, one at a time, in arrival order."""
 
     def _dispatch(self, item: Any) -> None:
-        item._execute()
+        if self._batch > 1 and type(item) is Subscription:
+            item._execute(self._batch)
+        else:
+            item._execute()
 
 
 class MultiThreadedExecutor(Executor):

@@ -25,7 +25,7 @@ from zros.qos import (QoSProfile, qos_profile_default, qos_profile_parameter_eve
                       qos_profile_services_default, to_profile)
 from zros.service import Service
 from zros.subscription import Subscription
-from zros.timer import Rate, Timer
+from zros.timer import Rate, Timer, timer_lists_changed
 
 __all__ = ['Node']
 
@@ -181,6 +181,7 @@ class Node:
             self._entities.remove(entity)
             if entity in self._timers:
                 self._timers.remove(entity)
+                timer_lists_changed()
             return True
         return False
 
@@ -221,6 +222,7 @@ class Node:
         timer = Timer(callback, callback_group or self._default_callback_group,
                       int(timer_period_sec * 1_000_000_000), clock or self._clock, node=self, autostart=autostart)
         self._timers.append(timer)
+        timer_lists_changed()
         return self._add(timer)
 
     def create_service(self, srv_type: type, srv_name: str, callback: Callable[[Any, Any], Any], *,

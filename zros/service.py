@@ -140,8 +140,8 @@ class Service(NodeEntity):
 
     def _answer(self, query: Any, payload: bytes, attachment: bytes) -> DeferredResponse | None:
         header = read_header(attachment)
-        if header is not None and header.tail != self._tail:
-            theirs = describe_type(header.tail)[0]
+        if header is not None and header[3] != self._tail:
+            theirs = describe_type(header[3])[0]
             query.reply_err(f"service '{self.srv_name}' is of type {self.srv_type._TYPE}, "
                             f'the request was sent as {theirs}'.encode())
             return None

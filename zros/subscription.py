@@ -19,7 +19,7 @@ import msgpack
 from zros.entity import NodeEntity
 from zros.graph import EntityKind
 from zros.qos import DurabilityPolicy, QoSProfile
-from zros.wire import describe_type, read_header, type_tail
+from zros.wire import describe_type, read_header, type_tail, writer_sequence
 
 if TYPE_CHECKING:
     from zros.node import Node
@@ -78,16 +78,18 @@ class Subscription(NodeEntity):
     # Zenoh thread: copy out, count gaps, queue; never user code.
     def _on_sample(self, sample: Any) -> None:
         attachment = sample.attachment
-        header = read_header(attachment.to_bytes()) if attachment is not None else None
-        if header is not None:
-            last = self._last_seq.get(header.gid)
-            if last is not None and header.seq > last + 1:
-                self.lost += header.seq - last - 1
-            self._last_seq[header.gid] = header.seq
+        attachment = attachment.to_bytes() if attachment is not None else b''
+        writer = writer_sequence(attachment)
+        if writer is not None:
+            gid, seq = writer
+            last = self._last_seq.get(gid)
+            if last is not None and seq > last + 1:
+                self.lost += seq - last - 1
+            self._last_seq[gid] = seq
         queue = self._queue
         if len(queue) == queue.maxlen:
             self.dropped += 1
-        queue.append((sample.payload.to_bytes(), header, time.time_ns()))
+        queue.append((sample.payload.to_bytes(), attachment, time.time_ns() if self._with_info else 0))
         if not self._scheduled:
             self._schedule()
 
@@ -100,29 +102,29 @@ class Subscription(NodeEntity):
     def _has_work(self) -> bool:
         return bool(self._queue)
 
-    # Executor thread: one sample per call, as rclpy takes one message per callback.
-    def _execute(self) -> None:
+    # Executor thread. spin_once takes one sample per call, as rclpy takes one message per
+    # callback; spin() lets a subscription run up to `budget` waiting samples in one go.
+    def _execute(self, budget: int = 1) -> None:
         queue = self._queue
-        try:
-            payload, header, received = queue.popleft()
-        except IndexError:
-            item = None
-        else:
-            item = True
+        for _ in range(budget):
+            if not queue:
+                break
+            self._deliver(*queue.popleft())
         if queue:
             self._schedule()  # more is waiting: stay in the executor's queue
         else:
             self._scheduled = False
             if queue and not self._scheduled:  # a sample arrived between the two lines above
                 self._schedule()
-        if item is None:
-            return
+
+    def _deliver(self, payload: bytes, attachment: bytes, received: int) -> None:
         self.received += 1
+        header = read_header(attachment)
         if header is not None:
-            if header.tail != self._tail:
-                self._reject(header.gid, self._wrong_type_text(header.tail))
+            gid, seq, source_ns, tail = header
+            if tail != self._tail:
+                self._reject(gid, self._wrong_type_text(tail))
                 return
-            seq, source_ns, gid = header.seq, header.source_ns, header.gid
         else:
             seq, source_ns, gid = 0, 0, b''
         if self.raw:

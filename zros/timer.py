@@ -5,7 +5,20 @@ import threading
 import time
 from typing import Any, Callable
 
-__all__ = ['Timer', 'Rate']
+__all__ = ['Timer', 'Rate', 'timer_lists_changed', 'timer_lists_version']
+
+# Bumped whenever a node gains or loses a timer, so executors can keep their list of timers
+# instead of collecting it before every callback.
+_timer_lists_version = 0
+
+
+def timer_lists_changed() -> None:
+    global _timer_lists_version
+    _timer_lists_version += 1
+
+
+def timer_lists_version() -> int:
+    return _timer_lists_version
 
 
 class Timer:
