@@ -56,64 +56,76 @@ class Client(NodeEntity):
         """Wait (on graph changes, not by polling) until a server exists; False on timeout."""
         return self._node.context.graph.wait_for(lambda entities: bool(self._servers(entities)), timeout_sec)
 
-    def call_async(self, request: Any, *, timeout_sec: float | None = None) -> Future:
-        """Send `request`; the Future gets the Response, or a ServiceCallError."""
+    def _send(self, request: Any, timeout_sec: float | None, handler: Any = None) -> tuple[float, Any]:
+        """Issue the Zenoh get for `request`: (timeout used, reply receiver or None).
+
+        With no handler, Zenoh's default FIFO channel holds the replies for the caller."""
         import zenoh
         if type(request) is not self.srv_type.Request:
             raise TypeError(f"client of '{self.srv_name}' expects {self.srv_type._TYPE} Request, "
                             f'got {getattr(type(request), "_TYPE", type(request).__name__)}')
         if self._destroyed:
             raise RuntimeError(f"client of '{self.srv_name}' has been destroyed")
-        future = Future(node=self._node)
-        response_type = self.srv_type.Response
-        name = self.srv_name
         timeout = _NO_TIMEOUT if timeout_sec is None else max(0.001, timeout_sec)
+        receiver = self._node.context.session.get(
+            self._key, handler, payload=msgpack.packb(request._TO_WIRE(request)), attachment=self._stamp(),
+            timeout=timeout, consolidation=zenoh.ConsolidationMode.NONE)
+        return timeout, receiver
+
+    def _outcome(self, reply: Any, started: float) -> Any:
+        """The response in a reply, or the ServiceCallError it stands for (returned, not raised)."""
+        ok = reply.ok
+        if ok is not None:
+            try:
+                return self.srv_type.Response._FROM_WIRE(msgpack.unpackb(ok.payload.to_bytes()))
+            except Exception as exc:  # noqa: BLE001 - a bad reply fails this call only
+                return ServiceCallError(f"service '{self.srv_name}' sent a reply that is not a valid response ({exc})")
+        text = reply.err.payload.to_bytes().decode(errors='replace')
+        if text == 'Timeout':  # Zenoh's own reply when the query's timeout expires
+            return ServiceCallTimeout(f"service '{self.srv_name}' did not answer: timed out after "
+                                      f'{time.monotonic() - started:.2f} s')
+        return ServiceCallError(f"service '{self.srv_name}' failed: {text}")
+
+    def _no_answer(self, started: float, timeout: float) -> ServiceCallError:
+        waited = time.monotonic() - started
+        if waited >= timeout * 0.99:
+            return ServiceCallTimeout(f"service '{self.srv_name}' did not answer: timed out after {waited:.2f} s")
+        return ServiceCallError(f"service '{self.srv_name}' did not answer: the server went away before "
+                                f'answering (or none is running) after {waited:.2f} s')
+
+    def call_async(self, request: Any, *, timeout_sec: float | None = None) -> Future:
+        """Send `request`; the Future gets the Response, or a ServiceCallError."""
+        import zenoh
+        future = Future(node=self._node)
         started = time.monotonic()
 
         def on_reply(reply: Any) -> None:
-            if future.done():
-                return
-            ok = reply.ok
-            if ok is not None:
-                try:
-                    future.set_result(response_type._FROM_WIRE(msgpack.unpackb(ok.payload.to_bytes())))
-                except Exception as exc:  # noqa: BLE001 - a bad reply fails this call only
-                    future.set_exception(ServiceCallError(
-                        f"service '{name}' sent a reply that is not a valid response ({exc})"))
-            else:
-                text = reply.err.payload.to_bytes().decode(errors='replace')
-                if text == 'Timeout':  # Zenoh's own reply when the query's timeout expires
-                    text = f'did not answer: timed out after {time.monotonic() - started:.2f} s'
+            if not future.done():
+                outcome = self._outcome(reply, started)
+                if isinstance(outcome, Exception):
+                    future.set_exception(outcome)
                 else:
-                    text = f'failed: {text}'
-                future.set_exception(ServiceCallError(f"service '{name}' {text}"))
+                    future.set_result(outcome)
 
         def on_done() -> None:
             if not future.done():
-                waited = time.monotonic() - started
-                reason = ('timed out' if waited >= timeout * 0.99
-                          else 'the server went away before answering (or none is running)')
-                future.set_exception(ServiceCallError(
-                    f"service '{name}' did not answer: {reason} after {waited:.2f} s"))
+                future.set_exception(self._no_answer(started, timeout))
 
-        payload = msgpack.packb(request._TO_WIRE(request))
-        attachment = self._stamp()
-        self._node.context.session.get(
-            self._key, zenoh.handlers.Callback(on_reply, on_done), payload=payload, attachment=attachment,
-            timeout=timeout, consolidation=zenoh.ConsolidationMode.NONE)
+        timeout, _ = self._send(request, timeout_sec, zenoh.handlers.Callback(on_reply, on_done))
         return future
 
     def call(self, request: Any, timeout_sec: float | None = None) -> Any:
-        """Blocking call; raises ServiceCallError (a TimeoutError too, on timeout)."""
-        future = self.call_async(request, timeout_sec=timeout_sec)
-        if not future.wait(None if timeout_sec is None else timeout_sec + 1.0):
-            raise ServiceCallTimeout(f"service '{self.srv_name}' did not answer within {timeout_sec} s")
-        exc = future.exception()
-        if exc is not None:
-            if timeout_sec is not None and 'timed out' in str(exc):
-                raise ServiceCallTimeout(str(exc))
-            raise exc
-        return future.result()
+        """Blocking call; raises ServiceCallError (ServiceCallTimeout, a TimeoutError, on timeout).
+
+        The reply is read from Zenoh's channel on this thread (no hand-over from a callback
+        thread), so it needs no executor and works inside callbacks."""
+        started = time.monotonic()
+        timeout, receiver = self._send(request, timeout_sec)
+        reply = next(iter(receiver), None)
+        outcome = self._no_answer(started, timeout) if reply is None else self._outcome(reply, started)
+        if isinstance(outcome, Exception):
+            raise outcome
+        return outcome
 
 
 class ServiceCallTimeout(ServiceCallError, TimeoutError):

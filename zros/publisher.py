@@ -45,7 +45,13 @@ class Publisher(NodeEntity):
         super().__init__(node, EntityKind.PUBLISHER, topic, msg_type, qos)
 
     def publish(self, msg: Any) -> None:
-        """Send `msg` (an instance of this publisher's type) to every matching subscription."""
+        """Send `msg` (an instance of this publisher's type, or its already serialized bytes,
+        as rclpy allows) to every matching subscription."""
+        if isinstance(msg, (bytes, bytearray)):
+            if self._destroyed:
+                raise RuntimeError(f"publisher on '{self.topic_name}' has been destroyed")
+            self._put(bytes(msg), attachment=self._stamp())
+            return
         if type(msg) is not self.msg_type:
             raise TypeError(
                 f"publisher on '{self.topic_name}' expects {self.msg_type._TYPE}, "

@@ -142,29 +142,52 @@ class ActionClient:
                 outer.set_exception(exc)
                 return
             response = done.result()
-            handle = ClientGoalHandle(self, response.goal_id, response.stamp, response.accepted)
-            if response.accepted:
-                key = response.goal_id.uuid.tobytes()
-                with self._lock:
-                    self._handles[key] = handle
-                    if feedback_callback is not None:
-                        self._feedback_callbacks[key] = feedback_callback
-                    early = self._early_feedback.pop(key, [])
-                for message in early:
-                    if feedback_callback is not None:
-                        feedback_callback(message)
-            outer.set_result(handle)
+            outer.set_result(self._register(response, feedback_callback) if response.accepted
+                             else ClientGoalHandle(self, response.goal_id, response.stamp, False))
         inner.add_done_callback(on_response)
         return outer
 
+    def _register(self, response: Any, feedback_callback: Callable | None) -> ClientGoalHandle:
+        """Track an accepted goal: its handle, its feedback callback and feedback that came early."""
+        handle = ClientGoalHandle(self, response.goal_id, response.stamp, True)
+        key = response.goal_id.uuid.tobytes()
+        with self._lock:
+            self._handles[key] = handle
+            if feedback_callback is not None:
+                self._feedback_callbacks[key] = feedback_callback
+            early = self._early_feedback.pop(key, [])
+        if feedback_callback is not None:
+            for message in early:
+                feedback_callback(message)
+        return handle
+
+    def _settle(self, handle: ClientGoalHandle, response: Any) -> None:
+        """The goal's result is in: record its status and stop tracking it."""
+        handle._status = GoalStatus(response.status)
+        key = handle.goal_id.uuid.tobytes()
+        with self._lock:
+            self._feedback_callbacks.pop(key, None)
+            self._handles.pop(key, None)
+
     def send_goal(self, goal: Any, feedback_callback: Callable | None = None, goal_uuid: Any = None) -> Any:
-        """Blocking: send, wait for acceptance, then for the result (None if rejected)."""
-        future = self.send_goal_async(goal, feedback_callback, goal_uuid)
-        future.wait()
-        handle = future.result()
-        if not handle.accepted:
+        """Blocking: send, wait for acceptance, then for the result (None if rejected).
+
+        Both requests are answered on this thread (no executor needed); feedback callbacks
+        still need the node to be spun, as in rclpy."""
+        if type(goal) is not self._action_type.Goal:
+            raise TypeError(f"action '{self._name}' expects {self._action_type._TYPE} Goal, "
+                            f'got {getattr(type(goal), "_TYPE", type(goal).__name__)}')
+        response = self._send_client.call(self._types.SendGoal.Request(goal=goal, client_id=self._client_id))
+        if not response.accepted:
             return None
-        return handle.get_result()
+        handle = self._register(response, feedback_callback)
+        try:
+            result = self._result_client.call(self._types.GetResult.Request(goal_id=handle.goal_id))
+        except ServiceCallError as exc:
+            raise ServiceCallError(f"action server '{self._name}' did not deliver the result of goal "
+                                   f'{bytes(handle.goal_id.uuid).hex()}: {exc}') from None
+        self._settle(handle, result)
+        return result
 
     def _get_result_async(self, handle: ClientGoalHandle) -> Future:
         outer = Future(node=self._node)
@@ -179,11 +202,7 @@ class ActionClient:
                     f'{bytes(handle.goal_id.uuid).hex()}: {exc}'))
                 return
             response = done.result()
-            handle._status = GoalStatus(response.status)
-            with self._lock:
-                key = handle.goal_id.uuid.tobytes()
-                self._feedback_callbacks.pop(key, None)
-                self._handles.pop(key, None)
+            self._settle(handle, response)
             outer.set_result(response)
         inner.add_done_callback(on_result)
         return outer

@@ -79,6 +79,8 @@ class ServerGoalHandle:
         self._status = GoalStatus.ACCEPTED
         self._stamp = server._node.get_clock().now().to_msg()
         self._result: Any = None
+        self._finished_at: float | None = None
+        self._status_msg: tuple | None = None  # (status, wire form of its GoalStatus entry)
         self._waiters: list[DeferredResponse] = []
         self._lock = threading.Lock()
 
@@ -139,6 +141,16 @@ class ServerGoalHandle:
     def _hex(self) -> str:
         return bytes(self._goal_id.uuid).hex()
 
+    def _status_entry(self) -> dict:
+        """This goal's action_msgs/msg/GoalStatus in wire form, rebuilt only when it changes."""
+        cached = self._status_msg
+        if cached is None or cached[0] != self._status:
+            from interfaces.action_msgs.msg import GoalInfo, GoalStatus as GoalStatusMsg
+            entry = GoalStatusMsg(goal_info=GoalInfo(goal_id=self._goal_id, stamp=self._stamp),
+                                  status=int(self._status))
+            cached = self._status_msg = (self._status, entry._TO_WIRE(entry))
+        return cached[1]
+
 
 class ActionServer:
     """`ActionServer(node, action_type, action_name, execute_callback, ...)` as in rclpy."""
@@ -170,6 +182,7 @@ class ActionServer:
         self._feedback_pubs: dict[str, Publisher] = {}
         self._lock = threading.RLock()
         self._destroyed = False
+        self._status_pending = False
         self._status_pub = Publisher(node, GoalStatusArray, f'{self._name}/_action/status',
                                      status_pub_qos_profile, self.callback_group)
         group = self.callback_group
@@ -213,6 +226,11 @@ class ActionServer:
 
     def _handle_accepted(self, handle: ServerGoalHandle) -> None:
         try:
+            if self._handle_accepted_callback is default_handle_accepted_callback:
+                # Already a task on the executor: run the goal here rather than queue it
+                # behind whatever else is waiting (a status flush grows with retained goals).
+                self._start_execution(handle, None, inline=True)
+                return
             self._handle_accepted_callback(handle)
         except Exception as exc:  # noqa: BLE001 - log with the goal id and abort the goal
             self._node.get_logger().error(
@@ -274,7 +292,8 @@ class ActionServer:
         return response
 
     # -- execution ---------------------------------------------------------------------------
-    def _start_execution(self, handle: ServerGoalHandle, execute_callback: Callable | None) -> None:
+    def _start_execution(self, handle: ServerGoalHandle, execute_callback: Callable | None,
+                         inline: bool = False) -> None:
         with handle._lock:
             status = handle._status
             if status == GoalStatus.ACCEPTED:
@@ -288,7 +307,10 @@ class ActionServer:
         if status != GoalStatus.ACCEPTED:
             return  # already finished
         self._publish_status()
-        self._node._run_on_executor(self._run, handle, execute_callback or self._execute_callback)
+        if inline:
+            self._run(handle, execute_callback or self._execute_callback)
+        else:
+            self._node._run_on_executor(self._run, handle, execute_callback or self._execute_callback)
 
     def _run(self, handle: ServerGoalHandle, execute_callback: Callable) -> None:
         try:
@@ -314,19 +336,22 @@ class ActionServer:
     def _finish(self, handle: ServerGoalHandle, result: Any) -> None:
         with handle._lock:
             handle._result = result
+            handle._finished_at = time.monotonic()
             waiters, handle._waiters = handle._waiters, []
-        self._publish_status()
         response = self._types.GetResult.Response(status=handle.status, result=result)
         for waiter in waiters:
             waiter.resolve(response)
-        expiry = threading.Timer(self._result_timeout, self._expire, args=(handle,))
-        expiry.daemon = True
-        expiry.start()
-
-    def _expire(self, handle: ServerGoalHandle) -> None:
-        with self._lock:
-            self._goals.pop(handle._goal_id.uuid.tobytes(), None)
         self._publish_status()
+
+    def _expire_results(self) -> None:
+        """Forget goals whose results have been kept for result_timeout (checked lazily, on the
+        next status change, instead of a timer thread per goal)."""
+        cutoff = time.monotonic() - self._result_timeout
+        with self._lock:
+            expired = [key for key, g in self._goals.items()
+                       if g._finished_at is not None and g._finished_at <= cutoff]
+            for key in expired:
+                del self._goals[key]
 
     # -- topics -------------------------------------------------------------------------------
     def _feedback_publisher(self, client_id: str) -> Publisher:
@@ -347,15 +372,25 @@ class ActionServer:
         self._feedback_publisher(handle._client_id).publish(message)
 
     def _publish_status(self) -> None:
-        from interfaces.action_msgs.msg import GoalInfo, GoalStatus as GoalStatusMsg, GoalStatusArray
+        """Publish the status array soon: once for all the changes made by the callback that is
+        running now, and after its reply has gone out (the array grows with retained goals)."""
+        with self._lock:
+            if self._status_pending or self._destroyed:
+                return
+            self._status_pending = True
+        self._node._run_on_executor(self._flush_status)
+
+    def _flush_status(self) -> None:
+        import msgpack
+        with self._lock:
+            self._status_pending = False
         if self._destroyed:
             return
+        self._expire_results()
         with self._lock:
             goals = list(self._goals.values())
-        array = GoalStatusArray(status_list=[
-            GoalStatusMsg(goal_info=GoalInfo(goal_id=g.goal_id, stamp=g._stamp), status=g.status) for g in goals])
         try:
-            self._status_pub.publish(array)
+            self._status_pub.publish(msgpack.packb({'status_list': [g._status_entry() for g in goals]}))
         except RuntimeError:
             pass  # destroyed while a goal was finishing
 
