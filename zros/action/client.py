@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import os
 import threading
+import time
 from typing import TYPE_CHECKING, Any, Callable
 
 from zros.action.server import GoalStatus
@@ -24,6 +25,10 @@ if TYPE_CHECKING:
 __all__ = ['ActionClient', 'ClientGoalHandle']
 
 _EARLY_FEEDBACK_LIMIT = 100
+# Feedback and the result travel separately: the result can be processed before the last
+# feedback messages, which were sent first. A finished goal's feedback callback is therefore
+# kept this long before it is forgotten.
+_FEEDBACK_GRACE_S = 2.0
 
 
 class ClientGoalHandle:
@@ -96,6 +101,7 @@ class ActionClient:
         self._feedback_callbacks: dict[bytes, Callable] = {}
         self._early_feedback: dict[bytes, list] = {}
         self._handles: dict[bytes, ClientGoalHandle] = {}
+        self._settled: dict[bytes, float] = {}
         group = self.callback_group
         self._send_client = node.create_client(self._types.SendGoal, f'{self._name}/_action/send_goal',
                                                qos_profile=goal_service_qos_profile, callback_group=group)
@@ -162,12 +168,19 @@ class ActionClient:
         return handle
 
     def _settle(self, handle: ClientGoalHandle, response: Any) -> None:
-        """The goal's result is in: record its status and stop tracking it."""
+        """The goal's result is in: record its status, stop tracking it, and forget its feedback
+        callback after a grace period (late feedback still reaches it)."""
         handle._status = GoalStatus(response.status)
         key = handle.goal_id.uuid.tobytes()
+        now = time.monotonic()
         with self._lock:
-            self._feedback_callbacks.pop(key, None)
             self._handles.pop(key, None)
+            self._settled[key] = now
+            for old, when in list(self._settled.items()):
+                if now - when > _FEEDBACK_GRACE_S:
+                    del self._settled[old]
+                    self._feedback_callbacks.pop(old, None)
+                    self._early_feedback.pop(old, None)
 
     def send_goal(self, goal: Any, feedback_callback: Callable | None = None, goal_uuid: Any = None) -> Any:
         """Blocking: send, wait for acceptance, then for the result (None if rejected).
@@ -217,7 +230,7 @@ class ActionClient:
         key = message.goal_id.uuid.tobytes()
         with self._lock:
             callback = self._feedback_callbacks.get(key)
-            if callback is None and key not in self._handles:
+            if callback is None and key not in self._handles and key not in self._settled:
                 # Feedback can overtake the send-goal reply; keep it for the handle.
                 early = self._early_feedback.setdefault(key, [])
                 if len(early) < _EARLY_FEEDBACK_LIMIT:
