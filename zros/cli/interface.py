@@ -12,14 +12,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     p.add_argument('-m', '--only-msgs', action='store_true', help='Print out only the message types')
     p.add_argument('-s', '--only-srvs', action='store_true', help='Print out only the service types')
     p.add_argument('-a', '--only-actions', action='store_true', help='Print out only the action types')
+    p.add_argument('--json', action='store_true', help='Machine-readable output')
     p.set_defaults(handler=cmd_list)
     p = sub.add_parser('packages', help='Output a list of packages that provide interfaces')
     p.add_argument('-m', '--only-msgs', action='store_true')
     p.add_argument('-s', '--only-srvs', action='store_true')
     p.add_argument('-a', '--only-actions', action='store_true')
+    p.add_argument('--json', action='store_true', help='Machine-readable output')
     p.set_defaults(handler=cmd_packages)
     p = sub.add_parser('package', help='Output a list of available interface types within one package')
     p.add_argument('package_name')
+    p.add_argument('--json', action='store_true', help='Machine-readable output')
     p.set_defaults(handler=cmd_package)
     p = sub.add_parser('show', help='Output the interface definition')
     p.add_argument('type', help="e.g. 'geometry_msgs/msg/Twist'")
@@ -41,6 +44,10 @@ def _kinds(args: argparse.Namespace) -> tuple[str, ...]:
 def cmd_list(args: argparse.Namespace) -> int:
     from zros.typesupport import list_interfaces
     titles = {'msg': 'Messages', 'srv': 'Services', 'action': 'Actions'}
+    if args.json:
+        import json
+        print(json.dumps({titles[k].lower(): list_interfaces(kinds=(k,)) for k in _kinds(args)}))
+        return 0
     for kind in _kinds(args):
         print(f'{titles[kind]}:')
         for name in list_interfaces(kinds=(kind,)):
@@ -50,7 +57,12 @@ def cmd_list(args: argparse.Namespace) -> int:
 
 def cmd_packages(args: argparse.Namespace) -> int:
     from zros.typesupport import list_interfaces
-    for package in sorted({n.split('/')[0] for n in list_interfaces(kinds=_kinds(args))}):
+    packages = sorted({n.split('/')[0] for n in list_interfaces(kinds=_kinds(args))})
+    if args.json:
+        import json
+        print(json.dumps(packages))
+        return 0
+    for package in packages:
         print(package)
     return 0
 
@@ -60,7 +72,12 @@ def cmd_package(args: argparse.Namespace) -> int:
     from zros.typesupport import list_interfaces, list_packages
     if args.package_name not in list_packages():
         raise CliError(f"Unknown package '{args.package_name}'")
-    for name in list_interfaces(args.package_name):
+    names = list_interfaces(args.package_name)
+    if args.json:
+        import json
+        print(json.dumps(names))
+        return 0
+    for name in names:
         print(name)
     return 0
 

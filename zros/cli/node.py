@@ -76,4 +76,6 @@ def cmd_info(args: argparse.Namespace) -> int:
         print(f'  {title}:')
         for name, types in table.items():
             print(f"    {name}: {', '.join(types)}")
+        if not table:
+            print()  # ros2 node info prints an empty line under an empty section
     return 0

@@ -9,7 +9,7 @@ import time
 from zros.cli.common import cli_context, cli_node, graph_entities, is_hidden, wait_for_graph
 from zros.graph import EntityKind, names_and_types
 
-__all__ = ['add_arguments']
+__all__ = ['add_arguments', 'add_qos_arguments', 'qos_from_args']
 
 _TOPIC_KINDS = (EntityKind.PUBLISHER, EntityKind.SUBSCRIPTION)
 
@@ -47,15 +47,26 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                    'taken from the graph when omitted')
     p.add_argument('--once', action='store_true', help='Print the first message received and then exit')
     p.add_argument('--field', help='Echo a selected field of a message (e.g. linear.x)')
-    p.add_argument('--timeout', type=float, help='Exit with an error if nothing arrives within this many seconds')
+    p.add_argument('--timeout', type=float,
+                   help='Exit with an error if no (further) message arrives within this many seconds')
+    p.add_argument('--filter', dest='filter_expr', metavar='EXPR',
+                   help="Only print messages for which this Python expression of 'm' is true "
+                        "(e.g. \"m.data == 'hello'\"); 'm' is the --field value when given")
+    p.add_argument('-i', '--include-message-info', action='store_true',
+                   help='Print the message info (timestamps, sequence numbers) with each message')
     p.add_argument('--no-arr', action='store_true', help="Don't print array fields of messages")
     p.add_argument('--no-str', action='store_true', help="Don't print string fields of messages")
     p.add_argument('--csv', action='store_true', help='Output all recursive fields separated by commas')
     p.add_argument('--json', action='store_true', help='One JSON object per line')
+    p.add_argument('--raw', action='store_true', help='Print the raw payload bytes (MessagePack) instead of decoding')
     p.add_argument('--flow-style', action='store_true', help='Print collections in the YAML flow style')
-    p.add_argument('-l', '--truncate-length', type=int, default=128, help='Truncate strings and arrays (default 128)')
+    p.add_argument('-l', '--truncate-length', type=_non_negative_int, default=128,
+                   help='Truncate strings and arrays (default 128)')
     p.add_argument('-f', '--full-length', action='store_true', help='Output all elements of arrays and strings')
-    p.add_argument('--qos-depth', type=int, default=100, help='Queue depth of the subscription (default 100)')
+    p.add_argument('--no-lost-messages', action='store_true', help="Don't report lost messages (accepted; zros "
+                   'reports them only with -i)')
+    p.add_argument('-n', '--node-name', help='Name of the echoing node (default: a hidden one)')
+    add_qos_arguments(p, 'sensor_data', depth_default=100, adapted=True)
     p.set_defaults(handler=cmd_echo)
 
     p = sub.add_parser('pub', help='Publish a message to a topic')
@@ -64,14 +75,124 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     p.add_argument('values', nargs='?', default='{}', help="Values in YAML, e.g. '{data: hi}'")
     p.add_argument('-r', '--rate', type=float, default=1.0, help='Publishing rate in Hz (default 1)')
     p.add_argument('-1', '--once', action='store_true', help='Publish one message and exit')
-    p.add_argument('-t', '--times', type=int, default=0, help='Publish this number of times and then exit')
-    p.add_argument('-p', '--print', type=int, default=1, help='Print every N-th published message (0: never)')
-    p.add_argument('-w', '--wait-matching-subscriptions', type=int, default=None,
+    p.add_argument('-t', '--times', type=_non_negative_int, default=0,
+                   help='Publish this number of times and then exit')
+    p.add_argument('-p', '--print', type=_non_negative_int, default=1,
+                   help='Print every N-th published message (0: never)')
+    p.add_argument('--stdin', action='store_true',
+                   help='Read the values from standard input instead: YAML documents separated by "---" '
+                        'lines, or one flow mapping / JSON object per line; each is published once, as it '
+                        'arrives, and the command ends at end of input')
+    p.add_argument('-w', '--wait-matching-subscriptions', type=_non_negative_int, default=None,
                    help='Wait for this many subscriptions before publishing (default 1 with --once/--times, else 0)')
     p.add_argument('--max-wait-time-secs', type=float, default=5.0,
                    help='How long -w waits before publishing anyway, with a warning (default 5)')
-    p.add_argument('--keep-alive', type=float, default=0.1, help='Keep publishing node alive for N seconds after the last message')
+    p.add_argument('--keep-alive', type=float, default=0.1,
+                   help='Keep the publishing node alive for N seconds after the last message (default 0.1)')
+    p.add_argument('-n', '--node-name', help='Name of the publishing node (default: a hidden one)')
+    add_qos_arguments(p, 'default', depth_default=None, adapted=False)
     p.set_defaults(handler=cmd_pub)
+
+    p = sub.add_parser('hz', help='Print the average publishing rate to screen')
+    p.add_argument('topic_name')
+    p.add_argument('-w', '--window', dest='window_size', type=_positive_int, default=10000, metavar='WINDOW',
+                   help='Window size, in # of messages, for calculating rate (default 10000)')
+    p.add_argument('--filter', dest='filter_expr', metavar='EXPR',
+                   help="Only measure messages matching this Python expression of 'm' (decodes every message)")
+    p.add_argument('--wall-time', action='store_true',
+                   help='Accepted for ros2 compatibility: zros always measures receive times on the wall clock')
+    p.add_argument('--timeout', type=float,
+                   help='Exit with an error if no message arrives within this many seconds')
+    p.set_defaults(handler=cmd_hz)
+
+    p = sub.add_parser('bw', help='Display bandwidth used by topic')
+    p.add_argument('topic_name')
+    p.add_argument('-w', '--window', type=_positive_int, default=100, metavar='WINDOW',
+                   help='Window size, in # of messages, for calculating the rate (default 100)')
+    p.add_argument('--timeout', type=float,
+                   help='Exit with an error if no message arrives within this many seconds')
+    p.set_defaults(handler=cmd_bw)
+
+    p = sub.add_parser('delay', help='Display delay of topic from timestamp in header')
+    p.add_argument('topic_name')
+    p.add_argument('-w', '--window', type=_positive_int, default=10000, metavar='WINDOW',
+                   help='Window size, in # of messages, for calculating the delay (default 10000)')
+    p.add_argument('--timeout', type=float,
+                   help='Exit with an error if no message arrives within this many seconds')
+    p.set_defaults(handler=cmd_delay)
+
+
+_QOS_PROFILES = ('default', 'sensor_data', 'services_default', 'parameters', 'parameter_events',
+                 'system_default', 'action_status_default', 'best_available')
+
+
+def _non_negative_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = -1
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected a non-negative integer, got '{text}'")
+    return value
+
+
+def _positive_int(text: str) -> int:
+    value = _non_negative_int(text)
+    if value == 0:
+        raise argparse.ArgumentTypeError('expected a positive integer, got 0')
+    return value
+
+
+def add_qos_arguments(parser: argparse.ArgumentParser, default_profile: str, *, depth_default: int | None,
+                      adapted: bool) -> None:
+    """ros2's QoS flags. With `adapted`, reliability and durability follow the publishers unless given."""
+    what = 'subscribe' if adapted else 'publish'
+    parser.add_argument('--qos-profile', choices=_QOS_PROFILES, default=None,
+                        help=f'Quality of service preset profile to {what} with (default: {default_profile})')
+    depth_text = f' (default {depth_default})' if depth_default else ''
+    parser.add_argument('--qos-depth', type=_positive_int, default=depth_default, metavar='N',
+                        help=f'Queue size setting to {what} with (overrides the profile\'s depth){depth_text}')
+    parser.add_argument('--qos-history', choices=('system_default', 'keep_last', 'keep_all'),
+                        help=f'History of samples setting to {what} with (overrides the profile)')
+    adapt = '; by default the publishers\' offer is adapted to, as ros2 does' if adapted else ''
+    parser.add_argument('--qos-reliability', choices=('system_default', 'reliable', 'best_effort', 'best_available'),
+                        help=f'Reliability setting to {what} with (overrides the profile{adapt})')
+    parser.add_argument('--qos-durability', choices=('system_default', 'volatile', 'transient_local',
+                                                     'best_available'),
+                        help=f'Durability setting to {what} with (overrides the profile{adapt})')
+    parser.add_argument('--qos-liveliness', choices=('system_default', 'automatic', 'manual_by_topic'),
+                        help='Liveliness setting (accepted; zros liveliness is always automatic)')
+    parser.set_defaults(_qos_default_profile=default_profile)
+
+
+def qos_from_args(args: argparse.Namespace, publishers_qos: list | None = None):
+    """The profile the QoS flags ask for. `publishers_qos` (a list of offered profiles) turns on
+    ros2 echo's adaptation: reliable / transient local only if every publisher offers it, unless
+    the flags say otherwise; `best_available` means the same adaptation."""
+    from dataclasses import replace
+
+    from zros.qos import DurabilityPolicy, HistoryPolicy, QoSPresetProfiles, ReliabilityPolicy
+    profile = QoSPresetProfiles.get_from_short_key(args.qos_profile or args._qos_default_profile)
+    changes = {}
+    if args.qos_history:
+        changes['history'] = HistoryPolicy[args.qos_history.upper()]
+    if args.qos_depth:
+        changes['depth'] = args.qos_depth
+    reliability, durability = args.qos_reliability, args.qos_durability
+    adapt = publishers_qos is not None and args.qos_profile is None
+    if reliability == 'best_available' or (reliability is None and adapt):
+        offers = publishers_qos or []
+        reliable = bool(offers) and all(q.reliability == ReliabilityPolicy.RELIABLE for q in offers)
+        changes['reliability'] = ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT
+    elif reliability:
+        changes['reliability'] = ReliabilityPolicy[reliability.upper()]
+    if durability == 'best_available' or (durability is None and adapt):
+        offers = publishers_qos or []
+        transient = bool(offers) and all(q.durability == DurabilityPolicy.TRANSIENT_LOCAL for q in offers)
+        changes['durability'] = DurabilityPolicy.TRANSIENT_LOCAL if transient else DurabilityPolicy.VOLATILE
+    elif durability:
+        changes['durability'] = DurabilityPolicy[durability.upper()]
+    return replace(profile, **changes)
 
 
 def _visible_topics(entities, include_hidden: bool):
@@ -150,6 +271,10 @@ def cmd_info(args: argparse.Namespace) -> int:
                 print(f'  Reliability: {qos.reliability.name}')
                 print(f'  History (Depth): {qos.history.name} ({qos.depth})')
                 print(f'  Durability: {qos.durability.name}')
+                print('  Lifespan: Infinite')
+                print('  Deadline: Infinite')
+                print(f'  Liveliness: {qos.liveliness.name}')
+                print('  Liveliness lease duration: Infinite')
     return 0
 
 
@@ -177,48 +302,124 @@ def cmd_find(args: argparse.Namespace) -> int:
     return 0
 
 
-def _echo_qos(entities, topic: str, depth: int):
-    """ros2 topic echo's rule: reliable / transient local only if every publisher offers it."""
-    from zros.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
-    offers = [QoSProfile.from_token(e.qos) for e in entities if e.kind == EntityKind.PUBLISHER and e.name == topic]
-    reliable = bool(offers) and all(q.reliability == ReliabilityPolicy.RELIABLE for q in offers)
-    transient = bool(offers) and all(q.durability == DurabilityPolicy.TRANSIENT_LOCAL for q in offers)
-    return QoSProfile(depth=depth,
-                      reliability=ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT,
-                      durability=DurabilityPolicy.TRANSIENT_LOCAL if transient else DurabilityPolicy.VOLATILE)
+def _offered_qos(entities, topic: str) -> list:
+    from zros.qos import QoSProfile
+    return [QoSProfile.from_token(e.qos) for e in entities if e.kind == EntityKind.PUBLISHER and e.name == topic]
+
+
+def _compile_filter(expr: str | None):
+    """`--filter EXPR` as a function of the message `m`; a syntax error is a one-line CliError."""
+    from zros.errors import CliError
+    if not expr:
+        return None
+    try:
+        code = compile(expr, '<filter>', 'eval')
+    except SyntaxError as exc:
+        raise CliError(f"invalid --filter expression '{expr}': {exc.msg}") from None
+
+    def accept(m) -> bool:
+        try:
+            return bool(eval(code, {'__builtins__': __builtins__}, {'m': m}))
+        except Exception as exc:  # noqa: BLE001 - the user's expression; report it on one line
+            raise CliError(f"--filter expression '{expr}' failed: {type(exc).__name__}: {exc}") from None
+    return accept
+
+
+def _node_for(ctx, name: str | None):
+    """The verb's node: hidden by default (ros2cli's `_ros2cli_...`), or `-n NAME`."""
+    if not name:
+        return cli_node(ctx)
+    from zros.node import Node
+    return Node(name, context=ctx, enable_rosout=False, use_global_arguments=False)
+
+
+def _resolve_type(ctx, topic: str, given: str | None, wait: float = 2.0):
+    """(message class, graph entities): the given type, or the topic's only type in the graph."""
+    from zros.errors import CliError
+    from zros.typesupport import get_message
+    if given:
+        msg_type = get_message(given)
+        entities = graph_entities(ctx)
+        types = _types_of(entities, topic)
+        if types and msg_type._TYPE not in types:
+            raise CliError(f"topic '{topic}' has type {', '.join(types)}, not {msg_type._TYPE}")
+        return msg_type, entities
+    entities = wait_for_graph(ctx, lambda es: bool(_types_of(es, topic)), wait)
+    types = _types_of(entities or [], topic)
+    if not types:
+        raise CliError(f"Could not determine the type for the passed topic '{topic}': "
+                       'it has no publisher yet; pass the type as an argument')
+    if len(types) > 1:
+        raise CliError(f"Topic '{topic}' has more than one type ({', '.join(types)}); pass one as an argument")
+    return get_message(types[0]), entities
+
+
+class _EchoPrinter:
+    """Formats one received message the way `ros2 topic echo` does (YAML, CSV, JSON, raw)."""
+
+    def __init__(self, args: argparse.Namespace, out) -> None:
+        self.args = args
+        self.out = out
+        self.truncate = None if args.full_length else args.truncate_length
+
+    def write(self, value, info: dict | None) -> None:
+        args, out = self.args, self.out
+        is_msg = hasattr(value, '_FIELDS')
+        if args.raw:
+            if info is not None:
+                out.write('---Got new message, message info:---\n' + repr(info) + '\n---Message data:---\n')
+            out.write(repr(value) + '\n---\n')
+        elif args.csv:
+            from zros.convert import message_to_csv
+            text = (message_to_csv(value, truncate_length=self.truncate, no_arr=args.no_arr, no_str=args.no_str)
+                    if is_msg else str(_plain(value)))
+            if info is not None:
+                text = ','.join(str(v) for v in info.values()) + ',' + text
+            out.write(text + '\n')
+        elif args.json:
+            from zros.convert import message_to_ordereddict
+            plain = (message_to_ordereddict(value, truncate_length=self.truncate, no_arr=args.no_arr,
+                                            no_str=args.no_str) if is_msg else _plain(value))
+            if info is not None:
+                plain = {'message': plain, 'info': info}
+            out.write(json.dumps(plain) + '\n')
+        else:
+            import yaml
+            if info is not None:
+                out.write(yaml.safe_dump(info, default_flow_style=False) + '---\n')
+            if is_msg:
+                from zros.convert import message_to_yaml
+                text = message_to_yaml(value, truncate_length=self.truncate, no_arr=args.no_arr,
+                                       no_str=args.no_str, flow_style=args.flow_style)
+            else:
+                text = yaml.safe_dump(_plain(value), default_flow_style=args.flow_style, allow_unicode=True)
+                text = text[:-4] if text.endswith('\n...\n') else text
+            out.write(text + '---\n')
 
 
 def cmd_echo(args: argparse.Namespace) -> int:
     import queue
 
+    from zros.convert import get_field
     from zros.errors import CliError
-    from zros.convert import get_field, message_to_csv, message_to_ordereddict, message_to_yaml
-    from zros.typesupport import get_message
     topic = _absolute(args.topic_name)
+    accept = _compile_filter(args.filter_expr)
+    if args.timeout is not None and args.timeout <= 0:
+        raise CliError('--timeout must be > 0')
     with cli_context() as ctx:
-        if args.message_type:
-            msg_type = get_message(args.message_type)
-            entities = graph_entities(ctx)
-        else:
-            entities = wait_for_graph(ctx, lambda es: bool(_types_of(es, topic)), 2.0)
-            types = _types_of(entities or [], topic)
-            if not types:
-                raise CliError(f"Could not determine the type for the passed topic '{topic}': "
-                               'it has no publisher yet; pass the type as an argument')
-            if len(types) > 1:
-                raise CliError(f"Topic '{topic}' has more than one type ({', '.join(types)}); pass one as an argument")
-            msg_type = get_message(types[0])
+        msg_type, entities = _resolve_type(ctx, topic, args.message_type)
         if args.field:
             get_field(msg_type(), args.field)  # fail fast on a bad field path
-        truncate = None if args.full_length else args.truncate_length
+        qos = qos_from_args(args, _offered_qos(entities, topic))
         inbox: queue.SimpleQueue = queue.SimpleQueue()
-        node = cli_node(ctx)
-        node.create_subscription(msg_type, topic, inbox.put, _echo_qos(entities, topic, args.qos_depth))
+        node = _node_for(ctx, args.node_name)
+        node.create_subscription(msg_type, topic, lambda msg, info: inbox.put((msg, info)), qos,
+                                 raw=args.raw)
         from zros.executors import SingleThreadedExecutor
         executor = SingleThreadedExecutor(context=ctx)
         executor.add_node(node)
+        printer = _EchoPrinter(args, sys.stdout)
         deadline = None if args.timeout is None else time.monotonic() + args.timeout
-        out = sys.stdout
         while True:
             remaining = None if deadline is None else deadline - time.monotonic()
             if remaining is not None and remaining <= 0:
@@ -227,70 +428,272 @@ def cmd_echo(args: argparse.Namespace) -> int:
             printed = False
             while True:
                 try:
-                    msg = inbox.get_nowait()
+                    msg, info = inbox.get_nowait()
                 except queue.Empty:
                     break
-                value = get_field(msg, args.field) if args.field else msg
-                if args.csv:
-                    out.write((message_to_csv(value, truncate_length=truncate, no_arr=args.no_arr, no_str=args.no_str)
-                               if hasattr(value, '_FIELDS') else str(value)) + '\n')
-                elif args.json:
-                    plain = (message_to_ordereddict(value, truncate_length=truncate, no_arr=args.no_arr,
-                                                    no_str=args.no_str) if hasattr(value, '_FIELDS') else _plain(value))
-                    out.write(json.dumps(plain) + '\n')
-                else:
-                    if hasattr(value, '_FIELDS'):
-                        text = message_to_yaml(value, truncate_length=truncate, no_arr=args.no_arr,
-                                               no_str=args.no_str, flow_style=args.flow_style)
-                    else:
-                        import yaml
-                        text = yaml.safe_dump(_plain(value), default_flow_style=args.flow_style)
-                        text = text[:-4] if text.endswith('\n...\n') else text
-                    out.write(text + '---\n')
+                value = get_field(msg, args.field) if args.field and not args.raw else msg
+                if accept is not None and not accept(value):
+                    continue
+                printer.write(value, info if args.include_message_info else None)
                 printed = True
                 if args.once:
-                    out.flush()
+                    sys.stdout.flush()
                     return 0
             if printed:
-                out.flush()
+                sys.stdout.flush()
+                if deadline is not None:
+                    deadline = time.monotonic() + args.timeout
 
 
 def _plain(value):
-    import numpy as np
-    return value.tolist() if isinstance(value, np.ndarray) else value
+    if type(value).__module__ == 'numpy' or type(value).__name__ == 'MessageArray':
+        return value.tolist()
+    if isinstance(value, list):
+        return [v if not hasattr(v, '_FIELDS') else _msg_dict(v) for v in value]
+    return value
+
+
+def _msg_dict(msg):
+    from zros.convert import message_to_ordereddict
+    return message_to_ordereddict(msg)
+
+
+# -- pub ----------------------------------------------------------------------------------------
+def _stdin_documents(stream):
+    """YAML documents from `stream` as they complete: a `---` line ends one; so does a line that is
+    a whole flow mapping / JSON object on its own (what `zros topic echo --json` prints)."""
+    import yaml
+    buffer: list[str] = []
+    for line in stream:
+        stripped = line.strip()
+        if stripped in ('---', '...'):
+            if ''.join(buffer).strip():
+                yield ''.join(buffer)
+            buffer = []
+            continue
+        if not buffer and stripped.startswith('{'):
+            try:
+                if isinstance(yaml.safe_load(stripped), dict):
+                    yield stripped
+                    continue
+            except yaml.YAMLError:
+                pass
+        buffer.append(line)
+    if ''.join(buffer).strip():
+        yield ''.join(buffer)
 
 
 def cmd_pub(args: argparse.Namespace) -> int:
     from zros.convert import message_from_yaml
+    from zros.errors import CliError
     from zros.typesupport import get_message
     topic = _absolute(args.topic_name)
     msg_type = get_message(args.message_type)
-    msg = message_from_yaml(msg_type, args.values)
+    msg = None if args.stdin else message_from_yaml(msg_type, args.values)
     times = 1 if args.once else args.times
     wait_for = args.wait_matching_subscriptions
     if wait_for is None:
-        wait_for = 1 if times else 0
+        wait_for = 1 if (times or args.stdin) else 0
     if args.rate <= 0:
-        from zros.errors import CliError
         raise CliError('--rate must be > 0')
+    qos = qos_from_args(args)
     with cli_context() as ctx:
-        node = cli_node(ctx)
-        publisher = node.create_publisher(msg_type, topic, 10)
+        entities = graph_entities(ctx, timeout=0.5)
+        types = _types_of(entities, topic)
+        if types and msg_type._TYPE not in types:
+            raise CliError(f"topic '{topic}' has type {', '.join(types)}, not {msg_type._TYPE}")
+        node = _node_for(ctx, args.node_name)
+        publisher = node.create_publisher(msg_type, topic, qos)
         if wait_for > 0 and not publisher.wait_for_subscribers(wait_for, args.max_wait_time_secs):
             print(f'Waiting for at least {wait_for} matching subscription(s) timed out after '
                   f'{args.max_wait_time_secs} s; publishing anyway', file=sys.stderr)
-        print('publisher: beginning loop')
+        print('publisher: beginning loop', flush=True)
         count = 0
-        period = 1.0 / args.rate
-        next_time = time.monotonic()
-        while True:
-            count += 1
-            publisher.publish(msg)
-            if args.print and count % args.print == 0:
-                print(f'publishing #{count}: {msg!r}\n', flush=True)
-            if times and count >= times:
-                break
-            next_time += period
-            time.sleep(max(0.0, next_time - time.monotonic()))
+        if args.stdin:
+            for text in _stdin_documents(sys.stdin):
+                msg = message_from_yaml(msg_type, text)
+                count += 1
+                publisher.publish(msg)
+                if args.print and count % args.print == 0:
+                    print(f'publishing #{count}: {msg!r}\n', flush=True)
+                if times and count >= times:
+                    break
+        else:
+            period = 1.0 / args.rate
+            next_time = time.monotonic()
+            while True:
+                count += 1
+                publisher.publish(msg)
+                if args.print and count % args.print == 0:
+                    print(f'publishing #{count}: {msg!r}\n', flush=True)
+                if times and count >= times:
+                    break
+                next_time += period
+                time.sleep(max(0.0, next_time - time.monotonic()))
         time.sleep(max(0.0, args.keep_alive))
     return 0
+
+
+# -- hz / bw / delay -------------------------------------------------------------------------------
+class _Monitor:
+    """What hz, bw and delay share: wait for the topic's type (as ros2 does, printing a warning
+    when it is not published yet), subscribe to raw payloads, and report once a second.
+
+    Receive times are taken on Zenoh's thread as each sample arrives (`received_timestamp`), so
+    a busy executor does not distort the figures; the subscription queue is deep enough that
+    the executor never has to drop at 1 kHz.
+    """
+
+    def __init__(self, args: argparse.Namespace) -> None:
+        self.args = args
+        self.topic = _absolute(args.topic_name)
+
+    def wait_for_type(self, ctx):
+        from zros.errors import CliError
+        from zros.typesupport import get_message
+        deadline = None if self.args.timeout is None else time.monotonic() + self.args.timeout
+        warned = False
+        while True:
+            entities = graph_entities(ctx)
+            types = sorted({e.type for e in entities if e.kind == EntityKind.PUBLISHER and e.name == self.topic})
+            if len(types) > 1:
+                raise CliError(f"Topic '{self.topic}' has more than one type ({', '.join(types)})")
+            if types:
+                return get_message(types[0]), entities
+            if not warned:
+                print(f'WARNING: topic [{self.topic}] does not appear to be published yet', flush=True)
+                warned = True
+            if deadline is not None and time.monotonic() >= deadline:
+                raise CliError(f"timed out after {self.args.timeout} s: topic '{self.topic}' is not published")
+            time.sleep(0.2)
+
+    def run(self, on_message, report, *, raw: bool = True, check=None) -> int:
+        """Subscribe and call `report()` every second until Ctrl-C (or --timeout with no message).
+        `report()` returns whether any message has arrived yet; `check(msg_type)` may refuse the type."""
+        from zros.errors import CliError
+        from zros.executors import SingleThreadedExecutor
+        from zros.qos import QoSProfile, ReliabilityPolicy
+        with cli_context() as ctx:
+            msg_type, entities = self.wait_for_type(ctx)
+            if check is not None:
+                check(msg_type)
+            offered = _offered_qos(entities, self.topic)
+            reliable = bool(offered) and all(q.reliability == ReliabilityPolicy.RELIABLE for q in offered)
+            qos = QoSProfile(depth=10000, reliability=ReliabilityPolicy.RELIABLE if reliable
+                             else ReliabilityPolicy.BEST_EFFORT)
+            node = cli_node(ctx)
+            node.create_subscription(msg_type, self.topic, on_message, qos, raw=raw)
+            executor = SingleThreadedExecutor(context=ctx)
+            executor.add_node(node)
+            started = time.monotonic()
+            next_report = started + 1.0
+            while True:
+                executor.spin_once(timeout_sec=max(0.0, next_report - time.monotonic()))
+                now = time.monotonic()
+                if now >= next_report:
+                    next_report += 1.0
+                    if next_report < now:
+                        next_report = now + 1.0
+                    if report():
+                        started = None
+                    elif (started is not None and self.args.timeout is not None
+                          and now - started >= self.args.timeout):
+                        raise CliError(f"timed out after {self.args.timeout} s waiting for a message on "
+                                       f"'{self.topic}'")
+
+
+def _stats(values) -> tuple[float, float, float, float]:
+    n = len(values)
+    mean = sum(values) / n
+    return mean, min(values), max(values), (sum((x - mean) ** 2 for x in values) / n) ** 0.5
+
+
+def cmd_hz(args: argparse.Namespace) -> int:
+    from collections import deque
+    monitor = _Monitor(args)
+    accept = _compile_filter(args.filter_expr)
+    deltas: deque = deque(maxlen=args.window_size)
+    state = {'last': None, 'new': False}
+
+    def on_message(msg, info) -> None:
+        if accept is not None and not accept(msg):
+            return
+        now = info['received_timestamp']
+        last = state['last']
+        if last is not None and now >= last:
+            deltas.append(now - last)
+            state['new'] = True
+        state['last'] = now
+
+    def report() -> bool:
+        if not state['new'] or not deltas:
+            return state['last'] is not None
+        state['new'] = False
+        mean, low, high, std = _stats(deltas)
+        rate = 1e9 / mean if mean > 0 else 0.0
+        print(f'average rate: {rate:.3f}\n\tmin: {low * 1e-9:.3f}s max: {high * 1e-9:.3f}s '
+              f'std dev: {std * 1e-9:.5f}s window: {len(deltas)}', flush=True)
+        return True
+    return monitor.run(on_message, report, raw=accept is None)
+
+
+def cmd_bw(args: argparse.Namespace) -> int:
+    from collections import deque
+    monitor = _Monitor(args)
+    samples: deque = deque(maxlen=args.window)  # (receive time ns, size)
+
+    def on_message(payload, info) -> None:
+        samples.append((info['received_timestamp'], len(payload)))
+
+    def report() -> bool:
+        if len(samples) < 2:
+            return bool(samples)
+        window = list(samples)
+        elapsed = (time.time_ns() - window[0][0]) / 1e9
+        sizes = [size for _, size in window]
+        total = sum(sizes)
+        per_second = total / elapsed if elapsed > 0 else 0.0
+        unit, scale = (('B', 1) if per_second < 1000 else ('KB', 1e3) if per_second < 1e6 else ('MB', 1e6))
+        print(f'{per_second / scale:.2f} {unit}/s from {len(sizes)} messages\n'
+              f'\tMessage size mean: {total / len(sizes) / scale:.2f} {unit} min: {min(sizes) / scale:.2f} {unit} '
+              f'max: {max(sizes) / scale:.2f} {unit}', flush=True)
+        return True
+    print(f'Subscribed to [{monitor.topic}]', flush=True)
+    return monitor.run(on_message, report)
+
+
+def cmd_delay(args: argparse.Namespace) -> int:
+    from collections import deque
+
+    import msgpack
+
+    from zros.errors import CliError
+    monitor = _Monitor(args)
+    delays: deque = deque(maxlen=args.window)
+    state = {'new': False, 'any': False}
+
+    def on_message(payload, info) -> None:
+        state['any'] = True
+        try:
+            stamp = msgpack.unpackb(payload)['header']['stamp']
+            sent = stamp['sec'] * 1_000_000_000 + stamp['nanosec']
+        except (KeyError, TypeError, ValueError, msgpack.UnpackException):
+            return
+        delays.append(info['received_timestamp'] - sent)
+        state['new'] = True
+
+    def check(msg_type) -> None:
+        if 'header' not in msg_type._FIELDS:
+            raise CliError(f"cannot compute the delay of '{monitor.topic}': {msg_type._TYPE} has no header")
+
+    def report() -> bool:
+        if not state['new']:
+            if delays:
+                print('no new messages', flush=True)
+            return state['any']
+        state['new'] = False
+        mean, low, high, std = _stats(delays)
+        print(f'average delay: {mean * 1e-9:.3f}\n\tmin: {low * 1e-9:.3f}s max: {high * 1e-9:.3f}s '
+              f'std dev: {std * 1e-9:.5f}s window: {len(delays)}', flush=True)
+        return True
+    return monitor.run(on_message, report, check=check)
