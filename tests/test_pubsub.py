@@ -414,3 +414,22 @@ def test_own_entities_are_in_the_graph_at_once(context):
     finally:
         release.set()
     assert counts == (1, 1)
+
+
+def test_drops_and_losses_are_visible_in_topic_info(make_context, zros_cli, wait_for):
+    """DESIGN §6: nothing is lost silently; `zros topic info -v` shows each subscription's counters."""
+    pub_ctx, sub_ctx = make_context(), make_context()
+    publisher = Node('burster', context=pub_ctx).create_publisher(String, '/burst', 100)
+    listener = Node('slow_reader', context=sub_ctx)
+    subscription = listener.create_subscription(String, '/burst', lambda m: None, 5)
+    wait_for(lambda: publisher.get_subscription_count() == 1, timeout=5)
+    for i in range(100):
+        publisher.publish(String(data=str(i)))
+    wait_for(lambda: subscription.dropped == 95, timeout=5, message=lambda: f'dropped={subscription.dropped}')
+    info = zros_cli('topic', 'info', '/burst', '-v')
+    assert info.returncode == 0, info
+    assert 'Dropped (queue depth full): 95' in info.stdout
+    assert 'Lost (gaps in publisher sequence): 0' in info.stdout
+    as_json = zros_cli('topic', 'info', '/burst', '--json')
+    import json
+    assert json.loads(as_json.stdout)['subscriptions'][0]['dropped'] == 95

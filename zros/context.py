@@ -32,6 +32,7 @@ class Context:
         self._settings: SessionSettings | None = None
         self._graph = None
         self._graph_service = None
+        self._stats_service = None
         self._args = RosArgs()
         self._argv: list[str] = []
         self._ok = False
@@ -62,6 +63,9 @@ class Context:
                 from zros.graph import GraphService
                 self.graph.start()
                 self._graph_service = GraphService(self._session, settings.domain_id, self.graph)
+            from zros.graph import StatsService
+            self._stats_service = StatsService(self._session, settings.domain_id, str(self._session.info.zid()),
+                                               self._subscriptions)
         _register_exit_hook(self)
         if install_signal_handlers:
             _install_sigterm_handler()
@@ -92,6 +96,9 @@ class Context:
         for node in list(self._nodes):
             node.destroy_node()
         with self._lock:
+            if self._stats_service is not None:
+                self._stats_service.close()
+                self._stats_service = None
             if self._graph_service is not None:
                 self._graph_service.close()
                 self._graph_service = None
@@ -155,6 +162,9 @@ class Context:
             if self._graph is None:
                 self._graph = Graph(self.session, self.domain_id, is_hub=self._is_hub)
             return self._graph
+
+    def _subscriptions(self) -> list:
+        return [sub for node in list(self._nodes) for sub in node.subscriptions]
 
     def next_id(self) -> int:
         return next(self._ids)

@@ -27,6 +27,7 @@ from zros.keys import liveliness_prefix, mangle, unmangle
 
 __all__ = [
     'Entity', 'EntityKind', 'entity_token', 'parse_token', 'Graph', 'fetch_entities', 'GraphService',
+    'StatsService', 'fetch_subscription_stats',
     'node_names_and_namespaces', 'names_and_types', 'endpoints',
 ]
 
@@ -150,6 +151,45 @@ def _collect(session, domain: int, limit: float, *, wait_for_peers: bool) -> lis
     finally:
         subscriber.undeclare()
     return _parse_all(list(keys))
+
+
+class StatsService:
+    """Run by every process: the delivery counters of its subscriptions, for `zros topic info -v`
+    (a full queue drops and a gap loses messages visibly, never silently: DESIGN §6)."""
+
+    def __init__(self, session, domain: int, zid: str, subscriptions: Callable[[], Iterable]) -> None:
+        self._subscriptions = subscriptions
+        self._key = f'{liveliness_prefix(domain)}/stats/{zid}'
+        self._queryable = session.declare_queryable(self._key, self._on_query, complete=True)
+
+    def _on_query(self, query) -> None:
+        import msgpack
+        try:
+            table = {f'{sub.handle.node_id}.{sub.handle.entity_id}':
+                     [sub.received, sub.dropped, sub.lost, sub.rejected] for sub in self._subscriptions()}
+            query.reply(self._key, msgpack.packb(table))  # its own key: readers take the zid from it
+        finally:
+            query.drop()
+
+    def close(self) -> None:
+        try:
+            self._queryable.undeclare()
+        except Exception:  # noqa: BLE001 - the session may already be closing
+            pass
+
+
+def fetch_subscription_stats(session, domain: int, timeout: float = 1.0) -> dict[tuple[str, int, int], list[int]]:
+    """(zid, node_id, entity_id) -> [received, dropped, lost, rejected] for every subscription."""
+    import msgpack
+    stats = {}
+    for reply in session.get(f'{liveliness_prefix(domain)}/stats/*', timeout=timeout):
+        if reply.ok is None:
+            continue
+        zid = str(reply.ok.key_expr).rsplit('/', 1)[-1]
+        for key, counters in msgpack.unpackb(reply.ok.payload.to_bytes()).items():
+            node_id, entity_id = key.split('.')
+            stats[(zid, int(node_id), int(entity_id))] = counters
+    return stats
 
 
 class GraphService:

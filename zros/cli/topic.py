@@ -238,9 +238,11 @@ def _absolute(name: str) -> str:
 def cmd_info(args: argparse.Namespace) -> int:
     from zros.errors import CliError
     from zros.qos import QoSProfile
+    from zros.graph import fetch_subscription_stats
     topic = _absolute(args.topic_name)
     with cli_context() as ctx:
         entities = graph_entities(ctx)
+        stats = fetch_subscription_stats(ctx.session, ctx.domain_id) if args.verbose or args.json else {}
     types = _types_of(entities, topic)
     if not types:
         raise CliError(f"Unknown topic '{topic}'")
@@ -248,7 +250,9 @@ def cmd_info(args: argparse.Namespace) -> int:
     subs = [e for e in entities if e.kind == EntityKind.SUBSCRIPTION and e.name == topic]
     if args.json:
         def describe(e):
-            return {'node': e.node_fqn, 'type': e.type, 'type_hash': e.type_hash, 'qos': e.qos}
+            counters = stats.get((e.zid, e.node_id, e.entity_id))
+            extra = {} if counters is None else dict(zip(('received', 'dropped', 'lost', 'rejected'), counters))
+            return {'node': e.node_fqn, 'type': e.type, 'type_hash': e.type_hash, 'qos': e.qos, **extra}
         print(json.dumps({'name': topic, 'types': types, 'publishers': [describe(e) for e in pubs],
                           'subscriptions': [describe(e) for e in subs]}))
         return 0
@@ -275,6 +279,14 @@ def cmd_info(args: argparse.Namespace) -> int:
                 print('  Deadline: Infinite')
                 print(f'  Liveliness: {qos.liveliness.name}')
                 print('  Liveliness lease duration: Infinite')
+                counters = stats.get((e.zid, e.node_id, e.entity_id))
+                if counters is not None:
+                    received, dropped, lost, rejected = counters
+                    print('Delivery:')
+                    print(f'  Received: {received}')
+                    print(f'  Dropped (queue depth full): {dropped}')
+                    print(f'  Lost (gaps in publisher sequence): {lost}')
+                    print(f'  Rejected (wrong type or corrupt): {rejected}')
     return 0
 
 
