@@ -8,7 +8,7 @@ if TYPE_CHECKING:
     from zros.graph import Entity
     from zros.node import Node
 
-__all__ = ['NodeEntity']
+__all__ = ['NodeEntity', 'QueuedEntity']
 
 
 class NodeEntity:
@@ -40,3 +40,35 @@ class NodeEntity:
                 self._zenoh.undeclare()
             except Exception:  # noqa: BLE001 - the session may be closing already
                 pass
+
+
+class QueuedEntity(NodeEntity):
+    """An entity whose work (samples, requests) arrives on Zenoh threads into `_queue` and is
+    run by the executor. It sits in the executor's queue at most once while it has work, so a
+    burst costs Zenoh's thread an append, not an executor wake-up per item."""
+
+    _queue: Any
+    _scheduled = False
+
+    def _arrived(self) -> None:
+        """Zenoh thread, after appending to `_queue`."""
+        if not self._scheduled:
+            self._schedule()
+
+    def _schedule(self) -> None:
+        self._scheduled = True
+        executor = self._node._executor
+        if executor is not None:
+            executor._enqueue(self)
+
+    def _rearm(self) -> None:
+        """Executor thread, after taking work: stay queued while more is waiting."""
+        if self._queue:
+            self._schedule()
+        else:
+            self._scheduled = False
+            if self._queue and not self._scheduled:  # something arrived between the two lines above
+                self._schedule()
+
+    def _has_work(self) -> bool:
+        return bool(self._queue)

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Any, Callable
 
 import msgpack
 
-from zros.entity import NodeEntity
+from zros.entity import QueuedEntity
 from zros.graph import EntityKind
 from zros.qos import QoSProfile
 from zros.wire import describe_type, read_header, type_tail
@@ -63,7 +63,7 @@ class DeferredResponse:
             query.drop()
 
 
-class Service(NodeEntity):
+class Service(QueuedEntity):
     """Made by `Node.create_service`."""
 
     def __init__(self, node: 'Node', srv_type: type, name: str, callback: Callable[[Any, Any], Any],
@@ -77,7 +77,6 @@ class Service(NodeEntity):
         self.callback_group = callback_group
         self._tail = type_tail(srv_type)
         self._queue: deque = deque()
-        self._scheduled = False
         self._zenoh = node.context.session.declare_queryable(
             service_key(node.context.domain_id, name), self._on_query, complete=True)
         super().__init__(node, EntityKind.SERVICE, name, srv_type, qos)
@@ -102,31 +101,15 @@ class Service(NodeEntity):
         attachment = query.attachment
         self._queue.append((query, payload.to_bytes() if payload is not None else b'',
                             attachment.to_bytes() if attachment is not None else b''))
-        if not self._scheduled:
-            self._schedule()
-
-    def _schedule(self) -> None:
-        self._scheduled = True
-        executor = self._node._executor
-        if executor is not None:
-            executor._enqueue(self)
-
-    def _has_work(self) -> bool:
-        return bool(self._queue)
+        self._arrived()
 
     # Executor thread: one request per call.
     def _execute(self) -> None:
-        queue = self._queue
         try:
-            query, payload, attachment = queue.popleft()
+            query, payload, attachment = self._queue.popleft()
         except IndexError:
             query = None
-        if queue:
-            self._schedule()
-        else:
-            self._scheduled = False
-            if queue and not self._scheduled:
-                self._schedule()
+        self._rearm()
         if query is None:
             return
         deferred = None

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any, Callable
 
 import msgpack
 
-from zros.entity import NodeEntity
+from zros.entity import QueuedEntity
 from zros.graph import EntityKind
 from zros.qos import DurabilityPolicy, QoSProfile
 from zros.wire import describe_type, read_header, type_tail, writer_sequence
@@ -39,7 +39,7 @@ def _wants_info(callback: Callable) -> bool:
     return len(positional) >= 2 or any(p.kind == p.VAR_POSITIONAL for p in params)
 
 
-class Subscription(NodeEntity):
+class Subscription(QueuedEntity):
     """Made by `Node.create_subscription`."""
 
     def __init__(self, node: 'Node', msg_type: type, topic: str, callback: Callable, qos: QoSProfile,
@@ -57,7 +57,6 @@ class Subscription(NodeEntity):
         self._with_info = _wants_info(callback)
         self._queue: deque = deque(maxlen=qos.queue_depth)
         self._tail = type_tail(msg_type)
-        self._scheduled = False
         self._last_seq: dict[bytes, int] = {}
         self._complained: set[bytes] = set()
         self.dropped = 0
@@ -90,17 +89,7 @@ class Subscription(NodeEntity):
         if len(queue) == queue.maxlen:
             self.dropped += 1
         queue.append((sample.payload.to_bytes(), attachment, time.time_ns() if self._with_info else 0))
-        if not self._scheduled:
-            self._schedule()
-
-    def _schedule(self) -> None:
-        self._scheduled = True
-        executor = self._node._executor
-        if executor is not None:
-            executor._enqueue(self)
-
-    def _has_work(self) -> bool:
-        return bool(self._queue)
+        self._arrived()
 
     # Executor thread. spin_once takes one sample per call, as rclpy takes one message per
     # callback; spin() lets a subscription run up to `budget` waiting samples in one go.
@@ -110,12 +99,7 @@ class Subscription(NodeEntity):
             if not queue:
                 break
             self._deliver(*queue.popleft())
-        if queue:
-            self._schedule()  # more is waiting: stay in the executor's queue
-        else:
-            self._scheduled = False
-            if queue and not self._scheduled:  # a sample arrived between the two lines above
-                self._schedule()
+        self._rearm()
 
     def _deliver(self, payload: bytes, attachment: bytes, received: int) -> None:
         self.received += 1
