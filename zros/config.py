@@ -7,26 +7,61 @@ hub process exits, the others stay linked, and the next process to start takes t
 (the others reconnect to it within a second). Nothing leaves loopback unless asked.
 
 Environment (each also a `zros run` / `zros launch` option, see docs/multi-machine.md):
-    ZROS_DOMAIN_ID   domain, isolates systems (default 0)
+    ZROS_DOMAIN_ID   domain, isolates systems (default 0; ROS_DOMAIN_ID is read when unset)
     ZROS_CONNECT     comma-separated endpoints to connect to (e.g. tcp/192.168.1.10:7447);
                      disables the loopback hub
     ZROS_LISTEN      comma-separated endpoints to listen on
     ZROS_DISCOVERY   localhost (default) | subnet (multicast scouting) | off
     ZROS_CONFIG      a Zenoh JSON5 config file, applied first; the settings above override it
+
+What each setting does, and the rules that pick the session's endpoints:
+- localhost: the loopback hub, as above. A process that finds the hub port held by a Zenoh
+  *router* (`zros router` listens on tcp/0.0.0.0:7447, which is domain 0's hub port) joins
+  it as if ZROS_CONNECT named it, so that it is reachable from the router's other hosts.
+- subnet: Zenoh multicast scouting on the LAN, and listening on every IPv4 interface.
+- off: no hub and no multicast: the process meets only what its ZROS_CONNECT / ZROS_LISTEN
+  endpoints lead to (Zenoh's gossip over those links still introduces peers to each other,
+  which they need: a Zenoh router does not forward traffic between two peers).
+- Where a peer listens, unless ZROS_LISTEN or the ZROS_CONFIG file says: a process of the
+  loopback hub on tcp/127.0.0.1:0 (the hub itself on its port), and one with ZROS_CONNECT or
+  discovery subnet on tcp/0.0.0.0:0 (an ephemeral port on every IPv4 interface), so that the
+  peers it meets through a router can link to it directly; discovery off without endpoints
+  stays on tcp/127.0.0.1:0. A client (mode from the file) does not listen.
+- ZROS_CONFIG is loaded first; ZROS_CONNECT, ZROS_LISTEN and ZROS_DISCOVERY then replace the
+  file's connect endpoints, listen endpoints and multicast setting when they are set. zros
+  always enables `timestamping` (its transient-local cache needs it); gossip scouting and
+  the connect retry period get zros's values only where the file leaves them unset. A file
+  with connect endpoints, or in `client` mode, never makes the process a loopback hub.
+
+`SessionSettings.reasons` says where each setting came from ('ZROS_CONNECT', 'ZROS_CONFIG',
+'default', ...), which is what `zros doctor` shows.
 """
 from __future__ import annotations
 
 import json
 import os
+import re
 import socket
+import sys
 from dataclasses import dataclass, field
 
 from zros.errors import ZrosError
 
-__all__ = ['SessionSettings', 'settings_from_env', 'HUB_BASE_PORT', 'open_session']
+__all__ = ['SessionSettings', 'settings_from_env', 'HUB_BASE_PORT', 'open_session', 'build_config',
+           'validate_endpoint', 'DISCOVERY_MODES', 'SETTINGS_ENV', 'SESSION_OPTIONS', 'add_session_options',
+           'apply_session_options', 'split_session_options']
 
 HUB_BASE_PORT = 7447
 DISCOVERY_MODES = ('localhost', 'subnet', 'off')
+MODES = ('peer', 'client', 'router')
+# Every environment variable that decides the session (what `zros run/launch` options set).
+SETTINGS_ENV = ('ZROS_DOMAIN_ID', 'ZROS_CONNECT', 'ZROS_LISTEN', 'ZROS_DISCOVERY', 'ZROS_CONFIG')
+
+# Zenoh 1.x link protocols (those built into the eclipse-zenoh wheel and the optional ones).
+_PROTOCOLS = ('tcp', 'udp', 'tls', 'quic', 'ws', 'unixsock-stream', 'unixpipe', 'serial', 'vsock')
+_IP_PROTOCOLS = ('tcp', 'udp', 'tls', 'quic', 'ws')
+_ALL_IPV4 = 'tcp/0.0.0.0:0'
+_LOOPBACK_ANY = 'tcp/127.0.0.1:0'
 
 
 @dataclass(frozen=True)
@@ -36,6 +71,7 @@ class SessionSettings:
     listen: tuple[str, ...] = ()
     discovery: str = 'localhost'
     config_file: str | None = None
+    mode: str = 'peer'          # the Zenoh mode: peer, or what the ZROS_CONFIG file says
     reasons: dict[str, str] = field(default_factory=dict, compare=False)
 
     @property
@@ -44,36 +80,233 @@ class SessionSettings:
 
     @property
     def uses_hub(self) -> bool:
-        return self.discovery == 'localhost' and not self.connect
+        return self.discovery == 'localhost' and not self.connect and self.mode == 'peer'
+
+    def describe(self) -> list[tuple[str, str, str]]:
+        """(setting, value, where it came from) rows, for `zros doctor` and error messages."""
+        rows = [('domain', str(self.domain_id), self.reasons.get('domain_id', 'default')),
+                ('mode', self.mode, self.reasons.get('mode', 'default')),
+                ('discovery', self.discovery, self.reasons.get('discovery', 'default')),
+                ('connect', ', '.join(self.connect) or '-', self.reasons.get('connect', 'default')),
+                ('listen', ', '.join(self.listen) or '-', self.reasons.get('listen', 'default')),
+                ('config file', self.config_file or '-', self.reasons.get('config_file', 'default'))]
+        if self.uses_hub:
+            rows.append(('hub', self.hub_endpoint, 'discovery localhost without endpoints'))
+        return rows
 
 
 def _split(value: str | None) -> tuple[str, ...]:
     return tuple(p.strip() for p in (value or '').split(',') if p.strip())
 
 
+def validate_endpoint(endpoint: str, what: str = 'endpoint') -> str:
+    """`endpoint` if it is a well-formed Zenoh locator (`proto/address[?metadata][#config]`),
+    else ZrosError with a one-line reason and an example."""
+    example = 'e.g. tcp/192.168.1.10:7447'
+    if '/' not in endpoint:
+        hint = f" (did you mean 'tcp/{endpoint}'?)" if re.fullmatch(r'[\w.\-\[\]:]+:\d+', endpoint) else ''
+        raise ZrosError(f"{what}: '{endpoint}' is not a Zenoh endpoint{hint}; expected PROTOCOL/ADDRESS, {example}")
+    proto, address = endpoint.split('/', 1)
+    if proto not in _PROTOCOLS:
+        raise ZrosError(f"{what}: '{endpoint}' has an unknown protocol '{proto}' "
+                        f"(one of {', '.join(_PROTOCOLS)}; {example})")
+    address = re.split(r'[?#]', address, maxsplit=1)[0]
+    if not address:
+        raise ZrosError(f"{what}: '{endpoint}' has no address; {example}")
+    if proto in _IP_PROTOCOLS:
+        host, sep, port = address.rpartition(':')
+        if not sep or not host or not port.isdigit() or not 0 <= int(port) <= 65535:
+            raise ZrosError(f"{what}: '{endpoint}' needs HOST:PORT with a port 0-65535; {example}")
+        if host.startswith('[') != host.endswith(']'):
+            raise ZrosError(f"{what}: '{endpoint}': write an IPv6 address in brackets, e.g. tcp/[::1]:7447")
+    return endpoint
+
+
+def _zenoh_error_text(exc: BaseException) -> str:
+    """Zenoh's errors can span lines and carry a Rust source position: one line, no position."""
+    text = ' '.join(str(exc).split())
+    return re.sub(r'\s*at /\S+\.rs:\d+\.?', '', text).strip() or type(exc).__name__
+
+
+class _FileConfig:
+    """What zros needs to know of a ZROS_CONFIG file: its mode and endpoints, and which of the
+    settings zros fills in it left unset (null in Zenoh's view of the loaded config)."""
+
+    def __init__(self, path: str) -> None:
+        import zenoh
+        if not os.path.isfile(path):
+            raise ZrosError(f"ZROS_CONFIG: no such file '{path}'")
+        try:
+            self.config = zenoh.Config.from_file(path)
+        except Exception as exc:  # noqa: BLE001 - zenoh raises its own error type with the reason
+            raise ZrosError(f"ZROS_CONFIG: cannot load '{path}': {_zenoh_error_text(exc)}") from None
+        self.values = json.loads(str(self.config))
+        default_listen = json.loads(str(zenoh.Config())).get('listen', {}).get('endpoints')
+        mode = self.values.get('mode') or 'peer'
+        if mode not in MODES:
+            raise ZrosError(f"ZROS_CONFIG: '{path}': mode must be one of {', '.join(MODES)}, got '{mode}'")
+        self.mode = mode
+        self.connect = self._endpoints(self.values.get('connect', {}).get('endpoints'), mode)
+        listen = self.values.get('listen', {}).get('endpoints')
+        self.listen = () if listen == default_listen else self._endpoints(listen, mode)
+        self.multicast = self._per_mode(self.get('scouting/multicast/enabled'), mode)
+
+    @staticmethod
+    def _per_mode(value: object, mode: str) -> object:
+        return value.get(mode) if isinstance(value, dict) else value
+
+    @classmethod
+    def _endpoints(cls, value: object, mode: str) -> tuple[str, ...]:
+        value = cls._per_mode(value, mode)
+        return tuple(str(v) for v in value) if isinstance(value, list) else ()
+
+    def get(self, key: str) -> object:
+        node: object = self.values
+        for part in key.split('/'):
+            if not isinstance(node, dict):
+                return None
+            node = node.get(part)
+        return node
+
+
+_file_cache: dict[tuple[str, float], _FileConfig] = {}
+
+
+def _load_file(path: str) -> _FileConfig:
+    try:
+        stamp = os.path.getmtime(path)
+    except OSError:
+        stamp = -1.0
+    key = (os.path.abspath(path), stamp)
+    if key not in _file_cache:
+        _file_cache[key] = _FileConfig(path)
+    return _file_cache[key]
+
+
 def settings_from_env(env: os._Environ | dict | None = None, *, domain_id: int | None = None) -> SessionSettings:
+    """The session settings in effect for this environment; ZrosError (one line) on a bad value."""
     env = os.environ if env is None else env
-    reasons = {}
+    reasons: dict[str, str] = {}
     if domain_id is None:
-        raw = env.get('ZROS_DOMAIN_ID', env.get('ROS_DOMAIN_ID', '0')) or '0'
+        name = 'ZROS_DOMAIN_ID' if env.get('ZROS_DOMAIN_ID') else 'ROS_DOMAIN_ID' if env.get('ROS_DOMAIN_ID') else ''
+        raw = (env.get(name) if name else '0').strip()
         try:
             domain_id = int(raw)
         except ValueError:
-            raise ZrosError(f"ZROS_DOMAIN_ID must be an integer 0-232, got '{raw}'") from None
-        reasons['domain_id'] = 'ZROS_DOMAIN_ID' if 'ZROS_DOMAIN_ID' in env else 'default'
+            raise ZrosError(f"{name} must be an integer 0-232, got '{raw}'") from None
+        if not 0 <= domain_id <= 232:
+            raise ZrosError(f'{name} must be within 0-232, got {domain_id}')
+        reasons['domain_id'] = name or 'default'
+    else:
+        reasons['domain_id'] = 'argument'
     if not 0 <= domain_id <= 232:
         raise ZrosError(f'domain id must be within 0-232, got {domain_id}')
-    discovery = (env.get('ZROS_DISCOVERY') or 'localhost').strip().lower()
-    if discovery not in DISCOVERY_MODES:
-        raise ZrosError(f"ZROS_DISCOVERY must be one of {', '.join(DISCOVERY_MODES)}, got '{discovery}'")
-    return SessionSettings(
-        domain_id=domain_id,
-        connect=_split(env.get('ZROS_CONNECT')),
-        listen=_split(env.get('ZROS_LISTEN')),
-        discovery=discovery,
-        config_file=env.get('ZROS_CONFIG') or None,
-        reasons=reasons,
-    )
+
+    config_file = (env.get('ZROS_CONFIG') or '').strip() or None
+    loaded = _load_file(config_file) if config_file else None
+    if config_file:
+        reasons['config_file'] = 'ZROS_CONFIG'
+
+    def endpoints(variable: str, from_file: tuple[str, ...]) -> tuple[str, ...]:
+        raw = env.get(variable)
+        if raw is not None and raw.strip():
+            reasons[variable[5:].lower()] = variable
+            return tuple(validate_endpoint(e, variable) for e in _split(raw))
+        if from_file:
+            reasons[variable[5:].lower()] = 'ZROS_CONFIG'
+            return from_file
+        reasons[variable[5:].lower()] = 'default'
+        return ()
+
+    connect = endpoints('ZROS_CONNECT', loaded.connect if loaded else ())
+    listen = endpoints('ZROS_LISTEN', loaded.listen if loaded else ())
+
+    raw = (env.get('ZROS_DISCOVERY') or '').strip().lower()
+    if raw:
+        if raw not in DISCOVERY_MODES:
+            raise ZrosError(f"ZROS_DISCOVERY must be one of {', '.join(DISCOVERY_MODES)}, got '{raw}'")
+        discovery, reasons['discovery'] = raw, 'ZROS_DISCOVERY'
+    elif loaded is not None and loaded.multicast is True:
+        discovery, reasons['discovery'] = 'subnet', 'ZROS_CONFIG (multicast scouting enabled)'
+    else:
+        discovery, reasons['discovery'] = 'localhost', 'default'
+
+    mode = loaded.mode if loaded else 'peer'
+    reasons['mode'] = 'ZROS_CONFIG' if loaded and loaded.values.get('mode') else 'default'
+    if mode == 'client' and not connect and discovery != 'subnet':
+        raise ZrosError('a client-mode session needs a router to connect to: set ZROS_CONNECT '
+                        '(or connect/endpoints in the ZROS_CONFIG file)')
+    return SessionSettings(domain_id=domain_id, connect=connect, listen=listen, discovery=discovery,
+                           config_file=config_file, mode=mode, reasons=reasons)
+
+
+# -- the same settings as command-line options (`zros run`, `zros launch`) ---------------------
+# option -> (environment variable, metavar, help); --connect and --listen may repeat.
+SESSION_OPTIONS = {
+    '--domain-id': ('ZROS_DOMAIN_ID', 'N', 'zros domain 0-232 (sets ZROS_DOMAIN_ID)'),
+    '--connect': ('ZROS_CONNECT', 'EP', 'Zenoh endpoint to connect to, e.g. tcp/192.168.1.10:7447; '
+                                        'repeatable (sets ZROS_CONNECT)'),
+    '--listen': ('ZROS_LISTEN', 'EP', 'Zenoh endpoint to listen on, repeatable (sets ZROS_LISTEN)'),
+    '--discovery': ('ZROS_DISCOVERY', 'MODE', 'localhost | subnet | off (sets ZROS_DISCOVERY)'),
+    '--zenoh-config': ('ZROS_CONFIG', 'FILE', 'a Zenoh JSON5 config file (sets ZROS_CONFIG)'),
+}
+
+
+def add_session_options(parser) -> None:
+    """Add the session options to an argparse parser (values land in `zros_<name>` attributes)."""
+    group = parser.add_argument_group('session (see docs/multi-machine.md)')
+    for option, (_, metavar, help_text) in SESSION_OPTIONS.items():
+        repeat = option in ('--connect', '--listen')
+        group.add_argument(option, dest='zros_' + option[2:].replace('-', '_'), metavar=metavar,
+                           action='append' if repeat else 'store', default=None, help=help_text)
+
+
+def apply_session_options(values: dict[str, object], env: os._Environ | dict | None = None) -> SessionSettings:
+    """Export the given option values ({'--connect': [...], '--discovery': 'subnet', ...}; None
+    for not given) as the environment variables the session reads, so that this process and
+    every child it starts use them; then check them (ZrosError, one line, on a bad value)."""
+    env = os.environ if env is None else env
+    for option, value in values.items():
+        if value is None or value == []:
+            continue
+        variable = SESSION_OPTIONS[option][0]
+        if isinstance(value, (list, tuple)):
+            value = ','.join(str(v) for v in value)
+        value = str(value)
+        if variable == 'ZROS_CONFIG' and value:
+            value = os.path.abspath(value)   # children may run in another working directory
+        env[variable] = value
+    try:
+        return settings_from_env(env)
+    except ZrosError as exc:
+        text = str(exc)
+        for option, (variable, _, _) in SESSION_OPTIONS.items():
+            if values.get(option) not in (None, []) and text.startswith(variable):
+                text = f'{option} ({variable}){text[len(variable):]}'
+                break
+        raise ZrosError(text) from None
+
+
+def split_session_options(argv: list[str]) -> tuple[dict[str, object], list[str]]:
+    """Session options at the start of `argv` (`--connect EP` or `--connect=EP`), and the rest,
+    untouched: how `zros run` reads its own options before the package and executable."""
+    values: dict[str, object] = {}
+    rest = list(argv)
+    while rest and rest[0].startswith('--'):
+        option, eq, inline = rest[0].partition('=')
+        if option not in SESSION_OPTIONS:
+            break
+        if eq:
+            value, rest = inline, rest[1:]
+        elif len(rest) >= 2:
+            value, rest = rest[1], rest[2:]
+        else:
+            raise ZrosError(f'{option} needs a value ({SESSION_OPTIONS[option][1]})')
+        if option in ('--connect', '--listen'):
+            values.setdefault(option, []).append(value)
+        else:
+            values[option] = value
+    return values, rest
 
 
 def _hub_port_free(port: int) -> bool:
@@ -91,13 +324,24 @@ def _hub_port_free(port: int) -> bool:
     return True
 
 
+def _default_listen(settings: SessionSettings) -> list[str]:
+    """Where a session listens when neither ZROS_LISTEN nor the ZROS_CONFIG file says."""
+    if settings.mode == 'client':
+        return []
+    if settings.mode == 'router':
+        return [f'tcp/0.0.0.0:{HUB_BASE_PORT}']    # IPv4: tcp/[::] fails on hosts without IPv6
+    if settings.uses_hub:
+        return [_LOOPBACK_ANY]
+    if settings.connect or settings.discovery == 'subnet':
+        return [_ALL_IPV4]   # reachable by the peers this process meets through a router or multicast
+    return [_LOOPBACK_ANY]
+
+
 def build_config(settings: SessionSettings, *, as_hub: bool):
     import zenoh
-    if settings.config_file:
-        try:
-            config = zenoh.Config.from_file(settings.config_file)
-        except Exception as exc:  # noqa: BLE001 - zenoh raises its own error type with the reason
-            raise ZrosError(f"cannot load ZROS_CONFIG '{settings.config_file}': {exc}") from None
+    loaded = _load_file(settings.config_file) if settings.config_file else None
+    if loaded is not None:
+        config = zenoh.Config.from_json5(str(loaded.config))   # a fresh copy: it is modified below
     else:
         config = zenoh.Config()
         config.insert_json5('mode', '"peer"')
@@ -105,14 +349,19 @@ def build_config(settings: SessionSettings, *, as_hub: bool):
     def put(key: str, value: object) -> None:
         config.insert_json5(key, json.dumps(value))
 
+    def unset(key: str) -> bool:
+        return loaded is None or loaded.get(key) is None
+
     put('scouting/multicast/enabled', settings.discovery == 'subnet')
-    put('scouting/gossip/enabled', True)
+    if unset('scouting/gossip/enabled'):
+        put('scouting/gossip/enabled', True)
     put('timestamping/enabled', True)
     # The loopback hub is re-dialled quickly: when its process exits, the next zros process takes
     # the port over, and a short-lived one (a CLI command) only waits ~0.3 s for peers to join.
     retry_max_ms = 200 if settings.uses_hub else 1000
-    put('connect/retry', {'period_init_ms': min(250, retry_max_ms // 2), 'period_max_ms': retry_max_ms,
-                          'period_increase_factor': 2})
+    if unset('connect/retry/period_init_ms') and unset('connect/retry/period_max_ms'):
+        put('connect/retry', {'period_init_ms': min(250, retry_max_ms // 2), 'period_max_ms': retry_max_ms,
+                              'period_increase_factor': 2})
     listen = list(settings.listen)
     connect = list(settings.connect)
     if settings.uses_hub:
@@ -120,8 +369,10 @@ def build_config(settings: SessionSettings, *, as_hub: bool):
             listen = [settings.hub_endpoint] + listen
         else:
             connect = [settings.hub_endpoint] + connect
-    if not listen and not settings.config_file:
-        listen = ['tcp/127.0.0.1:0'] if settings.discovery != 'subnet' else ['tcp/0.0.0.0:0']
+    if settings.mode == 'client':
+        listen = []   # a client never listens
+    elif not listen:
+        listen = _default_listen(settings)
     if listen:
         put('listen/endpoints', listen)
     if connect:
@@ -138,6 +389,24 @@ def open_session(settings: SessionSettings):
         except zenoh.ZError:
             pass  # another process won the race for the hub port: join it instead
     try:
-        return zenoh.open(build_config(settings, as_hub=False)), False
+        session = zenoh.open(build_config(settings, as_hub=False))
     except zenoh.ZError as exc:
-        raise ZrosError(f'cannot open the Zenoh session: {exc}') from None
+        raise ZrosError(f'cannot open the Zenoh session: {_zenoh_error_text(exc)}') from None
+    if settings.uses_hub and not settings.listen and list(session.info.routers_zid()):
+        # The hub port is held by a Zenoh router (`zros router` listens on 0.0.0.0:7447): join
+        # it the way ZROS_CONNECT would, listening beyond loopback, so that the router's other
+        # hosts can link to this process (a router does not forward between two peers).
+        session.close()
+        joined = SessionSettings(domain_id=settings.domain_id, connect=(settings.hub_endpoint,),
+                                 discovery=settings.discovery, config_file=settings.config_file,
+                                 mode=settings.mode, reasons=settings.reasons)
+        try:
+            session = zenoh.open(build_config(joined, as_hub=False))
+        except zenoh.ZError as exc:
+            raise ZrosError(f'cannot open the Zenoh session: {_zenoh_error_text(exc)}') from None
+    elif settings.connect and not list(session.info.routers_zid()) and not list(session.info.peers_zid()):
+        # Zenoh keeps retrying in the background (so start order does not matter), but a
+        # wrong address or a TLS-only router would otherwise look like an empty system.
+        print(f"zros: cannot reach {', '.join(settings.connect)} yet (retrying in the background)",
+              file=sys.stderr, flush=True)
+    return session, False

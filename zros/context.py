@@ -148,6 +148,12 @@ class Context:
         return self._is_hub
 
     @property
+    def hub_wait(self) -> float | None:
+        """How long a graph read waits for a hub's answer: the loopback hub is always there; with
+        explicit endpoints the router may be a plain Zenoh router that never answers."""
+        return None if self.settings.uses_hub else 0.3
+
+    @property
     def ros_args(self) -> RosArgs:
         return self._args
 
@@ -160,7 +166,7 @@ class Context:
         from zros.graph import Graph
         with self._lock:
             if self._graph is None:
-                self._graph = Graph(self.session, self.domain_id, is_hub=self._is_hub)
+                self._graph = Graph(self.session, self.domain_id, is_hub=self._is_hub, hub_wait=self.hub_wait)
             return self._graph
 
     def _subscriptions(self) -> list:

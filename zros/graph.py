@@ -100,12 +100,18 @@ def _parse_all(keys: Iterable[str]) -> list[Entity]:
     return [e for e in (parse_token(k) for k in keys) if e is not None]
 
 
-def fetch_entities(session, domain: int, timeout: float = 1.0, *, is_hub: bool = False) -> list[Entity]:
-    """One-shot read of the whole graph (what the CLI uses)."""
+def fetch_entities(session, domain: int, timeout: float = 1.0, *, is_hub: bool = False,
+                   hub_wait: float | None = None) -> list[Entity]:
+    """One-shot read of the whole graph (what the CLI uses).
+
+    The hub (or a `zros router`) is asked first, for up to `hub_wait` seconds (default: all of
+    `timeout`); set-ups without one (a plain Zenoh router) pass a short wait and fall back to
+    collecting tokens."""
     import msgpack
     deadline = time.monotonic() + timeout
     if not is_hub:
-        while time.monotonic() < deadline:
+        ask_until = time.monotonic() + (timeout if hub_wait is None else min(hub_wait, timeout))
+        while time.monotonic() < ask_until:
             for reply in session.get(_graph_key(domain), timeout=max(0.05, min(0.5, deadline - time.monotonic()))):
                 if reply.ok is not None:
                     keys = msgpack.unpackb(reply.ok.payload.to_bytes())
@@ -220,10 +226,11 @@ class Graph:
     which is how `wait_for_service` and friends avoid polling the network.
     """
 
-    def __init__(self, session, domain: int, *, is_hub: bool = False) -> None:
+    def __init__(self, session, domain: int, *, is_hub: bool = False, hub_wait: float | None = None) -> None:
         self._session = session
         self._domain = domain
         self._is_hub = is_hub
+        self._hub_wait = hub_wait
         self._entities: dict[str, Entity] = {}
         self._changed = threading.Condition()
         self._listeners: list[Callable[[], None]] = []
@@ -242,7 +249,7 @@ class Graph:
             # The subscriber's history arrives as links form; callers expect a complete graph
             # on return, so seed it from the hub (or a settled collection) as well.
             if not self._is_hub:
-                seeded = fetch_entities(self._session, self._domain)
+                seeded = fetch_entities(self._session, self._domain, hub_wait=self._hub_wait)
                 with self._changed:
                     for entity in seeded:
                         self._entities.setdefault(entity_token(self._domain, entity), entity)

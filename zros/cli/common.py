@@ -26,7 +26,8 @@ def cli_node(context: Context) -> Any:
 
 
 def graph_entities(context: Context, timeout: float = 1.0) -> list[Entity]:
-    return fetch_entities(context.session, context.domain_id, timeout, is_hub=context.is_hub)
+    return fetch_entities(context.session, context.domain_id, timeout, is_hub=context.is_hub,
+                          hub_wait=context.hub_wait)
 
 
 def wait_for_graph(context: Context, predicate, timeout: float) -> list[Entity] | None:

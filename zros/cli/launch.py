@@ -3,6 +3,11 @@
     zros launch FILE [name:=value ...] [--print] [--show-args] [--log-dir DIR] [--debug]
     zros launch PKG FILE [name:=value ...]      # FILE looked up in the package (docs/launch.md)
 
+Session options (--connect, --listen, --discovery, --domain-id, --zenoh-config; see
+docs/multi-machine.md) set the ZROS_* environment of the supervisor and every process it starts.
+`--router` runs a Zenoh router in the supervisor for the launch's duration (the robot's side of a
+multi-machine set-up in one command).
+
 Options may come before or after the file. Launch-file errors print one line,
 `file:line: <tag>: <key>: reason`, and nothing is started. The launch system itself
 (zros.launch) is imported only when this verb runs.
@@ -25,6 +30,12 @@ def _add_options(parser: argparse.ArgumentParser) -> None:
                         help='write this run\'s logs to DIR (default: $ZROS_LOG_DIR or ~/.zros/log, '
                              'in a timestamped directory)')
     parser.add_argument('-d', '--debug', action='store_true', help='print the supervisor\'s debug messages')
+    parser.add_argument('--router', action='store_true',
+                        help='also run a Zenoh router (as `zros router`: tcp/0.0.0.0:7447) for the launch\'s '
+                             'duration; the launch\'s processes connect to it, and --connect endpoints go to '
+                             'the router (router to router)')
+    from zros.config import add_session_options
+    add_session_options(parser)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -80,6 +91,28 @@ def _show_arguments(path: str, launch_arguments: dict[str, str]) -> None:
         print('\n* argument(s) which are only used if specific conditions occur')
 
 
+def _apply_session_options(early: argparse.Namespace, late: argparse.Namespace) -> list[str]:
+    """Export the session options to the environment the supervisor and its children share.
+    With --router, the --connect endpoints are the router's and are returned instead."""
+    from zros.config import SESSION_OPTIONS, apply_session_options
+    values = {}
+    for option in SESSION_OPTIONS:
+        dest = 'zros_' + option[2:].replace('-', '_')
+        first, second = getattr(early, dest, None), getattr(late, dest, None)
+        if isinstance(first, list) or isinstance(second, list):
+            values[option] = (first or []) + (second or [])
+        else:
+            values[option] = second if second is not None else first
+    router_links: list[str] = []
+    if early.router or late.router:
+        from zros.cli.router import DEFAULT_LISTEN, _endpoint_list
+        router_links = _endpoint_list(values.get('--connect'), '--connect')
+        values['--connect'] = ['tcp/127.0.0.1:' + DEFAULT_LISTEN.rpartition(':')[2]]
+    if any(v not in (None, []) for v in values.values()):
+        apply_session_options(values)
+    return router_links
+
+
 def main(args: argparse.Namespace) -> int:
     from zros.launch import LaunchError, parse_launch_arguments, resolve
     from zros.launch.supervisor import Supervisor, make_log_dir
@@ -88,6 +121,7 @@ def main(args: argparse.Namespace) -> int:
     show_args = args.show_args or late.show_args
     debug = args.debug or late.debug
     log_dir_option = late.log_dir or args.log_dir
+    router_links = _apply_session_options(args, late)
     try:
         path, rest = _locate(late.items)
         launch_arguments = parse_launch_arguments(rest)
@@ -102,8 +136,17 @@ def main(args: argparse.Namespace) -> int:
     if print_plan:
         sys.stdout.write(plan.describe())
         return 0
+    router = None
+    if args.router or late.router:
+        from zros.cli.router import Router
+        router = Router(connect=router_links)
+        for line in router.describe():
+            print(f'[router] {line}', flush=True)
     try:
         return Supervisor(plan, log_dir=log_dir, debug=debug).run()
     except LaunchError as exc:
         print(str(exc), file=sys.stderr)
         return 1
+    finally:
+        if router is not None:
+            router.close()

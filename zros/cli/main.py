@@ -24,6 +24,8 @@ VERBS = {
     'view': ('zros.cli.view', 'Show image topics live in the browser'),
     'image': ('zros.cli.image', 'Save a frame of an image topic as PNG'),
     'launch': ('zros.cli.launch', 'Run a YAML launch file'),
+    'router': ('zros.cli.router', 'Run a Zenoh router for multi-machine set-ups'),
+    'security': ('zros.cli.security', 'Create TLS keys and certificates (a CA and one per node)'),
     'bag': ('zros.cli.bag', 'Record and play back topics (MCAP files)'),
     'doctor': ('zros.cli.doctor', 'Check the zros set-up and the running system for problems'),
     'graph': ('zros.cli.graph', 'Print the node/topic graph as Graphviz DOT (or render SVG)'),

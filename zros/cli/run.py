@@ -7,6 +7,11 @@ Executables are looked up in this order:
 3. `PKG/EXECUTABLE.py` under each directory of `ZROS_NODE_PATH`.
 The module's `main()` is called with sys.argv set to [EXECUTABLE, args...], the way
 ros2 run's executables see their arguments (`--ros-args` included).
+
+Session options go before the package: `zros run --connect tcp/10.0.0.1:7447 demo_nodes talker`
+(also --listen, --discovery, --domain-id, --zenoh-config). They set the ZROS_* environment
+variables before the executable starts (see docs/multi-machine.md); everything after the
+executable is passed through untouched.
 """
 from __future__ import annotations
 
@@ -23,6 +28,8 @@ __all__ = ['add_arguments', 'main_passthrough', 'find_executable', 'list_executa
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    from zros.config import add_session_options
+    add_session_options(parser)
     parser.add_argument('package_name', help='package, e.g. demo_nodes')
     parser.add_argument('executable_name', help='executable in the package, e.g. talker')
     parser.add_argument('argv', nargs=argparse.REMAINDER, help='arguments for the executable (and --ros-args ...)')
@@ -81,10 +88,13 @@ def find_executable(package: str, executable: str) -> Callable[[], Any]:
 
 
 def main_passthrough(argv: list[str]) -> int:
+    from zros.config import apply_session_options, split_session_options
     from zros.errors import CliError
+    options, argv = split_session_options(argv)
     if not argv or argv[0] in ('-h', '--help'):
         print(__doc__.strip())
-        print('\nusage: zros run PACKAGE EXECUTABLE [args...] [--ros-args ...]')
+        print('\nusage: zros run [--connect EP] [--listen EP] [--discovery MODE] [--domain-id N] '
+              '[--zenoh-config FILE] PACKAGE EXECUTABLE [args...] [--ros-args ...]')
         print('packages: ' + ', '.join(list_packages()))
         return 0
     if len(argv) == 1:
@@ -92,6 +102,8 @@ def main_passthrough(argv: list[str]) -> int:
                        + (', '.join(list_executables(argv[0])) or 'none'))
     package, executable, rest = argv[0], argv[1], argv[2:]
     entry = find_executable(package, executable)
+    if options:
+        apply_session_options(options)
     sys.argv = [executable, *rest]
     try:
         result = entry()

@@ -1,0 +1,34 @@
+"""A test node: `seqnode.py pub NAME [HZ]` publishes 1, 2, 3, ... on /seq (reliable, depth 1000);
+`seqnode.py sub NAME` prints every number it receives as `got N`."""
+import sys
+import time
+
+import zros
+from zros.node import Node
+
+from interfaces.std_msgs.msg import String
+
+
+def main() -> None:
+    role, name = sys.argv[1], sys.argv[2]
+    zros.init([])
+    node = Node(name)
+    if role == 'pub':
+        period = 1.0 / float(sys.argv[3]) if len(sys.argv) > 3 else 0.05
+        pub = node.create_publisher(String, 'seq', 1000)
+        count = 0
+        while True:
+            count += 1
+            pub.publish(String(data=str(count)))
+            print(f'published {count}', flush=True)
+            time.sleep(period)
+    node.create_subscription(String, 'seq', lambda m: print(f'got {m.data}', flush=True), 1000)
+    print('subscribed', flush=True)
+    zros.spin(node)
+
+
+if __name__ == '__main__':
+    try:
+        main()
+    except KeyboardInterrupt:
+        pass
