@@ -768,8 +768,7 @@ def report(latency: dict, throughput: dict, plan: Plan) -> str:
                       rows), '',
                 'Losses in the same windows',
                 table(['case', 'raw lost', 'zros lost', 'zros dropped', 'zros arrived msg/s'], loss_rows),
-                'lost: gaps in the publisher\'s sequence numbers seen by the subscriber (zros counts the '
-                'samples its own queue dropped here too);',
+                'lost: gaps in the publisher\'s sequence numbers seen by the subscriber, before any queue;',
                 'dropped: samples the zros subscription queue (KEEP_LAST 10, or KEEP_ALL = 100000) discarded '
                 'because the executor fell behind;',
                 'arrived: what reached the zros subscription (received + dropped).']
