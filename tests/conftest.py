@@ -274,6 +274,17 @@ def run_cli(*args: str, timeout: float = 15.0, env: dict[str, str] | None = None
                      err.decode(errors='replace'))
 
 
+def assert_clean_failure(result, *fragments: str) -> str:
+    """A failing command: non-zero exit, exactly one line on stderr naming the problem."""
+    assert result.returncode != 0, result
+    assert 'Traceback' not in result.stderr + result.stdout, result
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1, result
+    for fragment in fragments:
+        assert fragment in lines[0], result
+    return lines[0]
+
+
 @pytest.fixture
 def zros_cli() -> Callable[..., CliResult]:
     """`zros_cli('topic', 'list', '-t')` runs the CLI in the test's environment."""

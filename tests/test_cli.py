@@ -9,6 +9,8 @@ import time
 import pytest
 import yaml
 
+from conftest import assert_clean_failure
+
 from zros.executors import SingleThreadedExecutor
 from zros.node import Node
 
@@ -26,17 +28,6 @@ def talker(module_spawn):
     child = module_spawn.node('demo_nodes', 'talker')
     child.wait_for_output("Publishing: 'Hello World: 1'", timeout=10)
     return child
-
-
-def assert_clean_failure(result, *fragments: str) -> str:
-    """A failing command: non-zero exit, exactly one line on stderr naming the problem."""
-    assert result.returncode != 0, result
-    assert 'Traceback' not in result.stderr + result.stdout, result
-    lines = result.stderr.strip().splitlines()
-    assert len(lines) == 1, result
-    for fragment in fragments:
-        assert fragment in lines[0], result
-    return lines[0]
 
 
 # -- graph verbs against the talker -------------------------------------------------------

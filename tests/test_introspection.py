@@ -8,12 +8,11 @@ import re
 import shutil
 import subprocess
 import sys
-import time
 
 import pytest
 import yaml
 
-from conftest import REPO, wait_until
+from conftest import REPO, assert_clean_failure, wait_until
 
 CLI = [sys.executable, '-m', 'zros.cli.main']
 
@@ -66,17 +65,6 @@ def rate50(module_spawn):
     child = module_spawn.script(RATE_SCRIPT, name='rate50')
     child.wait_for_output('ready', timeout=15)
     return child
-
-
-def assert_clean_failure(result, *fragments: str) -> str:
-    """Non-zero exit, exactly one line on stderr naming the problem, no traceback."""
-    assert result.returncode != 0, result
-    assert 'Traceback' not in result.stderr + result.stdout, result
-    lines = result.stderr.strip().splitlines()
-    assert len(lines) == 1, result
-    for fragment in fragments:
-        assert fragment in lines[0], result
-    return lines[0]
 
 
 def run_until(spawner, args, text_or_predicate, timeout=15.0) -> str:

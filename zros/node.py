@@ -400,20 +400,20 @@ class Node:
         return {n[len(dotted):]: self._parameters.get(n) for n in self._parameters.names()
                 if n.startswith(dotted)}
 
-    def set_parameters(self, parameter_list: list[Parameter]) -> list[Any]:
+    def _require_declared(self, parameter_list: list[Parameter]) -> None:
+        """rclpy raises for undeclared names here (remote sets get a failed result instead)."""
         from zros.exceptions import ParameterNotDeclaredException
         if not self._parameters.allow_undeclared:
             missing = [p.name for p in parameter_list if not self._parameters.has(p.name)]
             if missing:
                 raise ParameterNotDeclaredException(missing)
+
+    def set_parameters(self, parameter_list: list[Parameter]) -> list[Any]:
+        self._require_declared(parameter_list)
         return self._parameters.set_each(parameter_list)
 
     def set_parameters_atomically(self, parameter_list: list[Parameter]) -> Any:
-        from zros.exceptions import ParameterNotDeclaredException
-        if not self._parameters.allow_undeclared:
-            missing = [p.name for p in parameter_list if not self._parameters.has(p.name)]
-            if missing:
-                raise ParameterNotDeclaredException(missing)
+        self._require_declared(parameter_list)
         return self._parameters.set_atomically(parameter_list)
 
     def describe_parameter(self, name: str) -> Any:

@@ -48,17 +48,16 @@ class Publisher(NodeEntity):
         """Send `msg` (an instance of this publisher's type, or its already serialized bytes,
         as rclpy allows) to every matching subscription."""
         if isinstance(msg, (bytes, bytearray)):
-            if self._destroyed:
-                raise RuntimeError(f"publisher on '{self.topic_name}' has been destroyed")
-            self._put(bytes(msg), attachment=self._stamp())
-            return
-        if type(msg) is not self.msg_type:
+            payload = bytes(msg)
+        elif type(msg) is self.msg_type:
+            payload = msgpack.packb(msg._TO_WIRE(msg))
+        else:
             raise TypeError(
                 f"publisher on '{self.topic_name}' expects {self.msg_type._TYPE}, "
                 f"got {getattr(type(msg), '_TYPE', type(msg).__name__)}")
         if self._destroyed:
             raise RuntimeError(f"publisher on '{self.topic_name}' has been destroyed")
-        self._put(msgpack.packb(msg._TO_WIRE(msg)), attachment=self._stamp())
+        self._put(payload, attachment=self._stamp())
 
     def get_subscription_count(self) -> int:
         return self._node.count_subscribers(self.topic_name)

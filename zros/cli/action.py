@@ -5,7 +5,7 @@ import argparse
 import json
 import textwrap
 
-from zros.cli.common import cli_context, cli_node, graph_entities, is_hidden
+from zros.cli.common import absolute_name, cli_context, cli_node, graph_entities, is_hidden
 from zros.graph import EntityKind, names_and_types
 
 __all__ = ['add_arguments']
@@ -50,11 +50,6 @@ def _actions(entities):
     return [(n, t) for n, t in names_and_types(entities, _KINDS) if not is_hidden(n)]
 
 
-def _absolute(name: str) -> str:
-    from zros.names import expand_topic_name
-    return expand_topic_name(name, 'zros', '/', kind='action name')
-
-
 def cmd_list(args: argparse.Namespace) -> int:
     with cli_context() as ctx:
         actions = _actions(graph_entities(ctx))
@@ -70,7 +65,7 @@ def cmd_list(args: argparse.Namespace) -> int:
 
 def cmd_info(args: argparse.Namespace) -> int:
     from zros.errors import CliError
-    name = _absolute(args.action_name)
+    name = absolute_name(args.action_name, 'action name')
     with cli_context() as ctx:
         entities = [e for e in graph_entities(ctx) if e.kind in _KINDS and e.name == name]
     if not entities:
@@ -92,7 +87,7 @@ def cmd_info(args: argparse.Namespace) -> int:
 
 def cmd_type(args: argparse.Namespace) -> int:
     from zros.errors import CliError
-    name = _absolute(args.action_name)
+    name = absolute_name(args.action_name, 'action name')
     with cli_context() as ctx:
         types = dict(_actions(graph_entities(ctx))).get(name)
     if not types:
@@ -124,7 +119,7 @@ def cmd_send_goal(args: argparse.Namespace) -> int:
     from zros.errors import CliError
     from zros.executors import SingleThreadedExecutor
     from zros.typesupport import get_action
-    name = _absolute(args.action_name)
+    name = absolute_name(args.action_name, 'action name')
     action_type = get_action(args.action_type)
     goal = message_from_yaml(action_type.Goal, args.goal)
     with cli_context() as ctx:

@@ -53,11 +53,6 @@ def _one_line_errors(handler):
     return run
 
 
-def _absolute(name: str) -> str:
-    from zros.names import expand_topic_name
-    return expand_topic_name(name, 'zros', '/')
-
-
 class _StopOnSignals:
     """SIGINT and SIGTERM call `stop()` instead of raising, so the bag is finished cleanly;
     a second signal interrupts for good."""
@@ -88,13 +83,13 @@ class _StopOnSignals:
 def cmd_record(args: argparse.Namespace) -> int:
     from zros.bag.recorder import Recorder
     from zros.bag.writer import BagWriter, default_bag_name
-    from zros.cli.common import cli_context
+    from zros.cli.common import absolute_name, cli_context
     from zros.errors import CliError
     if not args.all and not args.topics:
         raise CliError('no topics given: name the topics to record, or use -a/--all')
     if args.max_duration is not None and args.max_duration <= 0:
         raise CliError('--max-duration must be > 0')
-    topics = [_absolute(t) for t in args.topics]
+    topics = [absolute_name(t) for t in args.topics]
     output = args.output or default_bag_name()
     stop = threading.Event()
     # Signals stop the recording from before the file exists, so a Ctrl-C at any moment still
@@ -115,8 +110,8 @@ def cmd_record(args: argparse.Namespace) -> int:
 
 def cmd_play(args: argparse.Namespace) -> int:
     from zros.bag.player import Player
-    from zros.cli.common import cli_context
-    topics = [_absolute(t) for t in args.topics] if args.topics else None
+    from zros.cli.common import absolute_name, cli_context
+    topics = [absolute_name(t) for t in args.topics] if args.topics else None
     stop = threading.Event()
     with _StopOnSignals(stop.set), cli_context() as ctx:
         player = Player(ctx, args.bag_path, rate=args.rate, loop=args.loop, topics=topics, clock_hz=args.clock,

@@ -8,7 +8,8 @@ from typing import Any
 from zros.context import Context
 from zros.graph import Entity, fetch_entities
 
-__all__ = ['cli_context', 'cli_node', 'graph_entities', 'wait_for_graph', 'is_hidden']
+__all__ = ['cli_context', 'cli_node', 'graph_entities', 'wait_for_graph', 'is_hidden', 'absolute_name',
+           'absolute_node_name']
 
 CLI_NODE_PREFIX = '_zros_cli_'
 
@@ -45,3 +46,15 @@ def wait_for_graph(context: Context, predicate, timeout: float) -> list[Entity] 
 def is_hidden(name: str) -> bool:
     """ros2's rule: any token of the name starting with '_' hides it."""
     return any(part.startswith('_') for part in name.split('/') if part)
+
+
+def absolute_name(name: str, kind: str = 'topic name') -> str:
+    """A topic, service or action name as typed on the command line, made absolute and
+    validated (a CLI has no namespace of its own: 'chatter' means '/chatter')."""
+    from zros.names import expand_topic_name
+    return expand_topic_name(name, 'zros', '/', kind=kind)
+
+
+def absolute_node_name(name: str) -> str:
+    """'talker' and '/talker' both name the node /talker."""
+    return name if name.startswith('/') else '/' + name

@@ -4,7 +4,7 @@ from __future__ import annotations
 import argparse
 import json
 
-from zros.cli.common import cli_context, graph_entities, is_hidden
+from zros.cli.common import absolute_node_name, cli_context, graph_entities, is_hidden
 from zros.graph import EntityKind
 
 __all__ = ['add_arguments']
@@ -51,7 +51,7 @@ _SECTIONS = (
 
 def cmd_info(args: argparse.Namespace) -> int:
     from zros.errors import CliError
-    target = args.node_name if args.node_name.startswith('/') else '/' + args.node_name
+    target = absolute_node_name(args.node_name)
     with cli_context() as ctx:
         entities = graph_entities(ctx)
     mine = [e for e in entities if e.node_fqn == target]

@@ -5,7 +5,7 @@ import argparse
 import re
 import sys
 
-from zros.cli.common import cli_context, cli_node, graph_entities, is_hidden
+from zros.cli.common import absolute_node_name, cli_context, cli_node, graph_entities, is_hidden
 from zros.graph import EntityKind
 
 __all__ = ['add_arguments']
@@ -62,16 +62,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     p.set_defaults(handler=cmd_delete)
 
 
-def _fq(node_name: str) -> str:
-    return node_name if node_name.startswith('/') else '/' + node_name
-
-
 class _Remote:
     """Calls one node's parameter services."""
 
     def __init__(self, ctx, node_name: str, timeout: float) -> None:
         from zros.errors import CliError
-        self.fq = _fq(node_name)
+        self.fq = absolute_node_name(node_name)
         self.timeout = timeout
         if not any(e.kind == EntityKind.NODE and e.node_fqn == self.fq for e in graph_entities(ctx)):
             raise CliError(f"Node not found: '{self.fq}'")
@@ -114,7 +110,7 @@ def cmd_list(args: argparse.Namespace) -> int:
     with cli_context() as ctx:
         entities = graph_entities(ctx)
         if args.node_name:
-            nodes = [_fq(args.node_name)]
+            nodes = [absolute_node_name(args.node_name)]
         else:
             nodes = sorted({e.node_fqn for e in entities if e.kind == EntityKind.SERVICE
                             and e.name == f'{e.node_fqn}/{PARAMETER_SERVICES[3]}'
@@ -235,7 +231,7 @@ def cmd_dump(args: argparse.Namespace) -> int:
 def cmd_load(args: argparse.Namespace) -> int:
     from zros.errors import CliError
     from zros.parameter import load_parameter_file
-    fq = _fq(args.node_name)
+    fq = absolute_node_name(args.node_name)
     values = load_parameter_file(args.parameter_file, fq, use_wildcard=not args.no_use_wildcard)
     if not values:
         raise CliError(f"'{args.parameter_file}' has no parameters for node '{fq}'")

@@ -5,7 +5,7 @@ import argparse
 import json
 import time
 
-from zros.cli.common import cli_context, cli_node, graph_entities, is_hidden
+from zros.cli.common import absolute_name, cli_context, cli_node, graph_entities, is_hidden
 from zros.graph import EntityKind, names_and_types
 
 __all__ = ['add_arguments']
@@ -55,14 +55,9 @@ def cmd_list(args: argparse.Namespace) -> int:
     return 0
 
 
-def _absolute(name: str) -> str:
-    from zros.names import expand_topic_name
-    return expand_topic_name(name, 'zros', '/', kind='service name')
-
-
 def cmd_type(args: argparse.Namespace) -> int:
     from zros.errors import CliError
-    name = _absolute(args.service_name)
+    name = absolute_name(args.service_name, 'service name')
     with cli_context() as ctx:
         types = dict(_services(graph_entities(ctx), True)).get(name)
     if not types:
@@ -87,7 +82,7 @@ def cmd_call(args: argparse.Namespace) -> int:
     from zros.convert import message_from_yaml, message_to_yaml
     from zros.errors import CliError
     from zros.typesupport import get_service
-    name = _absolute(args.service_name)
+    name = absolute_name(args.service_name, 'service name')
     srv_type = get_service(args.service_type)
     request = message_from_yaml(srv_type.Request, args.values)
     with cli_context() as ctx:

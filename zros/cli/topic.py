@@ -6,7 +6,7 @@ import json
 import sys
 import time
 
-from zros.cli.common import cli_context, cli_node, graph_entities, is_hidden, wait_for_graph
+from zros.cli.common import absolute_name, cli_context, cli_node, graph_entities, is_hidden, wait_for_graph
 from zros.graph import EntityKind, names_and_types
 
 __all__ = ['add_arguments', 'add_qos_arguments', 'qos_from_args']
@@ -230,16 +230,11 @@ def _types_of(entities, topic: str) -> list[str]:
     return sorted({e.type for e in entities if e.kind in _TOPIC_KINDS and e.name == topic})
 
 
-def _absolute(name: str) -> str:
-    from zros.names import expand_topic_name
-    return expand_topic_name(name, 'zros', '/')
-
-
 def cmd_info(args: argparse.Namespace) -> int:
     from zros.errors import CliError
     from zros.qos import QoSProfile
     from zros.graph import fetch_subscription_stats
-    topic = _absolute(args.topic_name)
+    topic = absolute_name(args.topic_name)
     with cli_context() as ctx:
         entities = graph_entities(ctx)
         stats = fetch_subscription_stats(ctx.session, ctx.domain_id) if args.verbose or args.json else {}
@@ -292,7 +287,7 @@ def cmd_info(args: argparse.Namespace) -> int:
 
 def cmd_type(args: argparse.Namespace) -> int:
     from zros.errors import CliError
-    topic = _absolute(args.topic_name)
+    topic = absolute_name(args.topic_name)
     with cli_context() as ctx:
         types = _types_of(graph_entities(ctx), topic)
     if not types:
@@ -414,7 +409,7 @@ def cmd_echo(args: argparse.Namespace) -> int:
 
     from zros.convert import get_field
     from zros.errors import CliError
-    topic = _absolute(args.topic_name)
+    topic = absolute_name(args.topic_name)
     accept = _compile_filter(args.filter_expr)
     if args.timeout is not None and args.timeout <= 0:
         raise CliError('--timeout must be > 0')
@@ -499,7 +494,7 @@ def cmd_pub(args: argparse.Namespace) -> int:
     from zros.convert import message_from_yaml
     from zros.errors import CliError
     from zros.typesupport import get_message
-    topic = _absolute(args.topic_name)
+    topic = absolute_name(args.topic_name)
     msg_type = get_message(args.message_type)
     msg = None if args.stdin else message_from_yaml(msg_type, args.values)
     times = 1 if args.once else args.times
@@ -558,7 +553,7 @@ class _Monitor:
 
     def __init__(self, args: argparse.Namespace) -> None:
         self.args = args
-        self.topic = _absolute(args.topic_name)
+        self.topic = absolute_name(args.topic_name)
 
     def wait_for_type(self, ctx):
         from zros.errors import CliError
