@@ -225,11 +225,12 @@ def test_custom_action_from_interface_path(tmp_path, monkeypatch, make_context, 
 
 def test_action_cli(fibonacci_server, zros_cli, client_node, Fibonacci):
     _client(client_node, Fibonacci)
-    assert '/fibonacci [action_tutorials_interfaces/action/Fibonacci]' in zros_cli('action', 'list', '-t').stdout
+    both = 'action_tutorials_interfaces/action/Fibonacci, example_interfaces/action/Fibonacci'
+    assert f'/fibonacci [{both}]' in zros_cli('action', 'list', '-t').stdout
     info = zros_cli('action', 'info', '/fibonacci').stdout
-    assert 'Action: /fibonacci' in info and 'Action servers: 1' in info and '/fibonacci_action_server' in info
+    assert 'Action: /fibonacci' in info and 'Action servers: 2' in info and '/fibonacci_action_server' in info
     assert 'Action clients: 1' in info
-    assert zros_cli('action', 'type', '/fibonacci').stdout.strip() == 'action_tutorials_interfaces/action/Fibonacci'
+    assert zros_cli('action', 'type', '/fibonacci').stdout.split() == both.split(', ')
     sent = zros_cli('action', 'send_goal', '/fibonacci', 'action_tutorials_interfaces/action/Fibonacci',
                     '{order: 5}', '--feedback', timeout=30)
     assert sent.returncode == 0, sent
@@ -241,7 +242,7 @@ def test_action_cli(fibonacci_server, zros_cli, client_node, Fibonacci):
     rejected = zros_cli('action', 'send_goal', '/fibonacci', 'action_tutorials_interfaces/action/Fibonacci', '{order: -1}')
     assert rejected.returncode == 1 and 'Goal was rejected.' in rejected.stdout
     node_info = zros_cli('node', 'info', '/fibonacci_action_server').stdout
-    assert 'Action Servers:\n    /fibonacci: action_tutorials_interfaces/action/Fibonacci' in node_info
+    assert f'Action Servers:\n    /fibonacci: {both}' in node_info
     unknown = zros_cli('action', 'info', '/nope')
     assert unknown.returncode == 1 and 'Traceback' not in unknown.stderr
 

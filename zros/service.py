@@ -80,8 +80,7 @@ class Service(QueuedEntity):
         self._zenoh = node.context.session.declare_queryable(
             service_key(node.context.domain_id, name), self._on_query, complete=True)
         super().__init__(node, EntityKind.SERVICE, name, srv_type, qos)
-        others = [e for e in node.context.graph.entities()
-                  if e.kind == EntityKind.SERVICE and e.name == name and e != self._entity]
+        others = [e for e in self._servers(srv_type._TYPE) if e != self._entity]
         if others:
             node.get_logger().warn(
                 f"service '{name}' is already served by {', '.join(sorted(e.node_fqn for e in others))}: "
@@ -90,6 +89,12 @@ class Service(QueuedEntity):
     @property
     def service_name(self) -> str:
         return self.srv_name
+
+    def _servers(self, type_name: str) -> list:
+        """Servers of this name and type in the graph: endpoints are typed, as in ROS 2, so
+        servers of different types may share a name and each answers its own requests."""
+        return [e for e in self._node.context.graph.entities()
+                if e.kind == EntityKind.SERVICE and e.name == self.srv_name and e.type == type_name]
 
     # Zenoh thread.
     def _on_query(self, query: Any) -> None:
@@ -125,6 +130,8 @@ class Service(QueuedEntity):
         header = read_header(attachment)
         if header is not None and header[3] != self._tail:
             theirs = describe_type(header[3])[0]
+            if self._servers(theirs):
+                return None  # a server of the request's type answers it
             query.reply_err(f"service '{self.srv_name}' is of type {self.srv_type._TYPE}, "
                             f'the request was sent as {theirs}'.encode())
             return None

@@ -4,6 +4,9 @@ The search path is `ZROS_INTERFACE_PATH` (os.pathsep-separated directories laid 
 `<pkg>/{msg,srv,action}/*`) followed by the interfaces shipped in the `interfaces` package.
 A user's directory comes first so a project can carry its own copy of a package.
 Classes are built once per process and cached; lookups are thread-safe.
+
+A package may also be known under a second name (PACKAGE_ALIASES): both names give the very
+same classes, so the type on the wire is one and code written for either name interoperates.
 """
 from __future__ import annotations
 
@@ -19,11 +22,16 @@ from zros.message import make_action_class, make_message_class, make_service_cla
 __all__ = [
     'KINDS', 'search_roots', 'get_type', 'get_message', 'get_service', 'get_action',
     'list_packages', 'list_interfaces', 'interface_file', 'normalize_type_name', 'type_name_of',
+    'PACKAGE_ALIASES',
 ]
 
 KINDS = ('msg', 'srv', 'action')
 _EXT = {'msg': '.msg', 'srv': '.srv', 'action': '.action'}
 _BUILTIN_ROOT = Path(__file__).resolve().parent.parent / 'interfaces'
+
+#: New name -> the package shipped here. ROS 2 moved turtlesim's interfaces to `turtlesim_msgs`
+#: after Jazzy; tutorials use both names, and the turtlesim node must answer either.
+PACKAGE_ALIASES = {'turtlesim_msgs': 'turtlesim'}
 
 _lock = threading.RLock()
 _cache: dict[str, Any] = {}
@@ -46,6 +54,7 @@ def search_roots() -> list[Path]:
 
 
 def interface_file(package: str, kind: str, name: str) -> Path | None:
+    package = PACKAGE_ALIASES.get(package, package)
     for root in search_roots():
         path = root / package / kind / (name + _EXT[kind])
         if path.is_file():
@@ -56,8 +65,10 @@ def interface_file(package: str, kind: str, name: str) -> Path | None:
 def normalize_type_name(name: str) -> str:
     """'pkg/msg/Name' stays; 'pkg/Name' becomes the first of msg, srv, action that exists."""
     parts = name.strip().split('/')
+    if parts[0] in PACKAGE_ALIASES:
+        parts[0] = PACKAGE_ALIASES[parts[0]]
     if len(parts) == 3 and parts[1] in KINDS and all(parts):
-        return name.strip()
+        return '/'.join(parts)
     if len(parts) == 2 and all(parts):
         for kind in KINDS:
             base = parts[1]
@@ -161,11 +172,15 @@ def list_packages() -> list[str]:
             for pkg in root.iterdir():
                 if pkg.is_dir() and any((pkg / k).is_dir() for k in KINDS):
                     found.add(pkg.name)
+    found.update(alias for alias, package in PACKAGE_ALIASES.items() if package in found)
     return sorted(found)
 
 
 def list_interfaces(package: str | None = None, kinds: tuple[str, ...] = KINDS) -> list[str]:
-    """Every 'pkg/kind/Name' on the search path (first root wins on duplicates)."""
+    """Every 'pkg/kind/Name' on the search path (first root wins on duplicates); an alias's
+    interfaces are listed under the alias only when it is asked for by name."""
+    if package in PACKAGE_ALIASES:
+        return [f'{package}/{n.split("/", 1)[1]}' for n in list_interfaces(PACKAGE_ALIASES[package], kinds)]
     found = set()
     for root in search_roots():
         packages = [root / package] if package else (sorted(root.iterdir()) if root.is_dir() else [])

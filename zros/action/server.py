@@ -166,7 +166,6 @@ class ActionServer:
                  status_pub_qos_profile: QoSProfile = qos_profile_action_status_default,
                  result_timeout: float = 900) -> None:
         from interfaces.action_msgs.msg import GoalStatusArray
-        from interfaces.action_msgs.srv import CancelGoal
         self._node = node
         self._action_type = action_type
         self._types = protocol_types(action_type)
@@ -189,17 +188,32 @@ class ActionServer:
         self._services = [
             node.create_service(self._types.SendGoal, f'{self._name}/_action/send_goal', self._on_send_goal,
                                 qos_profile=goal_service_qos_profile, callback_group=group),
-            node.create_service(CancelGoal, f'{self._name}/_action/cancel_goal', self._on_cancel,
-                                qos_profile=cancel_service_qos_profile, callback_group=group),
             node.create_service(self._types.GetResult, f'{self._name}/_action/get_result', self._on_get_result,
                                 qos_profile=result_service_qos_profile, callback_group=group),
         ]
+        self._cancel_qos = cancel_service_qos_profile
+        self._cancel_service = None
+        if not any(s._cancel_service for s in self._siblings()):
+            self._serve_cancel()
         self._entity = node._declare_entity(EntityKind.ACTION_SERVER, self._name, action_type)
         node._add(self)
 
     @property
     def action_name(self) -> str:
         return self._name
+
+    def _siblings(self) -> list['ActionServer']:
+        """Servers of other action types under this name in this node. Endpoints are typed, as in
+        ROS 2, so they share the name; the cancel service (one type for every action) is one for
+        them all, served by one of them."""
+        return [e for e in self._node._entities if isinstance(e, ActionServer) and e is not self
+                and e._name == self._name and not e._destroyed]
+
+    def _serve_cancel(self) -> None:
+        from interfaces.action_msgs.srv import CancelGoal
+        self._cancel_service = self._node.create_service(
+            CancelGoal, f'{self._name}/_action/cancel_goal', self._on_cancel, qos_profile=self._cancel_qos,
+            callback_group=self.callback_group)
 
     # -- protocol handlers (executor threads) -------------------------------------------------
     def _on_send_goal(self, request: Any, response: Any) -> Any:
@@ -244,8 +258,10 @@ class ActionServer:
         target = request.goal_info.goal_id.uuid.tobytes()
         stamp = request.goal_info.stamp
         before_ns = stamp.sec * 1_000_000_000 + stamp.nanosec
-        with self._lock:
-            goals = list(self._goals.values())
+        goals = []
+        for server in (self, *self._siblings()):
+            with server._lock:
+                goals.extend(server._goals.values())
         if any(target):
             candidates = [g for g in goals if g._goal_id.uuid.tobytes() == target]
             if not candidates:
@@ -261,19 +277,20 @@ class ActionServer:
         if candidates and not active:
             response.return_code = _CANCEL_TERMINATED
             return response
-        canceling = []
+        canceling, servers = [], set()
         for handle in active:
             try:
-                decision = self._cancel_callback(handle)
+                decision = handle._server._cancel_callback(handle)
             except Exception as exc:  # noqa: BLE001 - a failing cancel callback rejects
                 self._node.get_logger().error(f'cancel callback raised {type(exc).__name__}: {exc}')
                 decision = CancelResponse.REJECT
             if decision == CancelResponse.ACCEPT and handle._request_cancel():
                 canceling.append(GoalInfo(goal_id=handle.goal_id, stamp=handle._stamp))
+                servers.add(handle._server)
         response.goals_canceling = canceling
         response.return_code = _CANCEL_OK if canceling or not active else _CANCEL_REJECTED
-        if canceling:
-            self._publish_status()
+        for server in servers:
+            server._publish_status()
         return response
 
     def _on_get_result(self, request: Any, response: Any) -> Any:
@@ -402,6 +419,11 @@ class ActionServer:
         self._node._undeclare_entity(self._entity)
         for service in self._services:
             self._node.destroy_service(service)
+        if self._cancel_service is not None:
+            self._node.destroy_service(self._cancel_service)
+            siblings = self._siblings()
+            if siblings and not self._node._destroyed:
+                siblings[0]._serve_cancel()
         with self._lock:
             pubs = list(self._feedback_pubs.values())
             self._feedback_pubs.clear()

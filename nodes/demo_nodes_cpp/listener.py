@@ -1,0 +1,4 @@
+"""`demo_nodes_cpp listener`: demo_nodes' listener under the ROS 2 package name."""
+from nodes.demo_nodes.listener import main
+
+__all__ = ['main']

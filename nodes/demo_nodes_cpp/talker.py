@@ -1,0 +1,4 @@
+"""`demo_nodes_cpp talker`: demo_nodes' talker under the ROS 2 package name."""
+from nodes.demo_nodes.talker import main
+
+__all__ = ['main']
