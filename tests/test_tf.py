@@ -1,0 +1,164 @@
+"""TF2 across processes: a broadcaster in one process, listeners in another; static transforms
+for late joiners; static_transform_publisher's two argument forms; tf2_echo's output.
+
+The broadcaster script plays the TF2 tutorial's turtle: `turtle1` moves in `world` with a
+pose that is a known function of its stamp, so interpolated lookups can be checked exactly.
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import pytest
+
+from conftest import wait_until
+
+T0 = 1000.0       # stamp of sample 0 [s]
+STEP = 0.05       # between samples [s]
+
+TURTLE_BROADCASTER = f'''
+import math, sys, time
+import zros
+from zros.node import Node
+from zros.tf2_ros import TransformBroadcaster, StaticTransformBroadcaster
+from zros.tf_transformations import quaternion_from_euler
+from interfaces.geometry_msgs.msg import TransformStamped
+
+def stamped(parent, child, sec, x, y, yaw):
+    t = TransformStamped()
+    t.header.stamp.sec, t.header.stamp.nanosec = int(sec), int(round((sec - int(sec)) * 1e9))
+    t.header.frame_id, t.child_frame_id = parent, child
+    t.transform.translation.x, t.transform.translation.y = x, y
+    q = quaternion_from_euler(0, 0, yaw)
+    t.transform.rotation.x, t.transform.rotation.y, t.transform.rotation.z, t.transform.rotation.w = map(float, q)
+    return t
+
+with zros.init():
+    node = Node('turtle_tf2_broadcaster')
+    static = StaticTransformBroadcaster(node)
+    static.sendTransform(stamped('turtle1', 'carrot1', 0, -1.0, 0.0, 0.0))   # two separate calls:
+    static.sendTransform(stamped('sea', 'island', 0, 0.0, 0.0, 0.0))         # both must survive
+    tf = TransformBroadcaster(node)
+    k = 0
+    print('broadcasting', flush=True)
+    while zros.ok():
+        tf.sendTransform(stamped('world', 'turtle1', {T0} + k * {STEP}, 0.1 * k, 0.02 * k, 0.03 * k))
+        k += 1
+        time.sleep(0.01)
+'''
+
+
+def _pose(t) -> tuple[float, float, float]:
+    tr, q = t.transform.translation, t.transform.rotation
+    return tr.x, tr.y, 2 * math.atan2(q.z, q.w)
+
+
+@pytest.fixture
+def listener(make_context):
+    from zros.node import Node
+    from zros.tf2_ros import Buffer, TransformListener
+    node = Node('turtle_tf2_listener', context=make_context())
+    buffer = Buffer(node=node)
+    TransformListener(buffer, node)
+    return node, buffer
+
+
+def test_listener_in_another_process_looks_up_latest_past_and_fails_clearly(spawn, listener):
+    from zros.tf2_ros import (ConnectivityException, Duration, ExtrapolationException, LookupException, Time,
+                              TransformException)
+    node, buffer = listener
+    spawn.script(TURTLE_BROADCASTER, name='broadcaster').wait_for_output('broadcasting', timeout=20)
+    assert buffer.can_transform('world', 'carrot1', Time(), timeout=Duration(seconds=10))
+    wait_until(lambda: buffer.lookup_transform('world', 'turtle1', Time()).header.stamp.sec >= T0 + 0.5, 10,
+               message='half a second of turtle poses')
+    latest = buffer.lookup_transform('world', 'turtle1', Time())
+    k = round((latest.header.stamp.sec + latest.header.stamp.nanosec / 1e9 - T0) / STEP)
+    assert _pose(latest) == pytest.approx((0.1 * k, 0.02 * k, 0.03 * k), abs=1e-9)
+    # a past time halfway between two samples: translation and yaw interpolated linearly
+    mid = k - 4.5
+    past = buffer.lookup_transform('world', 'turtle1', Time(seconds=T0 + mid * STEP))
+    assert _pose(past) == pytest.approx((0.1 * mid, 0.02 * mid, 0.03 * mid), abs=1e-6)
+    # the carrot 1 m behind the turtle, through the chain world -> turtle1 -> carrot1
+    carrot = buffer.lookup_transform('world', 'carrot1', Time(seconds=T0 + mid * STEP))
+    yaw = 0.03 * mid
+    assert _pose(carrot)[:2] == pytest.approx((0.1 * mid - math.cos(yaw), 0.02 * mid - math.sin(yaw)), abs=1e-6)
+    with pytest.raises(ExtrapolationException, match='extrapolation into the future'):
+        buffer.lookup_transform('world', 'turtle1', Time(seconds=T0 + 10_000))
+    with pytest.raises(LookupException, match='Frames that exist: carrot1, island, sea, turtle1, world'):
+        buffer.lookup_transform('world', 'turtle9', Time())
+    with pytest.raises(ConnectivityException):
+        buffer.lookup_transform('world', 'island', Time())
+    assert issubclass(ExtrapolationException, TransformException)
+    # the node's tf2_frames service answers with the frames as YAML (what view_frames reads)
+    import yaml
+    from interfaces.tf2_msgs.srv import FrameGraph
+    from zros.executors import SingleThreadedExecutor
+    executor = SingleThreadedExecutor(context=node.context)
+    executor.add_node(node)
+    future = node.create_client(FrameGraph, 'tf2_frames').call_async(FrameGraph.Request())
+    executor.spin_until_future_complete(future, timeout_sec=10)
+    frames = yaml.safe_load(future.result().frame_yaml)
+    assert frames['turtle1']['parent'] == 'world' and frames['carrot1']['parent'] == 'turtle1'
+    assert frames['turtle1']['rate'] == pytest.approx(1 / STEP, rel=0.1)
+
+
+def test_static_frames_reach_a_late_listener_and_listeners_share_one_subscription(spawn, make_context):
+    from zros.node import Node
+    from zros.tf2_ros import Buffer, Time, TransformListener
+    from zros.tf2_ros.listener_hub import TfHub
+    spawn.script(TURTLE_BROADCASTER, name='broadcaster').wait_for_output('broadcasting', timeout=20)
+    time.sleep(0.5)  # the static frames were sent before this process listened
+    context = make_context()
+    first, second = Node('first', context=context), Node('second', context=context)
+    buffers = [Buffer(), Buffer()]
+    TransformListener(buffers[0], first)
+    for buffer in buffers[:1]:
+        assert buffer.can_transform('turtle1', 'carrot1', Time(), timeout=10)
+        assert buffer.can_transform('sea', 'island', Time(), timeout=10)
+    # a listener made later in the same process gets the static frames at once from the hub
+    TransformListener(buffers[1], second)
+    assert buffers[1].can_transform('turtle1', 'carrot1', Time()) and buffers[1].can_transform('sea', 'island', Time())
+    assert buffers[1].can_transform('world', 'turtle1', Time(), timeout=5)
+    hub = TfHub.for_context(context)
+    assert len(hub._subscribers) == 2 and len(hub._targets[False]) == 2
+    # both nodes show up as /tf subscribers in the graph
+    wait_until(lambda: sorted(e.node_name for e in second.get_subscriptions_info_by_topic('/tf')
+                              if e.node_name in ('first', 'second')) == ['first', 'second'], 5,
+               message='both listeners in the graph')
+    second.destroy_node()
+    assert len(hub._targets[False]) == 1 and len(hub._subscribers) == 2
+
+
+def test_static_transform_publisher_both_forms_and_tf2_echo(spawn, zros_cli):
+    spawn.node('tf2_ros', 'static_transform_publisher', '--x', '1', '--y', '2', '--z', '0.5', '--yaw', '1.5707963267948966',
+               '--frame-id', 'base_link', '--child-frame-id', 'laser').wait_for_output('Spinning until stopped')
+    old = spawn.node('tf2_ros', 'static_transform_publisher', '0.1', '0', '0', '0', '0', '0', '1', 'laser', 'lens')
+    old.wait_for_output("from 'laser' to 'lens'")
+    assert 'Old-style arguments are deprecated' in old.output()
+    assert "rotation: ('0.000000', '0.000000', '0.000000', '1.000000')" in old.output()
+    echo = spawn.node('tf2_ros', 'tf2_echo', 'base_link', 'lens', '10')
+    out = echo.wait_for_output('- Matrix:', timeout=20)
+    block = out[out.index('At time'):]
+    lines = block.splitlines()[:10]
+    assert lines[1:6] == ['- Translation: [1.000, 2.100, 0.500]',
+                          '- Rotation: in Quaternion [0.000, 0.000, 0.707, 0.707]',
+                          '- Rotation: in RPY (radian) [0.000, -0.000, 1.571]',
+                          '- Rotation: in RPY (degree) [0.000, -0.000, 90.000]',
+                          '- Matrix:'], block
+    assert lines[6:10] == ['  0.000 -1.000  0.000  1.000', '  1.000  0.000  0.000  2.100',
+                           '  0.000  0.000  1.000  0.500', '  0.000  0.000  0.000  1.000'], block
+    bad = zros_cli('run', 'tf2_ros', 'static_transform_publisher', '--x', 'one', '--frame-id', 'a', '--child-frame-id', 'b')
+    assert bad.returncode == 1 and 'Failed to parse --x argument as float' in bad.stderr
+    assert len(bad.stderr.strip().splitlines()) == 1 and 'Traceback' not in bad.stderr
+    bad = zros_cli('run', 'tf2_ros', 'static_transform_publisher', '--frame-id', 'a')
+    assert bad.returncode == 1 and 'Child frame id must not be empty' in bad.stderr
+
+
+def test_non_normalised_quaternion_is_normalised_and_warned_once(spawn):
+    spawn.node('tf2_ros', 'static_transform_publisher', '--qz', '1', '--qw', '1', '--frame-id', 'a',
+               '--child-frame-id', 'b').wait_for_output('Spinning until stopped')
+    echo = spawn.node('tf2_ros', 'tf2_echo', 'a', 'b', '20')
+    wait_until(lambda: echo.output().count('- Matrix:') >= 3, 20, message=lambda: f'three echoes:\n{echo.output()}')
+    out = echo.output()
+    assert '- Rotation: in Quaternion [0.000, 0.000, 0.707, 0.707]' in out
+    assert out.count('TF_DENORMALIZED_QUATERNION') == 1, out

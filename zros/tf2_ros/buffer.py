@@ -1,0 +1,176 @@
+"""tf2_ros.Buffer: the frame tree (BufferCore) plus waiting, futures and message transforms.
+
+A TransformListener fills the buffer from Zenoh's receive thread, so a blocking
+`lookup_transform(..., timeout=...)` inside a callback works even on a single-threaded
+executor (rclpy needs `spin_thread=True` or a second executor for that). Waits block on a
+condition that every insert signals, not on a 20 ms poll. Timeouts are wall-clock time, as
+rclpy's are.
+"""
+from __future__ import annotations
+
+import threading
+import time as _time
+from typing import Any, Callable
+
+from zros.duration import Duration
+from zros.task import Future
+from zros.tf2_ros.buffer_core import BufferCore
+from zros.tf2_ros.exceptions import TransformException
+from zros.time import Time
+
+__all__ = ['Buffer', 'Duration', 'Time']
+
+
+def _timeout_seconds(timeout: Any) -> float:
+    if timeout is None:
+        return 0.0
+    if isinstance(timeout, Duration):
+        return timeout.nanoseconds / 1e9
+    if isinstance(timeout, (int, float)):
+        return float(timeout)
+    return Duration.from_msg(timeout).nanoseconds / 1e9
+
+
+class Buffer(BufferCore):
+    """Stores known frames; with `node`, serves them on `tf2_frames` (tf2_msgs/srv/FrameGraph)."""
+
+    def __init__(self, cache_time: Duration | None = None, node: Any = None) -> None:
+        super().__init__(cache_time)
+        self._changed = threading.Condition(threading.Lock())
+        self._waiters = 0
+        self._new_data_callbacks: list[Callable[[], None]] = []
+        self._callbacks_lock = threading.Lock()
+        self.srv = None
+        if node is not None:
+            from interfaces.tf2_msgs.srv import FrameGraph
+
+            def frames(request: Any, response: Any) -> Any:
+                response.frame_yaml = self.all_frames_as_yaml()
+                return response
+            self.srv = node.create_service(FrameGraph, 'tf2_frames', frames)
+
+    # -- waiting -------------------------------------------------------------------------------
+    def _on_new_data(self) -> None:
+        if self._waiters:
+            with self._changed:
+                self._changed.notify_all()
+        if self._new_data_callbacks:
+            with self._callbacks_lock:
+                callbacks = list(self._new_data_callbacks)
+            for callback in callbacks:
+                callback()
+
+    def _wait(self, check: Callable[[], tuple[bool, str]], timeout: Any) -> tuple[bool, str]:
+        """Re-check `check` after each insert until it holds or `timeout` passes. The waiter is
+        counted before each check, so an insert that lands in between still wakes it."""
+        seconds = _timeout_seconds(timeout)
+        if seconds <= 0:
+            return check()
+        deadline = _time.monotonic() + seconds
+        with self._changed:
+            self._waiters += 1
+            try:
+                while True:
+                    result = check()
+                    remaining = deadline - _time.monotonic()
+                    if result[0] or remaining <= 0:
+                        return result
+                    self._changed.wait(remaining)
+            finally:
+                self._waiters -= 1
+
+    def can_transform(self, target_frame: str, source_frame: str, time: Any, timeout: Any = None,
+                      return_debug_tuple: bool = False) -> bool | tuple[bool, str]:
+        """Whether the transform can be looked up, waiting up to `timeout` for it."""
+        result = self._wait(lambda: self.can_transform_core(target_frame, source_frame, time), timeout)
+        return result if return_debug_tuple else result[0]
+
+    def can_transform_full(self, target_frame: str, target_time: Any, source_frame: str, source_time: Any,
+                           fixed_frame: str, timeout: Any = None,
+                           return_debug_tuple: bool = False) -> bool | tuple[bool, str]:
+        result = self._wait(lambda: self.can_transform_full_core(target_frame, target_time, source_frame,
+                                                                 source_time, fixed_frame), timeout)
+        return result if return_debug_tuple else result[0]
+
+    # -- lookups -------------------------------------------------------------------------------
+    def lookup_transform(self, target_frame: str, source_frame: str, time: Any, timeout: Any = None) -> Any:
+        """The TransformStamped taking data from `source_frame` into `target_frame` at `time`
+        (Time() = the latest time all links are known), waiting up to `timeout`.
+
+        Raises:
+            LookupException, ConnectivityException, ExtrapolationException: as tf2, once the
+            timeout has passed; the message says what is missing.
+        """
+        if _timeout_seconds(timeout) > 0:
+            self.can_transform(target_frame, source_frame, time, timeout)
+        return self.lookup_transform_core(target_frame, source_frame, time)
+
+    def lookup_transform_full(self, target_frame: str, target_time: Any, source_frame: str, source_time: Any,
+                              fixed_frame: str, timeout: Any = None) -> Any:
+        if _timeout_seconds(timeout) > 0:
+            self.can_transform_full(target_frame, target_time, source_frame, source_time, fixed_frame, timeout)
+        return self.lookup_transform_full_core(target_frame, target_time, source_frame, source_time, fixed_frame)
+
+    def wait_for_transform_async(self, target_frame: str, source_frame: str, time: Any) -> Future:
+        """A Future that completes with True once the transform can be looked up."""
+        return self._future_for(lambda: self.can_transform_core(target_frame, source_frame, time))
+
+    def wait_for_transform_full_async(self, target_frame: str, target_time: Any, source_frame: str,
+                                      source_time: Any, fixed_frame: str) -> Future:
+        return self._future_for(lambda: self.can_transform_full_core(target_frame, target_time, source_frame,
+                                                                     source_time, fixed_frame))
+
+    async def lookup_transform_async(self, target_frame: str, source_frame: str, time: Any) -> Any:
+        await self.wait_for_transform_async(target_frame, source_frame, time)
+        return self.lookup_transform_core(target_frame, source_frame, time)
+
+    async def lookup_transform_full_async(self, target_frame: str, target_time: Any, source_frame: str,
+                                          source_time: Any, fixed_frame: str) -> Any:
+        await self.wait_for_transform_full_async(target_frame, target_time, source_frame, source_time, fixed_frame)
+        return self.lookup_transform_full_core(target_frame, target_time, source_frame, source_time, fixed_frame)
+
+    def _future_for(self, check: Callable[[], tuple[bool, str]]) -> Future:
+        future = Future()
+        if check()[0]:
+            future.set_result(True)
+            return future
+
+        def on_new_data() -> None:
+            if future.done():
+                return
+            try:
+                if check()[0]:
+                    future.set_result(True)
+            except Exception as exc:  # noqa: BLE001 - handed to whoever awaits the future
+                future.set_exception(exc)
+            if future.done():
+                with self._callbacks_lock:
+                    if on_new_data in self._new_data_callbacks:
+                        self._new_data_callbacks.remove(on_new_data)
+
+        with self._callbacks_lock:
+            self._new_data_callbacks.append(on_new_data)
+        on_new_data()  # data may have arrived between the first check and the registration
+        return future
+
+    # -- transforming messages (tf2_ros.BufferInterface) -----------------------------------------
+    def transform(self, object_stamped: Any, target_frame: str, timeout: Any = None, new_type: Any = None) -> Any:
+        """`object_stamped` (PointStamped, PoseStamped, Vector3Stamped, PoseWithCovarianceStamped,
+        PolygonStamped, ...) expressed in `target_frame`, at its own stamp."""
+        from zros.tf2_ros.geometry import do_transform
+        transform = self.lookup_transform(target_frame, object_stamped.header.frame_id,
+                                          object_stamped.header.stamp, timeout)
+        return _convert(do_transform(object_stamped, transform), new_type)
+
+    def transform_full(self, object_stamped: Any, target_frame: str, target_time: Any, fixed_frame: str,
+                       timeout: Any = None, new_type: Any = None) -> Any:
+        from zros.tf2_ros.geometry import do_transform
+        transform = self.lookup_transform_full(target_frame, target_time, object_stamped.header.frame_id,
+                                               object_stamped.header.stamp, fixed_frame, timeout)
+        return _convert(do_transform(object_stamped, transform), new_type)
+
+
+def _convert(msg: Any, new_type: Any) -> Any:
+    if new_type is None or isinstance(msg, new_type):
+        return msg
+    raise TransformException(f'cannot convert {type(msg).__name__} to {getattr(new_type, "__name__", new_type)}')

@@ -1,0 +1,176 @@
+"""One /tf and one /tf_static subscription per process, shared by every TransformListener.
+
+A process with several listeners (several nodes, or a node that makes a listener per helper
+class) would otherwise decode every TF message once per listener. The hub decodes each sample
+once, straight from its MessagePack map (no message objects), and inserts it into every
+registered buffer on Zenoh's receive thread. Static transforms are remembered, so a listener
+created later in the same process gets them at once, as a late-joining process does from the
+transient-local history.
+
+With simulated time, a clock that jumps back (a reset simulation, a looping bag) would leave
+"future" data in the buffers and every lookup would fail; the hub clears a buffer when its
+listener's clock goes back by more than a second, as rclcpp's listener does.
+"""
+from __future__ import annotations
+
+import threading
+import weakref
+from typing import Any
+
+import msgpack
+
+from zros.logging import get_logger
+from zros.wire import read_header, type_tail
+
+__all__ = ['TfHub', 'TF_TOPIC', 'TF_STATIC_TOPIC']
+
+TF_TOPIC = '/tf'
+TF_STATIC_TOPIC = '/tf_static'
+_AUTHORITY = 'default_authority'
+_JUMP_BACK_NS = 1_000_000_000
+
+_hubs: 'weakref.WeakKeyDictionary[Any, TfHub]' = weakref.WeakKeyDictionary()
+_hubs_lock = threading.Lock()
+_logger = get_logger('tf2_listener')
+
+
+class _Target:
+    """A registered buffer and the clock of the listener that registered it."""
+
+    __slots__ = ('buffer', 'clock', 'last_now')
+
+    def __init__(self, buffer: Any, clock: Any) -> None:
+        self.buffer, self.clock, self.last_now = buffer, clock, 0
+
+    def check_clock(self) -> None:
+        clock = self.clock
+        if clock is None or not getattr(clock, 'ros_time_is_active', False):
+            return
+        now = clock.now().nanoseconds
+        if now + _JUMP_BACK_NS < self.last_now:
+            _logger.warn('Detected jump back in time. Clearing TF buffer.')
+            self.buffer.clear()
+        self.last_now = now
+
+
+class TfHub:
+    """Made on demand by `TfHub.for_context`; closed when the context shuts down."""
+
+    def __init__(self, context: Any) -> None:
+        from interfaces.tf2_msgs.msg import TFMessage
+        self._context = context
+        self._tail = type_tail(TFMessage)
+        self._lock = threading.Lock()
+        self._targets: dict[bool, tuple[_Target, ...]] = {False: (), True: ()}
+        self._subscribers: dict[bool, Any] = {}
+        self._static: dict[str, tuple[str, str, int, tuple]] = {}
+        self._complained: set[bytes] = set()
+        context.on_shutdown(self.close)
+
+    @classmethod
+    def for_context(cls, context: Any) -> 'TfHub':
+        with _hubs_lock:
+            hub = _hubs.get(context)
+            if hub is None:
+                hub = _hubs[context] = cls(context)
+            return hub
+
+    def attach(self, buffer: Any, clock: Any, static: bool) -> None:
+        """Start feeding `buffer` from /tf (static=False) or /tf_static (static=True)."""
+        with self._lock:
+            if any(t.buffer is buffer for t in self._targets[static]):
+                return
+            self._targets[static] = self._targets[static] + (_Target(buffer, clock),)
+            if static not in self._subscribers:
+                self._subscribers[static] = self._declare(static)
+            replay = list(self._static.values()) if static else []
+        if replay:
+            buffer._insert_many(replay, _AUTHORITY, True, b'')
+
+    def detach(self, buffer: Any, static: bool) -> None:
+        with self._lock:
+            self._targets[static] = tuple(t for t in self._targets[static] if t.buffer is not buffer)
+            if self._targets[static]:
+                return
+            subscriber = self._subscribers.pop(static, None)
+        _undeclare(subscriber)
+
+    def close(self) -> None:
+        with self._lock:
+            subscribers = list(self._subscribers.values())
+            self._subscribers.clear()
+            self._targets = {False: (), True: ()}
+        for subscriber in subscribers:
+            _undeclare(subscriber)
+        with _hubs_lock:
+            _hubs.pop(self._context, None)
+
+    def _declare(self, static: bool) -> Any:
+        import zenoh.ext
+        from zros.keys import topic_key
+        session = self._context.session
+        if static:
+            key = topic_key(self._context.domain_id, TF_STATIC_TOPIC)
+            return zenoh.ext.declare_advanced_subscriber(
+                session, key, self._on_static,
+                history=zenoh.ext.HistoryConfig(detect_late_publishers=True, max_samples=100),
+                subscriber_detection=True)
+        return session.declare_subscriber(topic_key(self._context.domain_id, TF_TOPIC), self._on_tf)
+
+    # Zenoh threads ------------------------------------------------------------------------------
+    def _on_tf(self, sample: Any) -> None:
+        decoded = self._decode(sample, TF_TOPIC)
+        if decoded is None:
+            return
+        writer, items = decoded
+        for target in self._targets[False]:
+            target.check_clock()
+            target.buffer._insert_many(items, _AUTHORITY, False, writer)
+
+    def _on_static(self, sample: Any) -> None:
+        decoded = self._decode(sample, TF_STATIC_TOPIC)
+        if decoded is None:
+            return
+        writer, items = decoded
+        with self._lock:
+            for item in items:
+                self._static[item[0]] = item
+        for target in self._targets[True]:
+            target.buffer._insert_many(items, _AUTHORITY, True, writer)
+
+    def _decode(self, sample: Any, topic: str) -> tuple[bytes, list] | None:
+        attachment = sample.attachment
+        attachment = attachment.to_bytes() if attachment is not None else b''
+        header = read_header(attachment)
+        writer = header[0] if header is not None else b''
+        if header is not None and header[3] != self._tail:
+            from zros.wire import describe_type
+            self._complain(writer, f'a publisher sends {describe_type(header[3])[0]}, expected tf2_msgs/msg/TFMessage',
+                           topic)
+            return None
+        try:
+            items = []
+            for t in msgpack.unpackb(sample.payload.to_bytes())['transforms']:
+                h, tr = t['header'], t['transform']
+                s, p, q = h['stamp'], tr['translation'], tr['rotation']
+                items.append((t['child_frame_id'], h['frame_id'], s['sec'] * 1_000_000_000 + s['nanosec'],
+                              (float(p['x']), float(p['y']), float(p['z']),
+                               float(q['x']), float(q['y']), float(q['z']), float(q['w']))))
+        except Exception as exc:  # noqa: BLE001 - a corrupt or foreign payload must not kill the listener
+            self._complain(writer, f'payload is not a valid TFMessage ({type(exc).__name__}: {exc})', topic)
+            return None
+        return writer, items
+
+    def _complain(self, writer: bytes, reason: str, topic: str) -> None:
+        if writer not in self._complained:
+            self._complained.add(writer)
+            _logger.error(f"dropping messages on '{topic}': {reason} (reported once per publisher)")
+
+
+def _undeclare(subscriber: Any) -> None:
+    if subscriber is None:
+        return
+    try:
+        subscriber.undeclare()
+    except Exception:  # noqa: BLE001 - the session may be closing already
+        pass
