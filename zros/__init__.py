@@ -9,6 +9,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from zros.context import Context, get_default_context
+from zros.parameter import Parameter
 
 if TYPE_CHECKING:
     from zros.executors import Executor
@@ -16,7 +17,7 @@ if TYPE_CHECKING:
     from zros.task import Future
 
 __all__ = ['init', 'ok', 'shutdown', 'try_shutdown', 'spin', 'spin_once', 'spin_until_future_complete',
-           'create_node', 'get_global_executor', 'get_default_context', 'Context', 'utilities']
+           'create_node', 'get_global_executor', 'get_default_context', 'Context', 'Parameter', 'utilities']
 
 __version__ = '0.1.0'
 

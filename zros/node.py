@@ -37,7 +37,8 @@ class Node:
                  namespace: str | None = None, use_global_arguments: bool = True,
                  enable_rosout: bool = True, start_parameter_services: bool = True,
                  parameter_overrides: list | None = None, allow_undeclared_parameters: bool = False,
-                 automatically_declare_parameters_from_overrides: bool = False) -> None:
+                 automatically_declare_parameters_from_overrides: bool = False,
+                 enable_logger_service: bool = False) -> None:
         self._context = context or get_default_context()
         if not self._context.ok():
             raise NotInitializedError('zros is not initialized: call zros.init() before creating a node')
@@ -92,6 +93,9 @@ class Node:
         if start_parameter_services:
             from zros.parameter_service import ParameterService
             ParameterService(self)
+        if enable_logger_service:
+            from zros.logging_service import LoggingService
+            LoggingService(self)
 
     # -- identity --------------------------------------------------------------------------
     def _logger_name(self) -> str:
