@@ -162,3 +162,20 @@ def test_non_normalised_quaternion_is_normalised_and_warned_once(spawn):
     out = echo.output()
     assert '- Rotation: in Quaternion [0.000, 0.000, 0.707, 0.707]' in out
     assert out.count('TF_DENORMALIZED_QUATERNION') == 1, out
+
+
+def test_view_frames_writes_every_frame(spawn, zros_cli, tmp_path):
+    spawn.script(TURTLE_BROADCASTER, name='broadcaster').wait_for_output('broadcasting', timeout=20)
+    result = zros_cli('run', 'tf2_tools', 'view_frames', '-t', '1.5', '-o', str(tmp_path / 'frames'), timeout=30)
+    assert result.returncode == 0, result
+    dot = (tmp_path / 'frames.gv').read_text()
+    for edge in ('"world" -> "turtle1"', '"turtle1" -> "carrot1"', '"sea" -> "island"'):
+        assert edge in dot, dot
+    assert 'Average rate: ' in dot and 'view_frames Result' in dot
+    picture = tmp_path / ('frames.pdf' if (tmp_path / 'frames.pdf').exists() else 'frames.svg')
+    if picture.suffix == '.svg':
+        import xml.etree.ElementTree as ET
+        texts = {t.text for t in ET.parse(picture).iter('{http://www.w3.org/2000/svg}text')}
+        assert {'world', 'turtle1', 'carrot1', 'sea', 'island'} <= texts
+    else:
+        assert picture.read_bytes().startswith(b'%PDF')
