@@ -1,12 +1,14 @@
-"""Recording and playing back topics: `zros bag record|play|info` on MCAP files.
+"""Recording and playing back topics: `zros bag record|play|info|convert`.
 
-A recording is a directory (ros2 bag's layout) holding one `.mcap` file and a small
+A zros recording is a directory (ros2 bag's layout) holding one `.mcap` file and a small
 `metadata.yaml`. Each topic is one MCAP channel whose message encoding is `msgpack` (the zros
 payload, stored byte for byte as it arrived) and whose schema is the message definition in
-ROS 2's concatenated `ros2msg` form, so any MCAP tool can list, decode and plot it. Log time is
-the receive time, publish time the sender's source timestamp. See docs/bag.md.
+ROS 2's concatenated `ros2msg` form. Log time is the receive time, publish time the sender's
+source timestamp. ROS tools cannot decode MessagePack, so `--format cdr` writes a rosbag2 bag
+instead (`zros.bag.rosbag2`, CDR from `zros.bag.cdr`), and rosbag2 bags from ROS 2 (MCAP or
+SQLite 3) are read and played. See docs/bag.md.
 
-Only `zros.bag.definition` is light; the writer and reader import `mcap` when used.
+Only `zros.bag.definition` is light; the writers and readers import `mcap` / `rosbags` when used.
 """
 from __future__ import annotations
 

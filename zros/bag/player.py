@@ -2,7 +2,9 @@
 
 Messages go out in log-time order; message k is sent at `start + (t_k - t_0) / rate` on the
 monotonic clock, so inter-message gaps match the recording (scaled by `rate`) and do not drift.
-The bytes published are the recorded payloads, unchanged. With `clock_hz`, `/clock`
+A zros bag's payloads are published unchanged; a ROS 2 bag's CDR payloads are decoded
+(zros.bag.cdr) and published as zros messages, so a rosbag2 recording from a real robot replays
+into zros. With `clock_hz`, `/clock`
 (rosgraph_msgs/msg/Clock) carries the bag's time at that rate, so `use_sim_time` nodes follow
 the recording.
 """
@@ -13,6 +15,7 @@ import threading
 import time
 from typing import Any, Callable
 
+from zros.bag.cdr import CDR_ENCODING, CdrCodec
 from zros.bag.errors import BagError
 
 __all__ = ['Player', 'PLAYER_NODE_NAME', 'raw_publisher']
@@ -48,13 +51,13 @@ class Player:
                  topics: list[str] | None = None, clock_hz: float | None = None, delay: float = 0.0,
                  start_offset: float = 0.0, log: Callable[[str], None] | None = None,
                  stop_event: threading.Event | None = None) -> None:
-        from zros.bag.reader import BagReader
+        from zros.bag.reader import open_bag
         if rate <= 0:
             raise BagError('--rate must be > 0')
         if clock_hz is not None and clock_hz <= 0:
             raise BagError('--clock rate must be > 0')
         self._context = context
-        self._reader = BagReader(path)
+        self._reader = open_bag(path)
         self._summary = self._reader.summary()
         self._rate = rate
         self._loop = loop
@@ -70,6 +73,9 @@ class Player:
         self._topics = list(topics) if topics else sorted(known)
         self._stop = stop_event or threading.Event()
         self.published = 0
+        #: topic -> CDR messages skipped because they did not decode
+        self.undecodable: dict[str, int] = {}
+        self._codec: CdrCodec | None = None
 
     def stop(self) -> None:
         self._stop.set()
@@ -95,27 +101,58 @@ class Player:
 
     # -- set-up -------------------------------------------------------------------------------
     def _make_publishers(self, node: Any) -> dict[str, Callable[[bytes], None]]:
+        from zros.bag.definition import MESSAGE_ENCODING
         from zros.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
         from zros.typesupport import get_message
         senders = {}
         for info in self._summary.topics:
             if info.name not in self._topics:
                 continue
+            if info.encoding not in (MESSAGE_ENCODING, CDR_ENCODING):
+                self._log(f"[WARN] not playing '{info.name}': its messages are encoded as '{info.encoding}', "
+                          f'which zros cannot decode ({MESSAGE_ENCODING} and {CDR_ENCODING} can be played)')
+                continue
             try:
                 msg_type = get_message(info.type)
             except Exception as exc:  # noqa: BLE001 - an unknown type skips that topic
                 self._log(f"[WARN] not playing '{info.name}': {exc}")
                 continue
-            if info.type_hash and info.type_hash != msg_type._HASH:
-                self._log(f"[WARN] '{info.name}': the definition of {info.type} changed since the recording "
-                          f'(hash {info.type_hash}, now {msg_type._HASH}); subscribers may reject it')
             recorded = QoSProfile.from_token(info.qos) if info.qos else QoSProfile()
             qos = QoSProfile(depth=max(recorded.queue_depth, 10) if recorded.history == HistoryPolicy.KEEP_LAST else 10,
                              reliability=recorded.reliability,
                              durability=recorded.durability if recorded.durability == DurabilityPolicy.TRANSIENT_LOCAL
                              else DurabilityPolicy.VOLATILE)
-            senders[info.name] = raw_publisher(node.create_publisher(msg_type, info.name, qos))
+            publisher = node.create_publisher(msg_type, info.name, qos)
+            if info.encoding == CDR_ENCODING:
+                senders[info.name] = self._cdr_sender(info, msg_type, publisher)
+                continue
+            if info.type_hash and info.type_hash != msg_type._HASH:
+                self._log(f"[WARN] '{info.name}': the definition of {info.type} changed since the recording "
+                          f'(hash {info.type_hash}, now {msg_type._HASH}); subscribers may reject it')
+            senders[info.name] = raw_publisher(publisher)
         return senders
+
+    def _cdr_sender(self, info: Any, msg_type: type, publisher: Any) -> Callable[[bytes], None]:
+        """Decodes each CDR payload with zros's definition of the type and publishes it; a payload
+        that does not decode is skipped (one warning per topic, the count at the end)."""
+        if self._codec is None:
+            self._codec = CdrCodec()
+        codec = self._codec
+        ours = codec.rihs01(info.type)
+        if info.type_hash.startswith('RIHS01_') and info.type_hash != ours:
+            self._log(f"[WARN] '{info.name}': the bag's definition of {info.type} differs from zros's "
+                      f'({info.type_hash} vs {ours}); decoding with zros\'s may fail')
+
+        def send(data: bytes) -> None:
+            try:
+                msg = codec.deserialize(data, msg_type)
+            except BagError as exc:
+                if info.name not in self.undecodable:
+                    self._log(f"[WARN] '{info.name}': skipping messages that do not decode: {exc}")
+                self.undecodable[info.name] = self.undecodable.get(info.name, 0) + 1
+                return
+            publisher.publish(msg)
+        return send
 
     def _make_clock(self, node: Any) -> Any:
         from zros.typesupport import get_message

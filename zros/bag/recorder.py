@@ -1,7 +1,8 @@
 """`zros bag record`: subscribe to topics as raw payloads and write them to a bag.
 
-Payloads are stored exactly as they arrived (no decode, no re-encode), so play re-publishes
-the original bytes. Samples are taken from Zenoh's threads into the subscriptions' queues and
+In a zros bag, payloads are stored exactly as they arrived (no decode, no re-encode), so play
+re-publishes the original bytes; for a rosbag2 (CDR) bag each one is decoded and re-encoded as
+CDR on the recorder's thread. Samples are taken from Zenoh's threads into the subscriptions' queues and
 written on the recorder's one thread (the MCAP writer is not thread-safe). Stopping (Ctrl-C,
 SIGTERM, --max-duration) first drains what has already arrived, then finishes the file, so
 every message received before the stop is in it.
@@ -13,6 +14,7 @@ import threading
 import time
 from typing import Any, Callable
 
+from zros.bag.definition import MESSAGE_ENCODING
 from zros.bag.errors import BagError
 
 __all__ = ['Recorder', 'RECORDER_NODE_NAME']
@@ -102,6 +104,26 @@ class Recorder:
             node.destroy_node()
             self._writer.close()
 
+    def _encoder(self, topic: str, msg_type: type) -> Callable[[bytes], bytes | None]:
+        """Payload bytes as the bag stores them: unchanged for a zros bag; CDR for a rosbag2
+        one (None, with one warning per topic, for a payload that does not decode)."""
+        if self._writer.encoding == MESSAGE_ENCODING:
+            return lambda payload: payload
+        from zros.errors import DecodeError
+        from zros.message import deserialize
+        codec = self._writer.codec
+        warned = []
+
+        def encode(payload: bytes) -> bytes | None:
+            try:
+                return codec.serialize(deserialize(payload, msg_type))
+            except (DecodeError, BagError, ValueError, TypeError) as exc:
+                if not warned:
+                    warned.append(True)
+                    self._log(f"[WARN] '{topic}': a message could not be converted to CDR, skipped ({exc})")
+                return None
+        return encode
+
     def _subscribe_new(self, node: Any, entities: list) -> None:
         from zros.graph import EntityKind
         from zros.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
@@ -134,12 +156,15 @@ class Recorder:
                              durability=DurabilityPolicy.TRANSIENT_LOCAL if transient else DurabilityPolicy.VOLATILE)
             self._writer.add_topic(name, msg_type._TYPE, type_hash=msg_type._HASH, qos=pubs[0].qos)
             write = self._writer.write
+            encode = self._encoder(name, msg_type)
 
-            def on_message(payload: bytes, info: dict, _topic: str = name) -> None:
+            def on_message(payload: bytes, info: dict, _topic: str = name, _encode=encode) -> None:
                 received = info['received_timestamp']
                 if self._stop_ns is not None and received > self._stop_ns:
                     self._past_stop.add(_topic)
                     return
-                write(_topic, payload, log_time=received, publish_time=info['source_timestamp'] or received)
+                data = _encode(payload)
+                if data is not None:
+                    write(_topic, data, log_time=received, publish_time=info['source_timestamp'] or received)
             self._subscribed[name] = node.create_subscription(msg_type, name, on_message, qos, raw=True)
             self._log(f"Subscribed to topic '{name}' ({msg_type._TYPE})")

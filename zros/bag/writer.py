@@ -14,6 +14,7 @@ from typing import Any
 
 from zros.bag.definition import MESSAGE_ENCODING, PROFILE, SCHEMA_ENCODING, message_definition
 from zros.bag.errors import BagError
+from zros.bag.rosbag2 import qos_profiles, qos_yaml
 
 __all__ = ['BagWriter', 'default_bag_name']
 
@@ -41,6 +42,8 @@ class BagWriter:
     Raises:
         BagError: the directory exists or cannot be created.
     """
+
+    encoding = MESSAGE_ENCODING
 
     def __init__(self, directory: str | os.PathLike[str], *, chunk_size: int = 1 << 20) -> None:
         from mcap.writer import CompressionType, Writer
@@ -80,7 +83,7 @@ class BagWriter:
             schema_id = self._writer.register_schema(type_name, SCHEMA_ENCODING,
                                                      message_definition(type_name).encode())
             self._schemas[type_name] = schema_id
-        metadata = {'type_hash': type_hash, 'offered_qos_profiles': qos}
+        metadata = {'type_hash': type_hash, 'offered_qos_profiles': qos_yaml(qos)}
         channel_id = self._writer.register_channel(name, MESSAGE_ENCODING, schema_id, metadata)
         self._topics[name] = _Topic(channel_id, name, type_name, type_hash, qos)
 
@@ -127,7 +130,8 @@ class BagWriter:
             'message_count': count,
             'topics_with_message_count': [
                 {'topic_metadata': {'name': t.name, 'type': t.type, 'serialization_format': MESSAGE_ENCODING,
-                                    'offered_qos_profiles': t.qos, 'type_description_hash': t.type_hash},
+                                    'offered_qos_profiles': qos_profiles(t.qos),
+                                    'type_description_hash': t.type_hash},
                  'message_count': t.count}
                 for t in self._topics.values()],
             'compression_format': '',

@@ -1,4 +1,4 @@
-"""`zros bag record|play|info`: ros2 bag's verbs on MCAP files (zros.bag)."""
+"""`zros bag record|play|info|convert`: ros2 bag's verbs on zros (MessagePack) and rosbag2 (CDR) bags."""
 from __future__ import annotations
 
 import argparse
@@ -17,12 +17,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     p.add_argument('-a', '--all', action='store_true', help='Record all topics, including ones that appear later')
     p.add_argument('--include-hidden-topics', action='store_true', help='With -a, record hidden topics too')
     p.add_argument('-o', '--output', help='Bag directory to create (default: rosbag2_YYYY_MM_DD-HH_MM_SS)')
-    p.add_argument('-s', '--storage', default='mcap', choices=('mcap',), help='Storage format (only mcap)')
+    p.add_argument('-f', '--format', '--serialization-format', dest='format', default='msgpack',
+                   choices=('msgpack', 'cdr'),
+                   help="Message encoding: 'msgpack' (zros's own, payloads byte for byte; default) or 'cdr' "
+                        '(a rosbag2 bag that ros2 bag, Foxglove, rosbags and mcap_ros2 read)')
+    p.add_argument('-s', '--storage', default='mcap', choices=('mcap', 'sqlite3'),
+                   help='Storage: mcap (default) or sqlite3 (.db3; with --format cdr only)')
     p.add_argument('--max-duration', type=float, metavar='S', help='Stop recording after S seconds')
     p.set_defaults(handler=_one_line_errors(cmd_record))
 
     p = sub.add_parser('play', help='Play back a bag')
-    p.add_argument('bag_path', help='Bag directory or .mcap file')
+    p.add_argument('bag_path', help='Bag directory, .mcap or .db3 file (zros or ROS 2 recordings)')
     p.add_argument('-r', '--rate', type=float, default=1.0, help='Playback speed factor (default 1.0)')
     p.add_argument('-l', '--loop', action='store_true', help='Play the bag again and again until Ctrl-C')
     p.add_argument('--topics', nargs='+', metavar='TOPIC', help='Only play these topics')
@@ -33,9 +38,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     p.set_defaults(handler=_one_line_errors(cmd_play))
 
     p = sub.add_parser('info', help='Print information about a bag')
-    p.add_argument('bag_path', help='Bag directory or .mcap file')
+    p.add_argument('bag_path', help='Bag directory, .mcap or .db3 file')
     p.add_argument('--json', action='store_true', help='Machine-readable output')
     p.set_defaults(handler=_one_line_errors(cmd_info))
+
+    p = sub.add_parser('convert', help='Convert a zros bag to a rosbag2 (CDR) bag or back')
+    p.add_argument('input', help='Bag directory, .mcap or .db3 file to read')
+    p.add_argument('output', help='Bag directory to create')
+    p.add_argument('-f', '--format', '--serialization-format', dest='format', required=True,
+                   choices=('msgpack', 'cdr'), help="Encoding of the new bag: 'cdr' for ROS tools, 'msgpack' for zros")
+    p.add_argument('-s', '--storage', default='mcap', choices=('mcap', 'sqlite3'),
+                   help='Storage of the new bag: mcap (default) or sqlite3 (with --format cdr only)')
+    p.set_defaults(handler=_one_line_errors(cmd_convert))
 
 
 def _one_line_errors(handler):
@@ -81,8 +95,9 @@ class _StopOnSignals:
 
 
 def cmd_record(args: argparse.Namespace) -> int:
+    from zros.bag.convert import open_writer
     from zros.bag.recorder import Recorder
-    from zros.bag.writer import BagWriter, default_bag_name
+    from zros.bag.writer import default_bag_name
     from zros.cli.common import absolute_name, cli_context
     from zros.errors import CliError
     if not args.all and not args.topics:
@@ -95,7 +110,7 @@ def cmd_record(args: argparse.Namespace) -> int:
     # Signals stop the recording from before the file exists, so a Ctrl-C at any moment still
     # leaves a finished file.
     with _StopOnSignals(stop.set), cli_context() as ctx:
-        writer = BagWriter(output)
+        writer = open_writer(output, format=args.format, storage=args.storage)
         try:
             recorder = Recorder(ctx, writer, topics=topics, all_topics=args.all,
                                 include_hidden=args.include_hidden_topics, stop_event=stop)
@@ -117,6 +132,21 @@ def cmd_play(args: argparse.Namespace) -> int:
         player = Player(ctx, args.bag_path, rate=args.rate, loop=args.loop, topics=topics, clock_hz=args.clock,
                         delay=args.delay, start_offset=args.start_offset, stop_event=stop)
         player.run()
+    if player.undecodable:
+        skipped = ', '.join(f'{count} on {topic}' for topic, count in sorted(player.undecodable.items()))
+        print(f'Skipped messages that did not decode: {skipped}', file=sys.stderr)
+        return 1
+    return 0
+
+
+def cmd_convert(args: argparse.Namespace) -> int:
+    from zros.bag.convert import convert
+    written, skipped = convert(args.input, args.output, format=args.format, storage=args.storage,
+                               log=lambda text: print(text, file=sys.stderr, flush=True))
+    print(f"Converted {written} messages to '{args.output}' ({args.format}, {args.storage})")
+    if skipped:
+        print(f'Skipped {skipped} messages that did not decode', file=sys.stderr)
+        return 1
     return 0
 
 
@@ -136,8 +166,8 @@ def _stamp(ns: int) -> str:
 
 
 def cmd_info(args: argparse.Namespace) -> int:
-    from zros.bag.reader import BagReader
-    summary = BagReader(args.bag_path).summary()
+    from zros.bag.reader import open_bag
+    summary = open_bag(args.bag_path).summary()
     duration = summary.end - summary.start
     if args.json:
         print(json.dumps({'files': summary.files, 'size': summary.size, 'storage_id': summary.storage_id,
