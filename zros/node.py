@@ -18,9 +18,11 @@ from zros.names import (Remappings, expand_topic_name, fully_qualified_node_name
                         validate_node_name)
 from zros.arguments import parse_ros_args
 from zros.client import Client
+from zros.event_handler import PublisherEventCallbacks, SubscriptionEventCallbacks, attach_event_callbacks
 from zros.parameter import Parameter
 from zros.parameter_store import ParameterStore
 from zros.publisher import Publisher
+from zros.qos_overriding_options import QoSOverridingOptions, declare_qos_parameters
 from zros.qos import (QoSProfile, qos_profile_default, qos_profile_parameter_events,
                       qos_profile_services_default, to_profile)
 from zros.service import Service
@@ -192,6 +194,8 @@ class Node:
     def _destroy_entity(self, entity: Any) -> bool:
         if self._forget(entity):
             entity.destroy()
+            for handler in getattr(entity, 'event_handlers', ()):
+                self._destroy_entity(handler)
             return True
         return False
 
@@ -200,24 +204,34 @@ class Node:
             raise RuntimeError(f"node '{self._name}' has been destroyed")
 
     def create_publisher(self, msg_type: type, topic: str, qos_profile: QoSProfile | int = qos_profile_default,
-                         *, callback_group: CallbackGroup | None = None, event_callbacks: Any = None,
-                         qos_overriding_options: Any = None, publisher_class: type = Publisher) -> Publisher:
+                         *, callback_group: CallbackGroup | None = None,
+                         event_callbacks: PublisherEventCallbacks | None = None,
+                         qos_overriding_options: QoSOverridingOptions | None = None,
+                         publisher_class: type = Publisher) -> Publisher:
         self._check_alive()
         _require_message_type(msg_type)
-        return self._add(publisher_class(self, msg_type, self.resolve_topic_name(topic), to_profile(qos_profile),
-                                         callback_group or self._default_callback_group))
+        topic = self.resolve_topic_name(topic)
+        qos = declare_qos_parameters(Publisher, self, topic, to_profile(qos_profile), qos_overriding_options)
+        publisher = publisher_class(self, msg_type, topic, qos, callback_group or self._default_callback_group)
+        attach_event_callbacks(publisher, event_callbacks or PublisherEventCallbacks())
+        return self._add(publisher)
 
     def create_subscription(self, msg_type: type, topic: str, callback: Callable,
                             qos_profile: QoSProfile | int = qos_profile_default, *,
-                            callback_group: CallbackGroup | None = None, event_callbacks: Any = None,
-                            qos_overriding_options: Any = None, raw: bool = False) -> Subscription:
+                            callback_group: CallbackGroup | None = None,
+                            event_callbacks: SubscriptionEventCallbacks | None = None,
+                            qos_overriding_options: QoSOverridingOptions | None = None,
+                            raw: bool = False) -> Subscription:
         self._check_alive()
         _require_message_type(msg_type)
         if not callable(callback):
             raise TypeError('subscription callback must be callable')
-        return self._add(Subscription(self, msg_type, self.resolve_topic_name(topic), callback,
-                                      to_profile(qos_profile), callback_group or self._default_callback_group,
-                                      raw=raw))
+        topic = self.resolve_topic_name(topic)
+        qos = declare_qos_parameters(Subscription, self, topic, to_profile(qos_profile), qos_overriding_options)
+        subscription = Subscription(self, msg_type, topic, callback, qos,
+                                    callback_group or self._default_callback_group, raw=raw)
+        attach_event_callbacks(subscription, event_callbacks or SubscriptionEventCallbacks())
+        return self._add(subscription)
 
     def create_timer(self, timer_period_sec: float, callback: Callable[[], Any],
                      callback_group: CallbackGroup | None = None, clock: Any = None,
@@ -287,8 +301,8 @@ class Node:
     def timers(self) -> Iterable[Timer]:
         return list(self._timers)
 
-    def _own_endpoints(self) -> list[Entity]:
-        return [e.handle for e in list(self._entities) if isinstance(e, (Publisher, Subscription))]
+    def _own_endpoint_objects(self) -> list[Publisher | Subscription]:
+        return [e for e in list(self._entities) if isinstance(e, (Publisher, Subscription))]
 
     def _timers_snapshot(self) -> list[Timer]:
         return self._timers[:]

@@ -19,6 +19,8 @@ __all__ = ['Publisher']
 class Publisher(NodeEntity):
     """Made by `Node.create_publisher`; publishes instances of one message type on one topic."""
 
+    _events: Any = None  # zros.event_handler's tracker, when a deadline or liveliness event needs it
+
     def __init__(self, node: 'Node', msg_type: type, topic: str, qos: QoSProfile, callback_group: Any) -> None:
         import zenoh
         import zenoh.ext
@@ -58,6 +60,14 @@ class Publisher(NodeEntity):
         if self._destroyed:
             raise RuntimeError(f"publisher on '{self.topic_name}' has been destroyed")
         self._put(payload, attachment=self._stamp())
+        if self._events is not None:
+            self._events.on_publish()
+
+    def assert_liveliness(self) -> None:
+        """Tell the system this publisher is alive without publishing (MANUAL_BY_TOPIC
+        liveliness: a lease that passes without this or a publish loses liveliness)."""
+        if self._events is not None:
+            self._events.on_assert()
 
     def get_subscription_count(self) -> int:
         return self._node.count_subscribers(self.topic_name)

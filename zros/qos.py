@@ -2,7 +2,8 @@
 
 A profile is frozen plain data so it can be shared, hashed and written into a liveliness
 token (`to_token` / `from_token`), which is how `zros topic info -v` and the incompatibility
-check learn what the other side asked for.
+check (and the incompatible-QoS events of zros.event_handler) learn what the other side asked
+for.
 
 Mapping to Zenoh (see docs/protocol.md):
 - RELIABLE -> Zenoh reliable + CongestionControl.BLOCK: the publisher waits rather than lose a
@@ -16,8 +17,11 @@ from __future__ import annotations
 import enum
 from dataclasses import dataclass, replace
 
+from zros.duration import Duration
+
 __all__ = [
-    'HistoryPolicy', 'ReliabilityPolicy', 'DurabilityPolicy', 'LivelinessPolicy',
+    'HistoryPolicy', 'ReliabilityPolicy', 'DurabilityPolicy', 'LivelinessPolicy', 'QoSPolicyKind',
+    'qos_policy_name_from_kind', 'qos_incompatibilities',
     'QoSProfile', 'QoSPresetProfiles', 'Duration',
     'qos_profile_default', 'qos_profile_sensor_data', 'qos_profile_services_default',
     'qos_profile_parameters', 'qos_profile_parameter_events', 'qos_profile_system_default',
@@ -64,12 +68,23 @@ QoSDurabilityPolicy = DurabilityPolicy
 QoSLivelinessPolicy = LivelinessPolicy
 
 
-@dataclass(frozen=True)
-class Duration:
-    """A QoS duration (deadline, lifespan, lease); zeros mean 'unset / infinite'."""
+class QoSPolicyKind(enum.IntEnum):
+    """Which policy an incompatible-QoS event is about (rmw's bit values)."""
 
-    seconds: int = 0
-    nanoseconds: int = 0
+    INVALID = 1 << 0
+    DURABILITY = 1 << 1
+    DEADLINE = 1 << 2
+    LIVELINESS = 1 << 3
+    RELIABILITY = 1 << 4
+    HISTORY = 1 << 5
+    LIFESPAN = 1 << 6
+    DEPTH = 1 << 7
+    LIVELINESS_LEASE_DURATION = 1 << 8
+    AVOID_ROS_NAMESPACE_CONVENTIONS = 1 << 9
+
+
+def qos_policy_name_from_kind(policy_kind: 'QoSPolicyKind | int') -> str:
+    return QoSPolicyKind(policy_kind).name
 
 
 #: Keep-all subscriptions still need a bound in Python memory; this is it.
@@ -78,7 +93,9 @@ KEEP_ALL_DEPTH = 100_000
 
 @dataclass(frozen=True)
 class QoSProfile:
-    """A ROS 2 QoS profile. `QoSProfile(depth=10)` is the ROS default profile."""
+    """A ROS 2 QoS profile. `QoSProfile(depth=10)` is the ROS default profile. The durations
+    (zros.duration.Duration, as rclpy's) are 0 for 'not set': no deadline, infinite lifespan
+    and lease."""
 
     history: HistoryPolicy = HistoryPolicy.KEEP_LAST
     depth: int = 10
@@ -116,21 +133,36 @@ class QoSProfile:
         return KEEP_ALL_DEPTH if self.history == HistoryPolicy.KEEP_ALL else self.depth
 
     def to_token(self) -> str:
-        """Compact text for liveliness tokens: `R|B : V|T : L<depth>|A`."""
+        """Compact text for liveliness tokens: `R|B : V|T : L<depth>|A`, then only what is
+        not the default: `:D<ns>` deadline, `:S<ns>` lifespan, `:M` manual-by-topic
+        liveliness, `:E<ns>` liveliness lease duration."""
         rel = 'B' if self.reliability == ReliabilityPolicy.BEST_EFFORT else 'R'
         dur = 'T' if self.durability == DurabilityPolicy.TRANSIENT_LOCAL else 'V'
         hist = 'A' if self.history == HistoryPolicy.KEEP_ALL else f'L{self.depth}'
-        return f'{rel}:{dur}:{hist}'
+        parts = [rel, dur, hist]
+        for tag, value in (('D', self.deadline), ('S', self.lifespan)):
+            if value.nanoseconds > 0:
+                parts.append(f'{tag}{value.nanoseconds}')
+        if self.liveliness == LivelinessPolicy.MANUAL_BY_TOPIC:
+            parts.append('M')
+        if self.liveliness_lease_duration.nanoseconds > 0:
+            parts.append(f'E{self.liveliness_lease_duration.nanoseconds}')
+        return ':'.join(parts)
 
     @classmethod
     def from_token(cls, text: str) -> 'QoSProfile':
         try:
-            rel, dur, hist = text.split(':')
+            rel, dur, hist, *extra = text.split(':')
+            durations = {'D': 'deadline', 'S': 'lifespan', 'E': 'liveliness_lease_duration'}
+            optional = {durations[item[0]]: Duration(nanoseconds=int(item[1:]))
+                        for item in extra if item[:1] in durations}
             return cls(
                 reliability=ReliabilityPolicy.BEST_EFFORT if rel == 'B' else ReliabilityPolicy.RELIABLE,
                 durability=DurabilityPolicy.TRANSIENT_LOCAL if dur == 'T' else DurabilityPolicy.VOLATILE,
                 history=HistoryPolicy.KEEP_ALL if hist == 'A' else HistoryPolicy.KEEP_LAST,
                 depth=0 if hist == 'A' else int(hist[1:]),
+                liveliness=LivelinessPolicy.MANUAL_BY_TOPIC if 'M' in extra else LivelinessPolicy.AUTOMATIC,
+                **optional,
             )
         except (ValueError, IndexError):
             return cls()
@@ -176,16 +208,42 @@ class QoSCompatibility(enum.IntEnum):
     ERROR = 2
 
 
+def qos_incompatibilities(publisher: QoSProfile, subscription: QoSProfile) -> list[tuple[QoSPolicyKind, str]]:
+    """Every DDS request/offer rule the pair breaks, as (policy, rmw's reason text)."""
+    found = []
+    if (publisher.reliability == ReliabilityPolicy.BEST_EFFORT
+            and subscription.reliability == ReliabilityPolicy.RELIABLE):
+        found.append((QoSPolicyKind.RELIABILITY, 'ERROR: Best effort publisher and reliable subscription;'))
+    if (publisher.durability == DurabilityPolicy.VOLATILE
+            and subscription.durability == DurabilityPolicy.TRANSIENT_LOCAL):
+        found.append((QoSPolicyKind.DURABILITY, 'ERROR: Volatile publisher and transient local subscription;'))
+    offered, requested = publisher.deadline.nanoseconds, subscription.deadline.nanoseconds
+    if requested and not offered:
+        found.append((QoSPolicyKind.DEADLINE, 'ERROR: Subscription has a deadline, but publisher does not;'))
+    elif requested and offered > requested:
+        found.append((QoSPolicyKind.DEADLINE, 'ERROR: Subscription deadline is less than publisher deadline;'))
+    if (publisher.liveliness == LivelinessPolicy.AUTOMATIC
+            and subscription.liveliness == LivelinessPolicy.MANUAL_BY_TOPIC):
+        found.append((QoSPolicyKind.LIVELINESS,
+                      'ERROR: Publisher\'s liveliness is automatic and subscription\'s is manual by topic;'))
+    offered, requested = (publisher.liveliness_lease_duration.nanoseconds,
+                          subscription.liveliness_lease_duration.nanoseconds)
+    if requested and not offered:
+        found.append((QoSPolicyKind.LIVELINESS_LEASE_DURATION,
+                      'ERROR: Subscription has a liveliness lease duration, but publisher does not;'))
+    elif requested and offered > requested:
+        found.append((QoSPolicyKind.LIVELINESS_LEASE_DURATION,
+                      'ERROR: Subscription liveliness lease duration is less than publisher;'))
+    return found
+
+
 def qos_check_compatible(publisher: QoSProfile, subscription: QoSProfile) -> tuple[QoSCompatibility, str]:
     """The DDS request/offer rules ROS 2 reports (rclpy.qos.qos_check_compatible).
 
     zros still delivers across such pairs where Zenoh can, but reports them so that a ROS 2
     user sees the same warnings (and `zros doctor` can list them).
     """
-    if (publisher.reliability == ReliabilityPolicy.BEST_EFFORT
-            and subscription.reliability == ReliabilityPolicy.RELIABLE):
-        return QoSCompatibility.ERROR, 'ERROR: Best effort publisher and reliable subscription;'
-    if (publisher.durability == DurabilityPolicy.VOLATILE
-            and subscription.durability == DurabilityPolicy.TRANSIENT_LOCAL):
-        return QoSCompatibility.ERROR, 'ERROR: Volatile publisher and transient local subscription;'
+    found = qos_incompatibilities(publisher, subscription)
+    if found:
+        return QoSCompatibility.ERROR, ' '.join(reason for _, reason in found)
     return QoSCompatibility.OK, ''

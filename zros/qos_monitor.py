@@ -1,16 +1,18 @@
-"""Reports incompatible QoS pairs the way ROS 2 does, once per pair, from graph changes.
+"""Watches the graph for one node's publishers and subscriptions: incompatible QoS pairs (each
+reported once, as ROS 2 does) and the matches that the QoS events of zros.event_handler report.
 
-ROS 2 (DDS) silently matches nothing across such a pair and tells the user in a warning.
-Zenoh still connects the two, so zros delivers the messages; the warning says that too, so a
-system that will later run on ROS 2 is not surprised.
+ROS 2 (DDS) silently matches nothing across an incompatible pair and tells the user in a
+warning. Zenoh still connects the two, so zros delivers the messages; the warning says that
+too, so a system that will later run on ROS 2 is not surprised.
 """
 from __future__ import annotations
 
 import threading
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
+from zros.event_handler import graph_changed, report_incompatible_qos
 from zros.graph import Entity, EntityKind
-from zros.qos import QoSCompatibility, QoSProfile, qos_check_compatible
+from zros.qos import QoSProfile, qos_incompatibilities
 
 if TYPE_CHECKING:
     from zros.node import Node
@@ -18,12 +20,8 @@ if TYPE_CHECKING:
 __all__ = ['QoSMonitor']
 
 
-def _policy(reason: str) -> str:
-    return 'RELIABILITY' if 'eliab' in reason or 'effort' in reason.lower() else 'DURABILITY'
-
-
 class QoSMonitor:
-    """Watches the graph for endpoints that do not match this node's publishers/subscriptions."""
+    """One graph listener per node, for all its endpoints."""
 
     def __init__(self, node: 'Node') -> None:
         self._node = node
@@ -43,30 +41,22 @@ class QoSMonitor:
             others = self._node.context.graph.entities()
         except Exception:  # noqa: BLE001 - called from Zenoh threads while shutting down
             return
-        for mine in self._node._own_endpoints():
+        for endpoint in self._node._own_endpoint_objects():
+            mine = endpoint.handle
             for other in others:
-                if other.name != mine.name or other.kind == mine.kind:
-                    continue
-                if {mine.kind, other.kind} != {EntityKind.PUBLISHER, EntityKind.SUBSCRIPTION}:
-                    continue
-                self._compare(mine, other)
+                if other.name == mine.name and {mine.kind, other.kind} == {EntityKind.PUBLISHER,
+                                                                           EntityKind.SUBSCRIPTION}:
+                    self._compare(endpoint, mine, other)
+            graph_changed(endpoint, others)
 
-    def _compare(self, mine: Entity, other: Entity) -> None:
+    def _compare(self, endpoint: Any, mine: Entity, other: Entity) -> None:
         pub, sub = (mine, other) if mine.kind == EntityKind.PUBLISHER else (other, mine)
-        verdict, reason = qos_check_compatible(QoSProfile.from_token(pub.qos), QoSProfile.from_token(sub.qos))
-        if verdict != QoSCompatibility.ERROR:
+        found = qos_incompatibilities(QoSProfile.from_token(pub.qos), QoSProfile.from_token(sub.qos))
+        if not found:
             return
         key = (mine.entity_id, (other.zid, other.node_id, other.entity_id))
         with self._lock:
             if key in self._reported:
                 return
             self._reported.add(key)
-        if mine.kind == EntityKind.SUBSCRIPTION:
-            text = (f"New publisher discovered on topic '{mine.name}', offering incompatible QoS. "
-                    f'Last incompatible policy: {_policy(reason)} (publisher {other.node_fqn}; '
-                    'ROS 2 would receive nothing from it, zros still delivers)')
-        else:
-            text = (f"New subscription discovered on topic '{mine.name}', requesting incompatible QoS. "
-                    f'Last incompatible policy: {_policy(reason)} (subscription {other.node_fqn}; '
-                    'ROS 2 would deliver nothing to it, zros still does)')
-        self._node.get_logger().warn(text)
+        report_incompatible_qos(endpoint, found[-1][0], other)

@@ -42,6 +42,8 @@ def _wants_info(callback: Callable) -> bool:
 class Subscription(QueuedEntity):
     """Made by `Node.create_subscription`."""
 
+    _events: Any = None  # zros.event_handler's tracker, when a deadline or message-lost event needs it
+
     def __init__(self, node: 'Node', msg_type: type, topic: str, callback: Callable, qos: QoSProfile,
                  callback_group: Any, raw: bool = False) -> None:
         import zenoh
@@ -90,6 +92,8 @@ class Subscription(QueuedEntity):
             self.dropped += 1
         queue.append((sample.payload.to_bytes(), attachment, time.time_ns() if self._with_info else 0))
         self._arrived()
+        if self._events is not None:
+            self._events.on_sample()
 
     # Executor thread. spin_once takes one sample per call, as rclpy takes one message per
     # callback; spin() lets a subscription run up to `budget` waiting samples in one go.

@@ -5,9 +5,13 @@ import argparse
 import json
 import sys
 import time
+from typing import TYPE_CHECKING
 
 from zros.cli.common import absolute_name, cli_context, cli_node, graph_entities, is_hidden, wait_for_graph
 from zros.graph import EntityKind, names_and_types
+
+if TYPE_CHECKING:
+    from zros.duration import Duration
 
 __all__ = ['add_arguments', 'add_qos_arguments', 'qos_from_args']
 
@@ -270,10 +274,10 @@ def cmd_info(args: argparse.Namespace) -> int:
                 print(f'  Reliability: {qos.reliability.name}')
                 print(f'  History (Depth): {qos.history.name} ({qos.depth})')
                 print(f'  Durability: {qos.durability.name}')
-                print('  Lifespan: Infinite')
-                print('  Deadline: Infinite')
+                print(f'  Lifespan: {_qos_duration(qos.lifespan)}')
+                print(f'  Deadline: {_qos_duration(qos.deadline)}')
                 print(f'  Liveliness: {qos.liveliness.name}')
-                print('  Liveliness lease duration: Infinite')
+                print(f'  Liveliness lease duration: {_qos_duration(qos.liveliness_lease_duration)}')
                 counters = stats.get((e.zid, e.node_id, e.entity_id))
                 if counters is not None:
                     received, dropped, lost, rejected = counters
@@ -283,6 +287,11 @@ def cmd_info(args: argparse.Namespace) -> int:
                     print(f'  Lost (gaps in publisher sequence): {lost}')
                     print(f'  Rejected (wrong type or corrupt): {rejected}')
     return 0
+
+
+def _qos_duration(duration: 'Duration') -> str:
+    """As ros2 topic info -v prints a QoS duration: unset (0) is Infinite."""
+    return f'{duration.nanoseconds} nanoseconds' if duration.nanoseconds else 'Infinite'
 
 
 def cmd_type(args: argparse.Namespace) -> int:

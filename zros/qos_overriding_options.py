@@ -1,0 +1,148 @@
+"""QoS overrides from parameters, as rclpy.qos_overriding_options.
+
+A publisher or subscription made with `qos_overriding_options=` declares one read-only
+parameter per chosen policy, `qos_overrides.<topic>.<publisher|subscription>[_<id>].<policy>`,
+whose default is the code's value. A value given at start-up (`-p`, a parameter file, a launch
+file) replaces it, so the QoS of a compiled-in topic can be changed without editing the code:
+
+    talker:
+      ros__parameters:
+        qos_overrides:
+          /chatter:
+            publisher:
+              reliability: best_effort
+              depth: 5
+"""
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import TYPE_CHECKING, Any, Callable, Iterable
+
+from zros.duration import Duration
+from zros.errors import ZrosError
+from zros.exceptions import ParameterAlreadyDeclaredException
+from zros.qos import DurabilityPolicy, HistoryPolicy, LivelinessPolicy, QoSPolicyKind, QoSProfile, ReliabilityPolicy
+from zros.subscription import Subscription
+
+if TYPE_CHECKING:
+    from zros.node import Node
+
+__all__ = ['QoSOverridingOptions', 'QosCallbackResult', 'QosCallbackType', 'InvalidQosOverridesError',
+           'declare_qos_parameters']
+
+
+class InvalidQosOverridesError(ZrosError):
+    """The overridden QoS was refused by the options' callback, or a value is not a policy's."""
+
+
+QosCallbackType = Callable[[QoSProfile], Any]
+
+
+def __getattr__(name: str) -> Any:
+    """`QosCallbackResult`, what a QoS callback returns, is rcl_interfaces' SetParametersResult
+    (as in rclpy); loaded on first use so that importing zros.node loads no message class."""
+    if name == 'QosCallbackResult':
+        from interfaces.rcl_interfaces.msg import SetParametersResult
+        return SetParametersResult
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+# policy -> the enum its parameter names (lower case), None for plain values
+_ENUMS = {QoSPolicyKind.HISTORY: HistoryPolicy, QoSPolicyKind.RELIABILITY: ReliabilityPolicy,
+          QoSPolicyKind.DURABILITY: DurabilityPolicy, QoSPolicyKind.LIVELINESS: LivelinessPolicy}
+_DURATIONS = (QoSPolicyKind.DEADLINE, QoSPolicyKind.LIFESPAN, QoSPolicyKind.LIVELINESS_LEASE_DURATION)
+
+
+class QoSOverridingOptions:
+    """Which QoS policies of one publisher or subscription may be overridden by parameters."""
+
+    def __init__(self, policy_kinds: Iterable[QoSPolicyKind], *, callback: QosCallbackType | None = None,
+                 entity_id: str | None = None) -> None:
+        """Args:
+            policy_kinds: the policies that get a parameter.
+            callback: validates the overridden profile; returns a SetParametersResult.
+            entity_id: tells apart two endpoints of one node on one topic (a `_<id>` suffix).
+        """
+        self._policy_kinds = list(policy_kinds)
+        self._callback = callback
+        self._entity_id = entity_id
+
+    @property
+    def policy_kinds(self) -> list[QoSPolicyKind]:
+        return self._policy_kinds
+
+    @property
+    def callback(self) -> QosCallbackType | None:
+        return self._callback
+
+    @property
+    def entity_id(self) -> str | None:
+        return self._entity_id
+
+    @classmethod
+    def with_default_policies(cls, *, callback: QosCallbackType | None = None,
+                              entity_id: str | None = None) -> 'QoSOverridingOptions':
+        """History, depth and reliability, as rclpy."""
+        return cls((QoSPolicyKind.HISTORY, QoSPolicyKind.DEPTH, QoSPolicyKind.RELIABILITY),
+                   callback=callback, entity_id=entity_id)
+
+
+def declare_qos_parameters(entity_type: type, node: 'Node', topic: str, qos: QoSProfile,
+                           options: QoSOverridingOptions | None) -> QoSProfile:
+    """Declare the override parameters of one endpoint and return its QoS with their values.
+
+    Raises:
+        InvalidQosOverridesError: a value that is not one of its policy's, or a profile the
+            options' callback refuses.
+    """
+    if options is None:
+        return qos
+    from interfaces.rcl_interfaces.msg import ParameterDescriptor
+    kind = 'subscription' if issubclass(entity_type, Subscription) else 'publisher'
+    suffix = '' if options.entity_id is None else f'_{options.entity_id}'
+    prefix = f'qos_overrides.{topic}.{kind}{suffix}'
+    changes: dict[str, Any] = {}
+    for policy in options.policy_kinds:
+        policy = QoSPolicyKind(policy)
+        if policy in (QoSPolicyKind.INVALID,) or (kind == 'subscription' and policy == QoSPolicyKind.LIFESPAN):
+            continue
+        attribute = policy.name.lower()
+        name = f'{prefix}.{attribute}'
+        descriptor = ParameterDescriptor(description=f'{attribute} for {kind} `{topic}` with id `{options.entity_id}`',
+                                         read_only=True)
+        try:
+            param = node.declare_parameter(name, _parameter_value(getattr(qos, attribute)), descriptor)
+        except ParameterAlreadyDeclaredException:
+            param = node.get_parameter(name)
+        changes[attribute] = _policy_value(policy, param.value, name)
+    try:
+        overridden = replace(qos, **changes)
+    except ValueError as exc:
+        raise InvalidQosOverridesError(f'QoS overrides for {kind} `{topic}` are not valid: {exc}') from None
+    if options.callback is not None:
+        result = options.callback(overridden)
+        if not result.successful:
+            raise InvalidQosOverridesError(
+                f'Provided QoS overrides for {kind} `{topic}` with id `{options.entity_id}`, are not valid: '
+                f'{result.reason}')
+    return overridden
+
+
+def _parameter_value(value: Any) -> Any:
+    if isinstance(value, (HistoryPolicy, ReliabilityPolicy, DurabilityPolicy, LivelinessPolicy)):
+        return value.name.lower()
+    if isinstance(value, Duration):
+        return value.nanoseconds
+    return value
+
+
+def _policy_value(policy: QoSPolicyKind, value: Any, name: str) -> Any:
+    enum_type = _ENUMS.get(policy)
+    if enum_type is not None:
+        try:
+            return enum_type[str(value).upper()]
+        except KeyError:
+            choices = ', '.join(m.name.lower() for m in enum_type if m.name not in ('UNKNOWN', 'SYSTEM_DEFAULT'))
+            raise InvalidQosOverridesError(f"parameter '{name}': '{value}' is not one of {choices}") from None
+    if policy in _DURATIONS:
+        return Duration(nanoseconds=int(value))
+    return value
