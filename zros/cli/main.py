@@ -30,7 +30,11 @@ VERBS = {
     'doctor': ('zros.cli.doctor', 'Check the zros set-up and the running system for problems'),
     'graph': ('zros.cli.graph', 'Print the node/topic graph as Graphviz DOT (or render SVG)'),
     'completion': ('zros.cli.completion', 'Print a bash or zsh completion script'),
+    'port': ('zros.cli.port', 'Apply the rclpy -> zros porting edits to files or a package, show the diff'),
+    'python': ('zros.cli.python', 'Run an unmodified ROS 2 Python program on zros'),
 }
+# Verbs that pass everything after their first argument to a program untouched.
+PASSTHROUGH = {'run': 'zros.cli.run', 'python': 'zros.cli.python'}
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -47,13 +51,12 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     from zros.errors import ZrosError
     argv = list(sys.argv[1:] if argv is None else argv)
-    if argv[:1] == ['run']:
-        # `zros run` passes everything after the executable through untouched, --ros-args included.
-        from zros.cli import run
+    if argv[:1] and argv[0] in PASSTHROUGH:
+        # `zros run` and `zros python` pass what follows the program through, --ros-args included.
         try:
-            return run.main_passthrough(argv[1:])
+            return importlib.import_module(PASSTHROUGH[argv[0]]).main_passthrough(argv[1:])
         except ZrosError as exc:
-            print(f'zros run: {exc}', file=sys.stderr)
+            print(f'zros {argv[0]}: {exc}', file=sys.stderr)
             return 1
     parser = build_parser()
     args = parser.parse_args(argv)

@@ -4,7 +4,8 @@ Executables are looked up in this order:
 1. entry points in the group `zros.nodes` named `PKG/EXECUTABLE` (how an installed
    package registers its own nodes, see docs/nodes.md);
 2. modules `nodes.PKG.EXECUTABLE` shipped with zros (the `nodes/` directory);
-3. `PKG/EXECUTABLE.py` under each directory of `ZROS_NODE_PATH`.
+3. `PKG/EXECUTABLE.py` under each directory of `ZROS_NODE_PATH` (loaded with zros.import_hook
+   installed, so unmodified rclpy code runs as it is).
 The module's `main()` is called with sys.argv set to [EXECUTABLE, args...], the way
 ros2 run's executables see their arguments (`--ros-args` included).
 
@@ -78,6 +79,8 @@ def find_executable(package: str, executable: str) -> Callable[[], Any]:
     else:
         path = next(root / package / f'{executable}.py' for root in _node_path_dirs()
                     if (root / package / f'{executable}.py').is_file())
+        from zros.import_hook import install
+        install()  # the user's own nodes may be unmodified rclpy code
         spec = importlib.util.spec_from_file_location(f'zros_node_{package}_{executable}', path)
         module = importlib.util.module_from_spec(spec)
         spec.loader.exec_module(module)

@@ -1,0 +1,163 @@
+"""`zros port` (the porting edits, on files and package trees) and `zros python` (unmodified
+rclpy programs run through the import hook)."""
+from __future__ import annotations
+
+import sys
+import textwrap
+
+from conftest import assert_clean_failure
+
+from zros.import_hook import module_target
+from zros.porting import port_source
+
+ROS_TALKER = textwrap.dedent('''\
+    import sys
+    import rclpy  # the client library
+    from rclpy.node import Node
+    from rclpy.executors import ExternalShutdownException
+    from rclpy.qos import (QoSProfile,  # a comment inside the import stays
+                           ReliabilityPolicy)
+    from std_msgs.msg import String
+
+
+    class Talker(Node):
+        def __init__(self):
+            super().__init__('ported_talker')
+            self.declare_parameter('rate', 20.0)
+            self.pub = self.create_publisher(String, 'ported', QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE))
+            self.create_timer(1.0 / self.get_parameter('rate').value, self.tick)
+            self.count = 0
+
+        def tick(self):
+            self.count += 1
+            self.pub.publish(String(data='rclpy says %d' % self.count))
+
+
+    def main(args=None):
+        try:
+            with rclpy.init(args=args):
+                rclpy.spin(Talker())
+        except (KeyboardInterrupt, ExternalShutdownException):
+            pass
+
+
+    if __name__ == '__main__':
+        main(sys.argv)
+''')
+
+ROS_LISTENER = textwrap.dedent('''\
+    import rclpy
+    import std_msgs.msg
+    import sensor_msgs.point_cloud2 as pc2
+    from sensor_msgs.msg import PointCloud2
+    from cv_bridge import CvBridge
+
+
+    def main():
+        rclpy.init()
+        node = rclpy.create_node('ported_listener')
+        assert rclpy.Parameter('speed', value=2.0).type_ == rclpy.Parameter.Type.DOUBLE
+        assert pc2.create_cloud_xyz32 and PointCloud2 and CvBridge
+        node.create_subscription(std_msgs.msg.String, 'ported',
+                                 lambda msg: node.get_logger().info('heard ' + msg.data), 10)
+        rclpy.spin(node)
+
+
+    main()
+''')
+
+
+def test_port_source_rewrites_imports_and_keeps_the_rest():
+    ported, notes = port_source(ROS_TALKER)
+    assert 'import zros  # the client library' in ported
+    assert 'from zros.executors import ExternalShutdownException' in ported
+    assert 'from zros.qos import (QoSProfile,  # a comment inside the import stays\n' in ported
+    assert 'from interfaces.std_msgs.msg import String' in ported
+    assert 'with zros.init(args=args):' in ported and 'zros.spin(Talker())' in ported
+    assert 'rclpy' not in ported.replace("'rclpy says %d'", '')
+    assert not notes
+    assert port_source(ported) == (ported, []), 'porting is idempotent'
+
+
+def test_port_source_binds_the_names_the_code_uses():
+    source = textwrap.dedent('''\
+        import tf2_ros, os
+        import tf2_ros.transform_listener
+        import std_msgs.msg
+        import sensor_msgs.point_cloud2 as pc2
+        from launch import LaunchDescription
+        from my_robot_interfaces.srv import Calibrate
+        import numpy as np
+        import logging
+        x = "import rclpy"  # rclpy in strings and comments stays
+    ''')
+    ported, notes = port_source(source)
+    assert ported.splitlines()[:8] == [
+        'from zros import tf2_ros', 'import os',
+        'import zros.tf2_ros.transform_listener', 'from zros import tf2_ros',
+        'import interfaces.std_msgs.msg', 'from interfaces import std_msgs',
+        'import zros.sensor_msgs_py.point_cloud2 as pc2',
+        'from zros.launch import LaunchDescription']
+    assert 'from interfaces.my_robot_interfaces.srv import Calibrate' in ported
+    assert 'import numpy as np\nimport logging\nx = "import rclpy"  # rclpy in strings' in ported
+    assert any("no 'my_robot_interfaces' interfaces" in n.text and n.line == 6 for n in notes), notes
+    assert module_target('logging') == 'zros.logging' and module_target('logging', lambda top: True) is None
+
+
+def test_zros_port_on_a_package_tree(tmp_path, zros_cli):
+    package = tmp_path / 'my_pkg'
+    (package / 'my_pkg').mkdir(parents=True)
+    (package / 'my_pkg' / 'talker.py').write_text(ROS_TALKER)
+    (package / 'setup.py').write_text('from setuptools import setup\nsetup(name="my_pkg")\n')
+    (package / 'build' / 'lib').mkdir(parents=True)
+    (package / 'build' / 'lib' / 'copy.py').write_text('import rclpy\n')
+    dry = zros_cli('port', str(package), '--dry-run')
+    assert dry.returncode == 0, dry
+    assert '\n-import rclpy  # the client library\n' in dry.stdout and '\n+import zros  # the client library\n' in dry.stdout
+    assert 'would port 1 file(s)' in dry.stderr and (package / 'my_pkg' / 'talker.py').read_text() == ROS_TALKER
+    done = zros_cli('port', str(package))
+    assert done.returncode == 0 and 'ported 1 file(s)' in done.stderr, done
+    assert (package / 'my_pkg' / 'talker.py').read_text() == port_source(ROS_TALKER)[0]
+    assert (package / 'build' / 'lib' / 'copy.py').read_text() == 'import rclpy\n'
+    again = zros_cli('port', str(package))
+    assert again.stdout == '' and 'ported 0 file(s)' in again.stderr
+
+
+def test_zros_port_bad_input(tmp_path, zros_cli):
+    assert_clean_failure(zros_cli('port', str(tmp_path / 'nope.py')), 'no such file or directory')
+    broken = tmp_path / 'broken.py'
+    broken.write_text('import rclpy\ndef f(:\n')
+    result = zros_cli('port', str(broken))
+    assert result.returncode == 1 and 'broken.py:2: cannot parse' in result.stderr, result
+    assert 'Traceback' not in result.stderr and broken.read_text() == 'import rclpy\ndef f(:\n'
+
+
+def test_unmodified_and_ported_programs_run(tmp_path, spawn, zros_cli):
+    (tmp_path / 'listener.py').write_text(ROS_LISTENER)
+    (tmp_path / 'talker.py').write_text(ROS_TALKER)
+    listener = spawn(sys.executable, '-m', 'zros.cli.main', 'python', str(tmp_path / 'listener.py'), name='listener')
+    spawn(sys.executable, '-m', 'zros.cli.main', 'python', str(tmp_path / 'talker.py'),
+          '--ros-args', '-p', 'rate:=10.0', name='talker')
+    listener.wait_for_output('heard rclpy says 1', timeout=20)
+    ported = tmp_path / 'ported'
+    ported.mkdir()
+    (ported / 'talker.py').write_text(port_source(ROS_TALKER.replace("'ported'", "'ported2'"))[0])
+    spawn(sys.executable, str(ported / 'talker.py'), name='ported_talker')
+    echo = zros_cli('topic', 'echo', '/ported2', '--once', '--timeout', '15', timeout=30)
+    assert echo.returncode == 0 and 'data: rclpy says' in echo.stdout, echo
+
+
+def test_zros_run_loads_unmodified_rclpy_nodes(tmp_path, spawn, zros_cli, monkeypatch):
+    (tmp_path / 'my_pkg').mkdir()
+    (tmp_path / 'my_pkg' / 'talker.py').write_text(ROS_TALKER.replace("'ported'", "'from_node_path'"))
+    monkeypatch.setenv('ZROS_NODE_PATH', str(tmp_path))
+    spawn.node('my_pkg', 'talker')
+    echo = zros_cli('topic', 'echo', '/from_node_path', '--once', '--timeout', '15', timeout=30)
+    assert echo.returncode == 0 and 'data: rclpy says' in echo.stdout, echo
+
+
+def test_zros_python_bad_input(tmp_path, zros_cli):
+    assert_clean_failure(zros_cli('python', str(tmp_path / 'missing.py')), 'no such file')
+    failing = tmp_path / 'exits.py'
+    failing.write_text('import sys\nsys.exit(3)\n')
+    assert zros_cli('python', str(failing)).returncode == 3

@@ -1,0 +1,46 @@
+"""`zros python FILE [args...]`: run an unmodified ROS 2 Python program on zros.
+
+The import hook of zros.import_hook maps `rclpy`, `<pkg>.msg|srv|action`, tf2_ros, launch,
+cv_bridge, ... to their zros modules, then FILE runs as `python FILE args...` would run it:
+as `__main__`, with its directory first on sys.path and `sys.argv == [FILE, args...]`
+(`--ros-args ...` included). Everything after FILE goes to the program untouched.
+"""
+from __future__ import annotations
+
+import argparse
+import runpy
+import sys
+from pathlib import Path
+
+__all__ = ['add_arguments', 'main_passthrough']
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument('file', help='a ROS 2 Python program, e.g. my_pkg/my_node.py')
+    parser.add_argument('argv', nargs=argparse.REMAINDER, help='arguments for the program (and --ros-args ...)')
+
+
+def main_passthrough(argv: list[str]) -> int:
+    from zros.errors import CliError
+    from zros.import_hook import install
+    if not argv or argv[0] in ('-h', '--help'):
+        print(__doc__.strip())
+        print('\nusage: zros python FILE [args...] [--ros-args ...]')
+        return 0
+    path = Path(argv[0])
+    if not path.is_file():
+        raise CliError(f'no such file: {path}')
+    install()
+    sys.argv = [str(path), *argv[1:]]
+    sys.path.insert(0, str(path.resolve().parent))
+    try:
+        runpy.run_path(str(path), run_name='__main__')
+    except KeyboardInterrupt:
+        return 130
+    except SystemExit as exc:
+        code = exc.code
+        if code is None or isinstance(code, int):
+            return code or 0
+        print(code, file=sys.stderr)
+        return 1
+    return 0
