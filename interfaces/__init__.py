@@ -14,6 +14,11 @@ from typing import Any
 
 _KINDS = ('msg', 'srv', 'action')
 
+#: New name -> the package shipped here (both names give the very same classes, see
+#: zros.typesupport). ROS 2 moved turtlesim's interfaces to `turtlesim_msgs` after Jazzy;
+#: tutorials use both names, and the turtlesim node must answer either.
+PACKAGE_ALIASES = {'turtlesim_msgs': 'turtlesim'}
+
 
 class _InterfaceModule(types.ModuleType):
     """`interfaces.<pkg>.<kind>`: classes appear as attributes when first asked for."""

@@ -47,6 +47,7 @@ ROS_TALKER = textwrap.dedent('''\
 
 ROS_LISTENER = textwrap.dedent('''\
     import rclpy
+    from tf2_ros import Buffer  # numpy's first import, inside the hook
     import std_msgs.msg
     import sensor_msgs.point_cloud2 as pc2
     from sensor_msgs.msg import PointCloud2
@@ -57,7 +58,7 @@ ROS_LISTENER = textwrap.dedent('''\
         rclpy.init()
         node = rclpy.create_node('ported_listener')
         assert rclpy.Parameter('speed', value=2.0).type_ == rclpy.Parameter.Type.DOUBLE
-        assert pc2.create_cloud_xyz32 and PointCloud2 and CvBridge
+        assert pc2.create_cloud_xyz32 and PointCloud2 and CvBridge and Buffer
         node.create_subscription(std_msgs.msg.String, 'ported',
                                  lambda msg: node.get_logger().info('heard ' + msg.data), 10)
         rclpy.spin(node)
@@ -161,3 +162,30 @@ def test_zros_python_bad_input(tmp_path, zros_cli):
     failing = tmp_path / 'exits.py'
     failing.write_text('import sys\nsys.exit(3)\n')
     assert zros_cli('python', str(failing)).returncode == 3
+
+
+def test_zros_python_runs_a_packages_rclpy_tests(tmp_path, zros_cli):
+    (tmp_path / 'test_speed.py').write_text(textwrap.dedent('''\
+        import pytest
+        import rclpy
+        from rclpy.node import Node
+
+
+        @pytest.fixture
+        def node():
+            rclpy.init()
+            node = Node('speed_node')
+            node.declare_parameter('speed', 1.0)
+            yield node
+            node.destroy_node()
+            rclpy.shutdown()
+
+
+        def test_speed(node):
+            node.set_parameters([rclpy.Parameter('speed', value=2.0)])
+            assert node.get_parameter('speed').value == 2.0
+    '''))
+    result = zros_cli('python', '-m', 'pytest', '-q', '-p', 'no:cacheprovider', str(tmp_path / 'test_speed.py'),
+                      timeout=60)
+    assert result.returncode == 0 and '1 passed' in result.stdout, result
+    assert_clean_failure(zros_cli('python', '-m', 'no_such_module'), "no module named 'no_such_module'")

@@ -47,8 +47,17 @@ def _zros_has(name: str) -> bool:
 
 
 def _is_interface_package(name: str) -> bool:
-    from zros.typesupport import list_packages
-    return name in list_packages()
+    """Whether `name/msg` (or srv, action) is on the interface search path. Looked up on disk
+    only: this runs inside other modules' imports (numpy's included), so it must not import
+    the message machinery."""
+    import os
+    from pathlib import Path
+    roots = [Path(p) for p in os.environ.get('ZROS_INTERFACE_PATH', '').split(os.pathsep) if p]
+    spec = importlib.util.find_spec('interfaces')
+    roots += [Path(p) for p in (spec.submodule_search_locations or [])] if spec else []
+    from interfaces import PACKAGE_ALIASES
+    name = PACKAGE_ALIASES.get(name, name)
+    return any((root / name / kind).is_dir() for root in roots for kind in INTERFACE_KINDS)
 
 
 def module_target(name: str, installed: Callable[[str], bool] = lambda top: False) -> str | None:
@@ -97,7 +106,10 @@ class RosModuleFinder(importlib.abc.MetaPathFinder):
     """First on sys.meta_path; claims only the names module_target maps."""
 
     def find_spec(self, fullname: str, path: Any = None, target: Any = None) -> importlib.machinery.ModuleSpec | None:
-        mapped = module_target(fullname, self._installed)
+        try:
+            mapped = module_target(fullname, self._installed)
+        except Exception:  # noqa: BLE001 - a finder must never break an unrelated import
+            return None
         if mapped is None:
             return None
         return importlib.machinery.ModuleSpec(fullname, _AliasLoader(mapped), is_package=True)

@@ -15,6 +15,7 @@ import threading
 from pathlib import Path
 from typing import Any
 
+from interfaces import PACKAGE_ALIASES
 from zros import idl
 from zros.errors import InterfaceNotFoundError
 from zros.message import make_action_class, make_message_class, make_service_class
@@ -29,9 +30,6 @@ KINDS = ('msg', 'srv', 'action')
 _EXT = {'msg': '.msg', 'srv': '.srv', 'action': '.action'}
 _BUILTIN_ROOT = Path(__file__).resolve().parent.parent / 'interfaces'
 
-#: New name -> the package shipped here. ROS 2 moved turtlesim's interfaces to `turtlesim_msgs`
-#: after Jazzy; tutorials use both names, and the turtlesim node must answer either.
-PACKAGE_ALIASES = {'turtlesim_msgs': 'turtlesim'}
 
 _lock = threading.RLock()
 _cache: dict[str, Any] = {}

@@ -124,7 +124,9 @@ class ActionClient:
         return self._name
 
     def _servers(self, entities: list) -> list:
-        return [e for e in entities if e.kind == EntityKind.ACTION_SERVER and e.name == self._name]
+        """Servers of this name and this action type (servers of other types may share the name)."""
+        return [e for e in entities if e.kind == EntityKind.ACTION_SERVER and e.name == self._name
+                and e.type == self._action_type._TYPE]
 
     def server_is_ready(self) -> bool:
         return bool(self._servers(self._node.context.graph.entities()))
