@@ -29,7 +29,7 @@ DOMAIN_RANGE = (100, 230)
 # Environment that must not leak from a developer's shell into the tests.
 _SCRUBBED = ('ZROS_CONNECT', 'ZROS_LISTEN', 'ZROS_DISCOVERY', 'ZROS_CONFIG', 'ROS_DOMAIN_ID',
              'ZROS_INTERFACE_PATH', 'ZROS_NODE_PATH', 'RCUTILS_CONSOLE_OUTPUT_FORMAT',
-             'RCUTILS_LOGGING_USE_STDOUT', 'ZENOH_CONFIG')
+             'RCUTILS_LOGGING_USE_STDOUT', 'ZENOH_CONFIG', 'ZROS_MAX_MESSAGE_SIZE', 'ZROS_MAX_REQUEST_SIZE')
 
 
 def _port_free(port: int) -> bool:
@@ -312,3 +312,32 @@ def make_context(domain: int) -> Callable[[], Any]:
 def context(make_context: Callable[[], Any]) -> Any:
     """One initialized zros Context in the test's domain."""
     return make_context()
+
+
+@pytest.fixture
+def raw_session(domain: int) -> Any:
+    """A plain zenoh-python session (no zros code) joining the test domain's hub on loopback,
+    as a stranger's client would (docs/protocol.md); closed at teardown."""
+    import json
+    import zenoh
+    config = zenoh.Config()
+    config.insert_json5('mode', '"peer"')
+    config.insert_json5('scouting/multicast/enabled', 'false')
+    config.insert_json5('listen/endpoints', json.dumps(['tcp/127.0.0.1:0']))
+    config.insert_json5('connect/endpoints', json.dumps([f'tcp/127.0.0.1:{HUB_BASE_PORT + domain}']))
+    session = zenoh.open(config)
+    yield session
+    session.close()
+
+
+@pytest.fixture
+def log_records() -> list:
+    """Every log record emitted in this process during the test: (severity, logger, text)."""
+    from zros.logging import add_sink, remove_sink
+    records = []
+
+    def sink(severity, name, message, time_ns, file, function, line):
+        records.append((int(severity), name, message))
+    add_sink(sink)
+    yield records
+    remove_sink(sink)

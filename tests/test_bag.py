@@ -9,9 +9,11 @@ import subprocess
 import sys
 import time
 
-import msgpack
-
 from conftest import REPO
+
+from interfaces.geometry_msgs.msg import PoseStamped
+from interfaces.std_msgs.msg import String
+from zros.message import deserialize, serialize
 
 CLI = [sys.executable, '-m', 'zros.cli.main']
 
@@ -76,11 +78,11 @@ def test_record_sigint_leaves_a_complete_valid_mcap(domain, spawn, tmp_path, zro
     assert (bag / 'metadata.yaml').is_file()
 
     # every message from the first recorded one to the last is there, in order, bytes unchanged
-    strings = [msgpack.unpackb(m.data)['data'] for topic, _, _, m in messages if topic == '/bagged']
+    strings = [deserialize(m.data, String).data for topic, _, _, m in messages if topic == '/bagged']
     numbers = [int(s[1:]) for s in strings]
     assert len(numbers) >= 80, len(numbers)
     assert numbers == list(range(numbers[0], numbers[0] + len(numbers))), numbers
-    frames = [int(msgpack.unpackb(m.data)['header']['frame_id'][1:]) for t, _, _, m in messages if t == '/posed']
+    frames = [int(deserialize(m.data, PoseStamped).header.frame_id[1:]) for t, _, _, m in messages if t == '/posed']
     assert frames == list(range(frames[0], frames[0] + len(frames)))
 
     # channels, schemas and timestamps as other MCAP tools expect them
@@ -123,8 +125,8 @@ def write_bag(directory, gaps_ms):
         writer.add_topic('/other', 'std_msgs/msg/String', type_hash=String._HASH, qos='R:V:L10')
         for i, gap in enumerate([0] + gaps_ms):
             t += gap * 1_000_000
-            writer.write('/played', msgpack.packb({'data': f'p{i}'}), log_time=t, publish_time=t - 1000)
-            writer.write('/other', msgpack.packb({'data': f'o{i}'}), log_time=t + 1, publish_time=t)
+            writer.write('/played', serialize(String(data=f'p{i}')), log_time=t, publish_time=t - 1000)
+            writer.write('/other', serialize(String(data=f'o{i}')), log_time=t + 1, publish_time=t)
     return t
 
 
@@ -177,7 +179,7 @@ def test_record_then_play_then_echo_sees_the_same_messages(domain, spawn, tmp_pa
     assert result.returncode == 0, result
     source.kill()
     _, messages = read_mcap(the_mcap(bag))
-    recorded = [msgpack.unpackb(m.data)['data'] for _, _, _, m in messages]
+    recorded = [deserialize(m.data, String).data for _, _, _, m in messages]
     assert len(recorded) >= 50
     echo = echo_child(spawn, '/bagged', 'std_msgs/msg/String')
     time.sleep(1.0)
@@ -222,13 +224,13 @@ def test_a_killed_recording_is_still_readable(tmp_path):
     writer = BagWriter(tmp_path / 'killed', chunk_size=256)
     writer.add_topic('/t', 'std_msgs/msg/String')
     for i in range(50):
-        writer.write('/t', msgpack.packb({'data': f'k{i}'}), log_time=1_000 + i)
+        writer.write('/t', serialize(String(data=f'k{i}')), log_time=1_000 + i)
     writer._stream.flush()
     reader = BagReader(tmp_path / 'killed')
     summary = reader.summary()
     assert not summary.complete and summary.topics[0].name == '/t'
     assert summary.message_count >= 40  # whole chunks written before the "crash"
-    data = [msgpack.unpackb(m.data)['data'] for m in reader.messages()]
+    data = [deserialize(m.data, String).data for m in reader.messages()]
     assert data == [f'k{i}' for i in range(len(data))]
     result = subprocess.run([*CLI, 'bag', 'info', str(tmp_path / 'killed')], capture_output=True, text=True,
                             timeout=20, cwd=REPO)

@@ -14,7 +14,6 @@ import pytest
 from zros.executors import SingleThreadedExecutor
 from zros.graph import EntityKind, fetch_entities
 from zros.keys import topic_key
-from zros.logging import add_sink, remove_sink
 from zros.node import Node
 from zros.wire import MAGIC as ATTACHMENT_MAGIC, type_tail as attachment_tail
 from zros.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
@@ -62,18 +61,6 @@ with zros.init([]):
     print('sent', count, flush=True)
     import time; time.sleep(0.5)
 '''
-
-
-@pytest.fixture
-def log_records():
-    """Every log record emitted in this process during the test: (severity, logger, text)."""
-    records = []
-
-    def sink(severity, name, message, time_ns, file, function, line):
-        records.append((int(severity), name, message))
-    add_sink(sink)
-    yield records
-    remove_sink(sink)
 
 
 def _executor(ctx, *nodes):
@@ -326,10 +313,11 @@ def test_corrupt_payloads_do_not_kill_the_subscriber(make_context, spin_for, log
     bad = [
         (b'garbage', None),                                              # no attachment, not msgpack
         (b'\xc1', None),                                                 # reserved msgpack byte
-        (msgpack.packb([1, 2, 3]), None),                                # msgpack, not a map
-        (msgpack.packb({'other': 'x'}), None),                           # a map without the field
+        (msgpack.packb([1, 2, 3]), None),                                # msgpack, wrong shape
+        (msgpack.packb({'data': 'x'}), None),                            # a map (protocol v1's form)
+        (msgpack.packb([42]), None),                                     # the right shape, an int for a str
         (b'garbage', _forged_attachment(String, 1)),                     # right type, broken payload
-        (msgpack.packb({'nope': 1}), _forged_attachment(String, 2)),     # right type, wrong fields
+        (msgpack.packb([['x']]), _forged_attachment(String, 2)),         # right type, a list for a str
         (b'', _forged_attachment(String, 3)),                            # empty payload
         (b'garbage', b'Z1'),                                             # truncated attachment
         (b'garbage', os.urandom(64)),                                    # random attachment
@@ -345,7 +333,7 @@ def test_corrupt_payloads_do_not_kill_the_subscriber(make_context, spin_for, log
     assert all('payload is not a valid std_msgs/msg/String' in r[2] or 'sends' in r[2]
                for r in _dropping_errors(log_records))
     # a well-formed sample with a forged (but consistent) attachment is accepted
-    session.put(key, msgpack.packb({'data': 'raw but fine'}), attachment=_forged_attachment(String, 4))
+    session.put(key, msgpack.packb(['raw but fine']), attachment=_forged_attachment(String, 4))
     spin_for(executor, lambda: received, timeout=5)
     assert received[0].data == 'raw but fine'
     # and a real publisher still gets through

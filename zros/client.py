@@ -10,14 +10,13 @@ from __future__ import annotations
 import time
 from typing import TYPE_CHECKING, Any
 
-import msgpack
-
 from zros.entity import NodeEntity
-from zros.errors import ServiceCallError
+from zros.errors import DecodeError, ServiceCallError
 from zros.graph import EntityKind
+from zros.message import deserialize, serialize
 from zros.qos import QoSProfile
 from zros.task import Future
-from zros.wire import AttachmentWriter
+from zros.wire import AttachmentWriter, max_message_size
 
 if TYPE_CHECKING:
     from zros.node import Node
@@ -40,6 +39,7 @@ class Client(NodeEntity):
         self.callback_group = callback_group
         self._key = service_key(node.context.domain_id, name)
         self._stamp = AttachmentWriter(srv_type).next
+        self._max_reply = max_message_size()
         super().__init__(node, EntityKind.CLIENT, name, srv_type, qos)
 
     @property
@@ -68,7 +68,7 @@ class Client(NodeEntity):
             raise RuntimeError(f"client of '{self.srv_name}' has been destroyed")
         timeout = _NO_TIMEOUT if timeout_sec is None else max(0.001, timeout_sec)
         receiver = self._node.context.session.get(
-            self._key, handler, payload=msgpack.packb(request._TO_WIRE(request)), attachment=self._stamp(),
+            self._key, handler, payload=serialize(request), attachment=self._stamp(),
             timeout=timeout, consolidation=zenoh.ConsolidationMode.NONE)
         return timeout, receiver
 
@@ -76,10 +76,14 @@ class Client(NodeEntity):
         """The response in a reply, or the ServiceCallError it stands for (returned, not raised)."""
         ok = reply.ok
         if ok is not None:
+            payload = ok.payload
+            if len(payload) > self._max_reply:
+                return ServiceCallError(f"service '{self.srv_name}' sent a reply of {len(payload)} bytes, larger "
+                                        f'than the limit of {self._max_reply} bytes (ZROS_MAX_MESSAGE_SIZE)')
             try:
-                return self.srv_type.Response._FROM_WIRE(msgpack.unpackb(ok.payload.to_bytes()))
-            except Exception as exc:  # noqa: BLE001 - a bad reply fails this call only
-                return ServiceCallError(f"service '{self.srv_name}' sent a reply that is not a valid response ({exc})")
+                return deserialize(payload.to_bytes(), self.srv_type.Response)
+            except DecodeError as exc:  # a bad reply fails this call only
+                return ServiceCallError(f"service '{self.srv_name}' sent a reply that is not a valid response: {exc}")
         text = reply.err.payload.to_bytes().decode(errors='replace')
         if text == 'Timeout':  # Zenoh's own reply when the query's timeout expires
             return ServiceCallTimeout(f"service '{self.srv_name}' did not answer: timed out after "

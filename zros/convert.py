@@ -5,6 +5,7 @@ The equivalents of rosidl_runtime_py's `message_to_ordereddict`, `message_to_yam
 """
 from __future__ import annotations
 
+import array
 from typing import Any
 
 import numpy as np
@@ -26,14 +27,16 @@ def message_to_ordereddict(msg: Any, *, truncate_length: int | None = None, no_a
 def _to_plain(value: Any, truncate: int | None, no_arr: bool, no_str: bool) -> Any:
     if hasattr(value, '_FIELDS'):
         return message_to_ordereddict(value, truncate_length=truncate, no_arr=no_arr, no_str=no_str)
-    if isinstance(value, (np.ndarray, list)):
+    if isinstance(value, (np.ndarray, array.array, list)):
         if no_arr:
             return f'<sequence type: {_element_type(value)}, length: {len(value)}>'
-        items = value.tolist() if isinstance(value, np.ndarray) else [
+        items = value.tolist() if not isinstance(value, list) else [
             _to_plain(v, truncate, no_arr, no_str) for v in value]
         if truncate is not None and len(items) > truncate:
             items = items[:truncate] + ['...']
         return items
+    if isinstance(value, bytes):  # a `byte` field (rclpy's bytes of length 1) as its number
+        return value[0]
     if isinstance(value, str):
         if no_str:
             return f'<string length: <{len(value)}>>'
@@ -45,6 +48,8 @@ def _to_plain(value: Any, truncate: int | None, no_arr: bool, no_str: bool) -> A
 def _element_type(value: Any) -> str:
     if isinstance(value, np.ndarray):
         return value.dtype.name
+    if isinstance(value, array.array):
+        return np.dtype(value.typecode).name
     return type(value[0]).__name__ if value else 'unknown'
 
 

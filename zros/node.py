@@ -554,5 +554,5 @@ def _require_service_type(srv_type: Any) -> None:
 
 
 def _require_message_type(msg_type: Any) -> None:
-    if not (isinstance(msg_type, type) and hasattr(msg_type, '_TO_WIRE')):
+    if not (isinstance(msg_type, type) and hasattr(msg_type, '_ENC')):
         raise TypeError(f'{msg_type!r} is not a message class (import it from interfaces.<pkg>.msg)')

@@ -150,7 +150,7 @@ def parameter_value_to_python(msg) -> Any:
     if kind == T.STRING:
         return msg.string_value
     if kind == T.BYTE_ARRAY:
-        return [bytes([int(b)]) for b in msg.byte_array_value]
+        return list(msg.byte_array_value)
     if kind == T.BOOL_ARRAY:
         return [bool(b) for b in msg.bool_array_value]
     if kind == T.INTEGER_ARRAY:

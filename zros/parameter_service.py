@@ -19,6 +19,9 @@ __all__ = ['ParameterService', 'PARAMETER_SERVICES']
 
 PARAMETER_SERVICES = ('describe_parameters', 'get_parameters', 'get_parameter_types', 'list_parameters',
                       'set_parameters', 'set_parameters_atomically')
+#: The largest request a parameter service reads (thousands of names): every node has these
+#: services, and a flood of names would stall the node's executor while it is answered.
+PARAMETER_REQUEST_LIMIT = 64 << 10
 
 
 class ParameterService:
@@ -28,14 +31,16 @@ class ParameterService:
         store = node._parameters
         self._store = store
         fq = node.get_fully_qualified_name()
-        make = node.create_service
-        make(srv.DescribeParameters, f'{fq}/describe_parameters', self._describe, qos_profile=qos_profile_parameters)
-        make(srv.GetParameters, f'{fq}/get_parameters', self._get, qos_profile=qos_profile_parameters)
-        make(srv.GetParameterTypes, f'{fq}/get_parameter_types', self._get_types, qos_profile=qos_profile_parameters)
-        make(srv.ListParameters, f'{fq}/list_parameters', self._list, qos_profile=qos_profile_parameters)
-        make(srv.SetParameters, f'{fq}/set_parameters', self._set, qos_profile=qos_profile_parameters)
-        make(srv.SetParametersAtomically, f'{fq}/set_parameters_atomically', self._set_atomically,
-             qos_profile=qos_profile_parameters)
+        self.services = [node.create_service(srv_type, f'{fq}/{name}', callback, qos_profile=qos_profile_parameters)
+                         for srv_type, name, callback in (
+                             (srv.DescribeParameters, 'describe_parameters', self._describe),
+                             (srv.GetParameters, 'get_parameters', self._get),
+                             (srv.GetParameterTypes, 'get_parameter_types', self._get_types),
+                             (srv.ListParameters, 'list_parameters', self._list),
+                             (srv.SetParameters, 'set_parameters', self._set),
+                             (srv.SetParametersAtomically, 'set_parameters_atomically', self._set_atomically))]
+        for service in self.services:
+            service.max_request_size = min(service.max_request_size, PARAMETER_REQUEST_LIMIT)
 
     def _describe(self, request: Any, response: Any) -> Any:
         from interfaces.rcl_interfaces.msg import ParameterDescriptor

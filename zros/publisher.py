@@ -3,10 +3,9 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-import msgpack
-
 from zros.entity import NodeEntity
 from zros.graph import EntityKind
+from zros.message import serialize
 from zros.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from zros.wire import AttachmentWriter
 
@@ -52,7 +51,7 @@ class Publisher(NodeEntity):
         if isinstance(msg, (bytes, bytearray)):
             payload = bytes(msg)
         elif type(msg) is self.msg_type:
-            payload = msgpack.packb(msg._TO_WIRE(msg))
+            payload = serialize(msg)
         else:
             raise TypeError(
                 f"publisher on '{self.topic_name}' expects {self.msg_type._TYPE}, "

@@ -2,20 +2,23 @@
 
 A query arrives on a Zenoh thread and waits in the service's queue; the executor decodes it,
 runs the user's callback and replies. Whatever goes wrong is answered, never left hanging: a
-request of the wrong type, an undecodable payload, or a callback that raises gets a Zenoh error
-reply whose text reaches the client's future (the server logs it and keeps serving).
+request of the wrong type, larger than the limit (zros.wire.max_request_size, refused before it
+is decoded), or that does not decode strictly as the request type gets a Zenoh error reply and
+is counted in `rejected`, and never reaches the callback; a callback that raises gets an error
+reply too. The text of an error reply reaches the client's future; the server logs it and keeps
+serving.
 """
 from __future__ import annotations
 
 from collections import deque
 from typing import TYPE_CHECKING, Any, Callable
 
-import msgpack
-
 from zros.entity import QueuedEntity
+from zros.errors import DecodeError
 from zros.graph import EntityKind
+from zros.message import deserialize, serialize
 from zros.qos import QoSProfile
-from zros.wire import describe_type, read_header, type_tail
+from zros.wire import describe_type, foreign_protocol, max_request_size, mismatch_reason, read_header, type_tail
 
 if TYPE_CHECKING:
     from zros.node import Node
@@ -56,7 +59,7 @@ class DeferredResponse:
         self._query = None
         try:
             if kind == 'ok':
-                query.reply(query.key_expr, msgpack.packb(value._TO_WIRE(value)))
+                query.reply(query.key_expr, serialize(value))
             else:
                 query.reply_err(str(value).encode())
         finally:
@@ -76,6 +79,9 @@ class Service(QueuedEntity):
         self.qos_profile = qos
         self.callback_group = callback_group
         self._tail = type_tail(srv_type)
+        #: Requests larger than this many bytes are refused unread (ZROS_MAX_REQUEST_SIZE).
+        self.max_request_size = max_request_size()
+        self.rejected = 0
         self._queue: deque = deque()
         self._zenoh = node.context.session.declare_queryable(
             service_key(node.context.domain_id, name), self._on_query, complete=True)
@@ -103,6 +109,11 @@ class Service(QueuedEntity):
             query.drop()
             return
         payload = query.payload
+        if payload is not None and len(payload) > self.max_request_size:  # refused before it is copied
+            self._refuse(query, f'the request of {len(payload)} bytes is larger than the limit of '
+                                f'{self.max_request_size} bytes')
+            query.drop()
+            return
         attachment = query.attachment
         self._queue.append((query, payload.to_bytes() if payload is not None else b'',
                             attachment.to_bytes() if attachment is not None else b''))
@@ -126,20 +137,26 @@ class Service(QueuedEntity):
             else:
                 deferred._bind(query)
 
+    def _refuse(self, query: Any, reason: str) -> None:
+        """Answer a request that never reaches the callback, and count it."""
+        self.rejected += 1
+        query.reply_err(f"service '{self.srv_name}' refused the request: {reason}".encode())
+
     def _answer(self, query: Any, payload: bytes, attachment: bytes) -> DeferredResponse | None:
         header = read_header(attachment)
         if header is not None and header[3] != self._tail:
-            theirs = describe_type(header[3])[0]
-            if self._servers(theirs):
+            if self._servers(describe_type(header[3])[0]):
                 return None  # a server of the request's type answers it
-            query.reply_err(f"service '{self.srv_name}' is of type {self.srv_type._TYPE}, "
-                            f'the request was sent as {theirs}'.encode())
+            self._refuse(query, mismatch_reason(header[3], self.srv_type, 'the client'))
+            return None
+        old = foreign_protocol(attachment) if header is None else None
+        if old is not None:
+            self._refuse(query, old)
             return None
         try:
-            request = self.srv_type.Request._FROM_WIRE(msgpack.unpackb(payload))
-        except Exception as exc:  # noqa: BLE001 - a malformed request is answered, not fatal
-            query.reply_err(f'request is not a valid {self.srv_type._TYPE} request '
-                            f'({type(exc).__name__}: {exc})'.encode())
+            request = deserialize(payload, self.srv_type.Request)
+        except DecodeError as exc:
+            self._refuse(query, str(exc))
             return None
         try:
             response = self.callback(request, self.srv_type.Response())
@@ -156,7 +173,7 @@ class Service(QueuedEntity):
             self._node.get_logger().error(text)
             query.reply_err(text.encode())
             return None
-        query.reply(query.key_expr, msgpack.packb(response._TO_WIRE(response)))
+        query.reply(query.key_expr, serialize(response))
         return None
 
     def _release(self) -> None:

@@ -3,8 +3,11 @@ and handed to the callback on the executor.
 
 The queue is the QoS depth (KEEP_LAST) and drops the oldest sample when full, counting the
 drop in `dropped`; gaps in a publisher's sequence numbers, seen as samples arrive (before the
-depth rule), are counted in `lost`; samples of the wrong type or that fail to decode are counted
-in `rejected` and logged once per publisher. The executor is woken once per subscription with
+depth rule), are counted in `lost`; samples of the wrong type, larger than the size limit
+(zros.wire.max_message_size) or that do not decode strictly as the subscription's type are
+counted in `rejected` and logged once per publisher: a malformed sample never reaches the
+callback. What the callback does with a well-formed message is its own business: an exception
+it raises propagates out of spin(), as in rclpy. The executor is woken once per subscription with
 work, not once per sample, so a burst costs Zenoh's thread no more than an append.
 """
 from __future__ import annotations
@@ -14,17 +17,21 @@ import time
 from collections import deque
 from typing import TYPE_CHECKING, Any, Callable
 
-import msgpack
-
 from zros.entity import QueuedEntity
+from zros.errors import DecodeError
 from zros.graph import EntityKind
+from zros.message import deserialize
 from zros.qos import DurabilityPolicy, QoSProfile
-from zros.wire import describe_type, read_header, type_tail, writer_sequence
+from zros.wire import (foreign_protocol, max_message_size, mismatch_reason, read_header, type_tail,
+                       writer_sequence)
 
 if TYPE_CHECKING:
     from zros.node import Node
 
 __all__ = ['Subscription', 'MessageInfo']
+
+# How many publishers' rejected samples a subscription logs (one line each).
+_MAX_REPORTED = 16
 
 MessageInfo = dict  # {'source_timestamp', 'received_timestamp', 'publication_sequence_number', ...}
 
@@ -59,6 +66,7 @@ class Subscription(QueuedEntity):
         self._with_info = _wants_info(callback)
         self._queue: deque = deque(maxlen=qos.queue_depth)
         self._tail = type_tail(msg_type)
+        self._max_size = max_message_size()
         self._last_seq: dict[bytes, int] = {}
         self._complained: set[bytes] = set()
         self.dropped = 0
@@ -80,6 +88,13 @@ class Subscription(QueuedEntity):
     def _on_sample(self, sample: Any) -> None:
         attachment = sample.attachment
         attachment = attachment.to_bytes() if attachment is not None else b''
+        payload = sample.payload
+        if len(payload) > self._max_size:  # refused before it is copied or decoded
+            self.received += 1
+            writer = writer_sequence(attachment)
+            self._reject(writer[0] if writer else b'', f'a message of {len(payload)} bytes is larger than the limit of '
+                                           f'{self._max_size} bytes (ZROS_MAX_MESSAGE_SIZE)')
+            return
         writer = writer_sequence(attachment)
         if writer is not None:
             gid, seq = writer
@@ -90,7 +105,7 @@ class Subscription(QueuedEntity):
         queue = self._queue
         if len(queue) == queue.maxlen:
             self.dropped += 1
-        queue.append((sample.payload.to_bytes(), attachment, time.time_ns() if self._with_info else 0))
+        queue.append((payload.to_bytes(), attachment, time.time_ns() if self._with_info else 0))
         self._arrived()
         if self._events is not None:
             self._events.on_sample()
@@ -111,17 +126,21 @@ class Subscription(QueuedEntity):
         if header is not None:
             gid, seq, source_ns, tail = header
             if tail != self._tail:
-                self._reject(gid, self._wrong_type_text(tail))
+                self._reject(gid, mismatch_reason(tail, self.msg_type, 'a publisher'))
                 return
         else:
             seq, source_ns, gid = 0, 0, b''
+            old = foreign_protocol(attachment)
+            if old is not None:
+                self._reject(gid, old)
+                return
         if self.raw:
             msg = payload
         else:
             try:
-                msg = self.msg_type._FROM_WIRE(msgpack.unpackb(payload))
-            except Exception as exc:  # noqa: BLE001 - a corrupt or foreign payload must not kill the node
-                self._reject(gid, f'payload is not a valid {self.msg_type._TYPE} ({type(exc).__name__}: {exc})')
+                msg = deserialize(payload, self.msg_type)
+            except DecodeError as exc:
+                self._reject(gid, str(exc))
                 return
         if self._with_info:
             self.callback(msg, {'source_timestamp': source_ns, 'received_timestamp': received,
@@ -130,16 +149,15 @@ class Subscription(QueuedEntity):
         else:
             self.callback(msg)
 
-    def _wrong_type_text(self, tail: bytes) -> str:
-        their_type, their_hash = describe_type(tail)
-        if their_type == self.msg_type._TYPE:
-            return (f'a publisher sends {their_type} with a different definition '
-                    f'(hash {their_hash}, expected {self.msg_type._HASH})')
-        return f'a publisher sends {their_type}, this subscription expects {self.msg_type._TYPE}'
-
     def _reject(self, gid: bytes, reason: str) -> None:
+        """Count a refused sample; log the first one of each publisher (senders without a zros
+        attachment are one publisher, b''), and stop logging after _MAX_REPORTED of them so
+        that forged publisher ids cannot flood the log."""
         self.rejected += 1
-        if gid not in self._complained:
-            self._complained.add(gid)
-            self._node.get_logger().error(
-                f"dropping messages on '{self.topic_name}': {reason} (reported once per publisher)")
+        if gid in self._complained or len(self._complained) > _MAX_REPORTED:
+            return
+        self._complained.add(gid)
+        if len(self._complained) > _MAX_REPORTED:
+            reason = f'{reason}; more publishers send bad samples: they are counted, not logged'
+        self._node.get_logger().error(
+            f"dropping messages on '{self.topic_name}': {reason} (reported once per publisher)")

@@ -144,7 +144,7 @@ def _message_part(spec: idl.MessageSpec) -> type:
 
 def get_message(name: str) -> type:
     cls = get_type(name)
-    if not hasattr(cls, '_TO_WIRE'):
+    if not hasattr(cls, '_ENC'):
         raise InterfaceNotFoundError(f"'{name}' is not a message type")
     return cls
 

@@ -1,25 +1,43 @@
-"""The attachment every zros sample, request and reply carries (protocol v1, docs/protocol.md).
+"""What every zros sample, request and reply carries besides its payload (protocol v2,
+docs/protocol.md), and the checks a receiver makes before decoding one.
 
-    b'Z1' | gid (16) | sequence (u64 LE) | source time ns (i64 LE) | type hash (8) | type name
+The attachment:
 
-Writers (publishers, clients) stamp it; readers (subscriptions, services) use it to refuse
-the wrong type, count lost messages per writer and report source times.
+    b'Z2' | gid (16) | sequence (u64 LE) | source time ns (i64 LE) | type hash (8) | type name
+
+Writers (publishers, clients) stamp it; readers (subscriptions, services) use it to refuse the
+wrong type, count lost messages per writer and report source times. A payload without it (from
+a plain Zenoh client) is decoded strictly as the reader's type. Readers also refuse payloads
+larger than their limit (`ZROS_MAX_MESSAGE_SIZE`, `ZROS_MAX_REQUEST_SIZE`) before decoding.
 """
 from __future__ import annotations
 
 import itertools
 import os
+import re
 import struct
 import time
 
-__all__ = ['MAGIC', 'TYPE_AT', 'AttachmentWriter', 'read_header', 'writer_sequence', 'type_tail',
-           'describe_type']
+from zros.errors import ZrosError
 
-MAGIC = b'Z1'
+__all__ = ['MAGIC', 'PROTOCOL_VERSION', 'TYPE_AT', 'AttachmentWriter', 'read_header', 'writer_sequence',
+           'type_tail', 'describe_type', 'mismatch_reason', 'foreign_protocol', 'max_message_size', 'max_request_size',
+           'parse_size', 'DEFAULT_MAX_MESSAGE_SIZE', 'DEFAULT_MAX_REQUEST_SIZE']
+
+PROTOCOL_VERSION = 2
+MAGIC = b'Z2'
+_OLD_MAGIC = re.compile(rb'Z[0-9]')
 _GID_AT = len(MAGIC)
 _SEQ_AT = _GID_AT + 16
 _SEQ_TIME = struct.Struct('<Qq')
 TYPE_AT = _SEQ_AT + _SEQ_TIME.size
+
+#: What a subscription or a client accepts per message unless ZROS_MAX_MESSAGE_SIZE says
+#: otherwise: room for 4K RGB images and large point clouds, not for a runaway sender.
+DEFAULT_MAX_MESSAGE_SIZE = 256 << 20
+#: What a service server accepts per request unless ZROS_MAX_REQUEST_SIZE says otherwise
+#: (a request is decoded and answered on the executor, so a huge one stalls other callbacks).
+DEFAULT_MAX_REQUEST_SIZE = 16 << 20
 
 
 def type_tail(iface_type: type) -> bytes:
@@ -30,21 +48,21 @@ def type_tail(iface_type: type) -> bytes:
 class AttachmentWriter:
     """Stamps a writer's attachments; one per publisher or client (its own gid and sequence)."""
 
-    __slots__ = ('_head', '_tail', '_seq', '_pack')
+    __slots__ = ('_gid', '_tail', '_seq', '_pack')
 
     def __init__(self, iface_type: type) -> None:
-        self._head = MAGIC + os.urandom(16)
+        self._gid = os.urandom(16)
         self._tail = type_tail(iface_type)
         self._seq = itertools.count(1)
-        self._pack = _SEQ_TIME.pack
+        self._pack = struct.Struct(f'<2s16sQq{len(self._tail)}s').pack
 
     def next(self) -> bytes:
-        return self._head + self._pack(next(self._seq), time.time_ns()) + self._tail
+        return self._pack(MAGIC, self._gid, next(self._seq), time.time_ns(), self._tail)
 
 
 def read_header(attachment: bytes) -> tuple[bytes, int, int, bytes] | None:
     """(gid, sequence, source time ns, type tail), or None when the sample did not come from a
-    zros writer. A plain tuple: this runs once per received message."""
+    zros writer of this protocol version. A plain tuple: this runs once per received message."""
     if attachment[:_GID_AT] != MAGIC or len(attachment) < TYPE_AT:
         return None
     seq, source_ns = _SEQ_TIME.unpack_from(attachment, _SEQ_AT)
@@ -56,7 +74,7 @@ _unpack_seq = struct.Struct('<Q').unpack_from
 
 def writer_sequence(attachment: bytes) -> tuple[bytes, int] | None:
     """(gid, sequence number) of a zros attachment, None for others. The cheap part of
-    read_header, for Zenoh's receive thread."""
+    read_header."""
     if attachment[:_GID_AT] != MAGIC or len(attachment) < TYPE_AT:
         return None
     return attachment[_GID_AT:_SEQ_AT], _unpack_seq(attachment, _SEQ_AT)[0]
@@ -65,3 +83,47 @@ def writer_sequence(attachment: bytes) -> tuple[bytes, int] | None:
 def describe_type(tail: bytes) -> tuple[str, str]:
     """(type name, hash hex) from an attachment's tail, for error messages."""
     return tail[8:].decode(errors='replace'), tail[:8].hex()
+
+
+def mismatch_reason(tail: bytes, iface_type: type, sender: str) -> str:
+    """Why a sample whose attachment names `tail` is not for `iface_type` (`sender` is 'a
+    publisher' or 'the client'): another type, or the same type name with another definition."""
+    their_type, their_hash = describe_type(tail)
+    if their_type == iface_type._TYPE:
+        return (f'{sender} sends {their_type} with a different definition (type hash {their_hash}, '
+                f'this side has {iface_type._HASH}): the two sides were built from different '
+                f'{their_type.rsplit("/", 1)[-1]} interface files')
+    return f'{sender} sends {their_type}, this side expects {iface_type._TYPE}'
+
+
+def foreign_protocol(attachment: bytes) -> str | None:
+    """A one-line reason when `attachment` is a zros attachment of another protocol version
+    (its payload cannot be read by this one), else None."""
+    if len(attachment) >= TYPE_AT and attachment[:_GID_AT] != MAGIC and _OLD_MAGIC.fullmatch(attachment[:_GID_AT]):
+        version = attachment[1:2].decode()
+        return (f'the sender speaks zros protocol v{version}, this node speaks v{PROTOCOL_VERSION} '
+                '(run the same zros version on both sides)')
+    return None
+
+
+def parse_size(text: str, what: str) -> int:
+    """'1048576', '64K', '16M' or '1G' (binary units) as a byte count; ZrosError otherwise."""
+    match = re.fullmatch(r'\s*(\d+)\s*([kKmMgG]?)(i?[bB])?\s*', text)
+    if not match:
+        raise ZrosError(f"{what}: '{text}' is not a size; expected bytes or a number with K, M or G, e.g. 16M")
+    return int(match.group(1)) << {'': 0, 'k': 10, 'm': 20, 'g': 30}[match.group(2).lower()]
+
+
+def _size_setting(name: str, default: int) -> int:
+    text = os.environ.get(name)
+    return default if not text else parse_size(text, name)
+
+
+def max_message_size() -> int:
+    """The largest topic message (or service reply) a reader accepts, in bytes."""
+    return _size_setting('ZROS_MAX_MESSAGE_SIZE', DEFAULT_MAX_MESSAGE_SIZE)
+
+
+def max_request_size() -> int:
+    """The largest service request a server accepts, in bytes."""
+    return _size_setting('ZROS_MAX_REQUEST_SIZE', DEFAULT_MAX_REQUEST_SIZE)

@@ -104,7 +104,7 @@ def test_plain_zenoh_client_through_the_router(net, system):
     """A plain Zenoh client (rmw_zenoh #929) gets zros data through `zros router`."""
     client = net.h3.spawn(sys.executable, HERE / 'plain_client.py', 'sub', MAIN, 'zros/0/t/chatter', name='plain')
     try:
-        client.wait_for("sample {'data': 'Hello World", timeout=15)
+        client.wait_for("sample ['Hello World", timeout=15)
     finally:
         net.kill_all([client])
 

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any, Callable
 
 from zros.action.types import protocol_types
 from zros.graph import EntityKind
+from zros.message import pack_payload
 from zros.publisher import Publisher
 from zros.qos import QoSProfile, qos_profile_action_status_default, qos_profile_services_default
 from zros.service import DeferredResponse
@@ -141,15 +142,17 @@ class ServerGoalHandle:
     def _hex(self) -> str:
         return bytes(self._goal_id.uuid).hex()
 
-    def _status_entry(self) -> dict:
-        """This goal's action_msgs/msg/GoalStatus in wire form, rebuilt only when it changes."""
+    def _status_entry(self) -> tuple[Any, list]:
+        """This goal's action_msgs/msg/GoalStatus in wire form (header value, tail arrays),
+        rebuilt only when it changes."""
         cached = self._status_msg
         if cached is None or cached[0] != self._status:
             from interfaces.action_msgs.msg import GoalInfo, GoalStatus as GoalStatusMsg
             entry = GoalStatusMsg(goal_info=GoalInfo(goal_id=self._goal_id, stamp=self._stamp),
                                   status=int(self._status))
-            cached = self._status_msg = (self._status, entry._TO_WIRE(entry))
-        return cached[1]
+            tail: list = []
+            cached = self._status_msg = (self._status, GoalStatusMsg._ENC(entry, tail), tail)
+        return cached[1], cached[2]
 
 
 class ActionServer:
@@ -398,7 +401,6 @@ class ActionServer:
         self._node._run_on_executor(self._flush_status)
 
     def _flush_status(self) -> None:
-        import msgpack
         with self._lock:
             self._status_pending = False
         if self._destroyed:
@@ -406,8 +408,13 @@ class ActionServer:
         self._expire_results()
         with self._lock:
             goals = list(self._goals.values())
-        try:
-            self._status_pub.publish(msgpack.packb({'status_list': [g._status_entry() for g in goals]}))
+        entries, tail = [], []
+        for goal in goals:
+            header, arrays = goal._status_entry()
+            entries.append(header)
+            tail.extend(arrays)
+        try:  # a GoalStatusArray, assembled from the cached entries
+            self._status_pub.publish(pack_payload((entries,), tail))
         except RuntimeError:
             pass  # destroyed while a goal was finishing
 

@@ -140,7 +140,7 @@ def cmd_proto(args: argparse.Namespace) -> int:
         cls = cls.Request
     elif hasattr(cls, 'Goal'):
         cls = cls.Goal
-    elif not hasattr(cls, '_TO_WIRE'):
+    elif not hasattr(cls, '_ENC'):
         raise CliError(f"'{args.type}' is not an interface type")
     text = yaml_prototype(cls).rstrip('\n')
     print(text if args.no_quotes else f'"{text}"')

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import argparse
+import array
 import json
 import sys
 import time
@@ -462,10 +463,12 @@ def cmd_echo(args: argparse.Namespace) -> int:
 
 
 def _plain(value):
-    if type(value).__module__ == 'numpy' or type(value).__name__ == 'MessageArray':
+    if type(value).__module__ == 'numpy' or isinstance(value, array.array):
         return value.tolist()
+    if isinstance(value, bytes):  # a `byte` field: rclpy's bytes of length 1, shown as its number
+        return value[0]
     if isinstance(value, list):
-        return [v if not hasattr(v, '_FIELDS') else _msg_dict(v) for v in value]
+        return [_msg_dict(v) if hasattr(v, '_FIELDS') else _plain(v) for v in value]
     return value
 
 
@@ -681,9 +684,8 @@ def cmd_bw(args: argparse.Namespace) -> int:
 def cmd_delay(args: argparse.Namespace) -> int:
     from collections import deque
 
-    import msgpack
-
-    from zros.errors import CliError
+    from zros.errors import CliError, DecodeError
+    from zros.message import deserialize
     monitor = _Monitor(args)
     delays: deque = deque(maxlen=args.window)
     state = {'new': False, 'any': False}
@@ -691,14 +693,14 @@ def cmd_delay(args: argparse.Namespace) -> int:
     def on_message(payload, info) -> None:
         state['any'] = True
         try:
-            stamp = msgpack.unpackb(payload)['header']['stamp']
-            sent = stamp['sec'] * 1_000_000_000 + stamp['nanosec']
-        except (KeyError, TypeError, ValueError, msgpack.UnpackException):
+            stamp = deserialize(payload, state['type']).header.stamp
+        except DecodeError:
             return
-        delays.append(info['received_timestamp'] - sent)
+        delays.append(info['received_timestamp'] - (stamp.sec * 1_000_000_000 + stamp.nanosec))
         state['new'] = True
 
     def check(msg_type) -> None:
+        state['type'] = msg_type
         if 'header' not in msg_type._FIELDS:
             raise CliError(f"cannot compute the delay of '{monitor.topic}': {msg_type._TYPE} has no header")
 
