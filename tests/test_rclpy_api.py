@@ -113,8 +113,8 @@ def test_async_parameter_client_against_a_node_process(spawn, context, tmp_path)
 
 # -- point_cloud2 -------------------------------------------------------------------------------
 def _wire(msg):
-    import msgpack
-    return type(msg)._FROM_WIRE(msgpack.unpackb(msgpack.packb(msg._TO_WIRE(msg))))
+    from zros.message import deserialize, serialize
+    return deserialize(serialize(msg), type(msg))
 
 
 def test_point_cloud_round_trip_and_reads():

@@ -2,8 +2,8 @@
 
 A process with several listeners (several nodes, or a node that makes a listener per helper
 class) would otherwise decode every TF message once per listener. The hub decodes each sample
-once, straight from its MessagePack map (no message objects), and inserts it into every
-registered buffer on Zenoh's receive thread. Static transforms are remembered, so a listener
+once (strictly, as every zros reader does) and inserts it into every registered buffer on
+Zenoh's receive thread. Static transforms are remembered, so a listener
 created later in the same process gets them at once, as a late-joining process does from the
 transient-local history.
 
@@ -17,10 +17,10 @@ import threading
 import weakref
 from typing import Any
 
-import msgpack
-
+from zros.errors import DecodeError
 from zros.logging import get_logger
-from zros.wire import read_header, type_tail
+from zros.message import deserialize
+from zros.wire import mismatch_reason, read_header, type_tail
 
 __all__ = ['TfHub', 'TF_TOPIC', 'TF_STATIC_TOPIC']
 
@@ -59,6 +59,7 @@ class TfHub:
     def __init__(self, context: Any) -> None:
         from interfaces.tf2_msgs.msg import TFMessage
         self._context = context
+        self._type = TFMessage
         self._tail = type_tail(TFMessage)
         self._lock = threading.Lock()
         self._targets: dict[bool, tuple[_Target, ...]] = {False: (), True: ()}
@@ -144,21 +145,19 @@ class TfHub:
         header = read_header(attachment)
         writer = header[0] if header is not None else b''
         if header is not None and header[3] != self._tail:
-            from zros.wire import describe_type
-            self._complain(writer, f'a publisher sends {describe_type(header[3])[0]}, expected tf2_msgs/msg/TFMessage',
-                           topic)
+            self._complain(writer, mismatch_reason(header[3], self._type, 'a publisher'), topic)
             return None
         try:
-            items = []
-            for t in msgpack.unpackb(sample.payload.to_bytes())['transforms']:
-                h, tr = t['header'], t['transform']
-                s, p, q = h['stamp'], tr['translation'], tr['rotation']
-                items.append((t['child_frame_id'], h['frame_id'], s['sec'] * 1_000_000_000 + s['nanosec'],
-                              (float(p['x']), float(p['y']), float(p['z']),
-                               float(q['x']), float(q['y']), float(q['z']), float(q['w']))))
-        except Exception as exc:  # noqa: BLE001 - a corrupt or foreign payload must not kill the listener
-            self._complain(writer, f'payload is not a valid TFMessage ({type(exc).__name__}: {exc})', topic)
+            message = deserialize(sample.payload.to_bytes(), self._type)
+        except DecodeError as exc:  # a corrupt or foreign payload must not kill the listener
+            self._complain(writer, str(exc), topic)
             return None
+        items = []
+        for t in message.transforms:
+            h, tr = t.header, t.transform
+            p, q = tr.translation, tr.rotation
+            items.append((t.child_frame_id, h.frame_id, h.stamp.sec * 1_000_000_000 + h.stamp.nanosec,
+                          (p.x, p.y, p.z, q.x, q.y, q.z, q.w)))
         return writer, items
 
     def _complain(self, writer: bytes, reason: str, topic: str) -> None:
