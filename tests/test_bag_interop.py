@@ -83,7 +83,7 @@ def test_convert_both_ways_keeps_values(tmp_path, zros_cli):
         back = tmp_path / f'back_{storage}'
         assert zros_cli('bag', 'convert', str(out), str(back), '-f', 'msgpack').returncode == 0
         _, recorded = zros_bag_messages(back)
-        assert [msgpack.unpackb(d)['data'] for t, d in recorded if t == '/played'] == ['p0', 'p1', 'p2', 'p3']
+        assert [msgpack.unpackb(d)[0] for t, d in recorded if t == '/played'] == ['p0', 'p1', 'p2', 'p3']
 
     assert zros_cli('bag', 'convert', str(scans), str(tmp_path / 'scans_cdr'), '-f', 'cdr').returncode == 0
     messages, connections = rosbags_messages(tmp_path / 'scans_cdr')

@@ -93,12 +93,14 @@ class CdrCodec:
 
     def _value_to_store(self, value: Any, kind: int, detail: Any) -> Any:
         if kind == _BASE:
-            return value
+            return value[0] if isinstance(value, bytes) else value  # a `byte` is a 1-byte bytes in zros
         if kind == _NAME:
             return self._to_store(value, detail)
         (element_kind, element), _ = detail
         if element_kind == _BASE and element[0] in _DTYPES:
             dtype = _DTYPES[element[0]]
+            if isinstance(value, list) and value and isinstance(value[0], bytes):
+                value = b''.join(value)  # byte[]: a list of 1-byte bytes in zros
             if isinstance(value, (bytes, bytearray, memoryview)):
                 return np.frombuffer(value, dtype=np.uint8).view(dtype)
             return np.asarray(value, dtype=dtype)
