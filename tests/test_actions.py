@@ -235,9 +235,10 @@ def test_action_cli(fibonacci_server, zros_cli, client_node, Fibonacci):
                     '{order: 5}', '--feedback', timeout=30)
     assert sent.returncode == 0, sent
     out = sent.stdout
-    assert 'Sending goal:\n    order: 5' in out
-    assert 'Goal accepted with ID: ' in out and 'Feedback:' in out
-    assert 'Result:\n    sequence:\n    - 0\n    - 1\n    - 1\n    - 2\n    - 3\n    - 5' in out
+    # ros2 action send_goal's layout: only the first YAML line is indented
+    assert out.startswith('Waiting for an action server to become available...\nSending goal:\n     order: 5\n\n')
+    assert 'Goal accepted with ID: ' in out and 'Feedback:\n    partial_sequence:\n- 0\n' in out
+    assert 'Result:\n    sequence:\n- 0\n- 1\n- 1\n- 2\n- 3\n- 5\n\nGoal finished' in out
     assert out.rstrip().endswith('Goal finished with status: SUCCEEDED')
     rejected = zros_cli('action', 'send_goal', '/fibonacci', 'action_tutorials_interfaces/action/Fibonacci', '{order: -1}')
     assert rejected.returncode == 1 and 'Goal was rejected.' in rejected.stdout

@@ -140,8 +140,9 @@ def test_echo_csv_json_field_filter(rate50, zros_cli):
 def test_echo_no_arr_no_str_flow(rate50, zros_cli):
     no_arr = zros_cli('topic', 'echo', '/joints', '--no-arr', '--once')
     doc = yaml.safe_load(no_arr.stdout.split('---')[0])
-    assert doc['position'] == '<sequence type: float64, length: 2>', no_arr
-    assert doc['name'].startswith('<sequence type:'), no_arr
+    # rosidl's IDL type names, as ros2 topic echo --no-arr prints them
+    assert doc['position'] == '<sequence type: double, length: 2>', no_arr
+    assert doc['name'] == '<sequence type: string, length: 2>', no_arr
     no_str = zros_cli('topic', 'echo', '/stamped50', '--no-str', '--once')
     assert yaml.safe_load(no_str.stdout.split('---')[0])['header']['frame_id'] == '<string length: <3>>', no_str
     full = zros_cli('topic', 'echo', '/joints', '--once')

@@ -185,7 +185,7 @@ zros.spin(node)
     server.wait_for_output('ready')
     result = zros_cli('service', 'call', '/calc', 'custom_srv_pkg/srv/CustomCalc', '{a: 6, b: 7}')
     assert result.returncode == 0, result
-    assert 'result: 42' in result.stdout
+    assert 'response:\ncustom_srv_pkg.srv.CustomCalc_Response(result=42)\n' in result.stdout, result
     client = spawn.script('''
 import zros
 from zros.node import Node
@@ -211,7 +211,7 @@ def test_service_cli(server_process, zros_cli, context, add_two_ints):
     call = zros_cli('service', 'call', '/add_two_ints', 'example_interfaces/srv/AddTwoInts', '{a: 2, b: 3}')
     assert call.returncode == 0, call
     assert 'requester: making request: example_interfaces.srv.AddTwoInts_Request(a=2, b=3)' in call.stdout
-    assert 'response:\nsum: 5' in call.stdout
+    assert 'response:\nexample_interfaces.srv.AddTwoInts_Response(sum=5)\n\n' in call.stdout, call  # ros2's repr form
     bad = zros_cli('service', 'call', '/add_two_ints', 'example_interfaces/srv/AddTwoInts', '{c: 1}')
     assert bad.returncode == 1 and "unknown field 'c'" in bad.stderr and 'Traceback' not in bad.stderr
     wrong = zros_cli('service', 'call', '/add_two_ints', 'std_srvs/srv/Trigger', '{}')

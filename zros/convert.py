@@ -19,8 +19,12 @@ __all__ = ['message_to_ordereddict', 'message_to_yaml', 'message_to_csv', 'set_m
 def message_to_ordereddict(msg: Any, *, truncate_length: int | None = None, no_arr: bool = False,
                            no_str: bool = False) -> dict:
     out = {}
-    for name in msg._FIELDS:
-        out[name] = _to_plain(getattr(msg, name), truncate_length, no_arr, no_str)
+    for field in msg._SPEC.fields:
+        value = getattr(msg, field.name)
+        if no_arr and field.type.is_array:
+            out[field.name] = _array_summary(field.type, len(value))
+        else:
+            out[field.name] = _to_plain(value, truncate_length, no_arr, no_str)
     return out
 
 
@@ -28,8 +32,6 @@ def _to_plain(value: Any, truncate: int | None, no_arr: bool, no_str: bool) -> A
     if hasattr(value, '_FIELDS'):
         return message_to_ordereddict(value, truncate_length=truncate, no_arr=no_arr, no_str=no_str)
     if isinstance(value, (np.ndarray, array.array, list)):
-        if no_arr:
-            return f'<sequence type: {_element_type(value)}, length: {len(value)}>'
         items = value.tolist() if not isinstance(value, list) else [
             _to_plain(v, truncate, no_arr, no_str) for v in value]
         if truncate is not None and len(items) > truncate:
@@ -45,12 +47,18 @@ def _to_plain(value: Any, truncate: int | None, no_arr: bool, no_str: bool) -> A
     return value
 
 
-def _element_type(value: Any) -> str:
-    if isinstance(value, np.ndarray):
-        return value.dtype.name
-    if isinstance(value, array.array):
-        return np.dtype(value.typecode).name
-    return type(value[0]).__name__ if value else 'unknown'
+# The IDL names rosidl gives the .msg primitives (what `ros2 topic echo --no-arr` prints).
+_IDL_NAMES = {'bool': 'boolean', 'byte': 'octet', 'char': 'uint8', 'float32': 'float', 'float64': 'double'}
+
+
+def _array_summary(field_type: Any, length: int) -> str:
+    """rosidl_runtime_py's placeholder for an array field under --no-arr, IDL type names and all."""
+    name = _IDL_NAMES.get(field_type.base, field_type.base)
+    if field_type.array == 'fixed':
+        return f'<array type: {name}[{field_type.array_size}]>'
+    if field_type.array == 'bounded':
+        return f'<sequence type: {name}[{field_type.array_size}], length: {length}>'
+    return f'<sequence type: {name}, length: {length}>'
 
 
 def message_to_yaml(msg: Any, *, truncate_length: int | None = None, no_arr: bool = False,

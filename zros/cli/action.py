@@ -3,7 +3,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import textwrap
 
 from zros.cli.common import absolute_name, cli_context, cli_node, graph_entities, is_hidden
 from zros.graph import EntityKind, names_and_types
@@ -40,6 +39,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     p.add_argument('-f', '--feedback', action='store_true', help='Echo feedback messages for the goal')
     p.add_argument('--timeout', type=float, default=10.0,
                    help='Seconds to wait for the action server to appear (default 10); the goal itself may run as long as it needs')
+    p.add_argument('--json', action='store_true',
+                   help='Print JSON lines instead of ros2\'s text: {"goal_id"}, {"feedback"} (with -f), '
+                        '{"status", "result"}')
     p.set_defaults(handler=cmd_send_goal)
 
 
@@ -108,61 +110,75 @@ def cmd_find(args: argparse.Namespace) -> int:
     return 0
 
 
-def _indented(msg) -> str:
+def _ros2_block(title: str, msg, indent: str = '    ') -> str:
+    """ros2 action's layout: the title line, then the message's YAML with only its first line
+    indented (ros2 prints `'Result:\\n    {}'.format(message_to_yaml(...))`), then a blank line."""
     from zros.convert import message_to_yaml
-    return textwrap.indent(message_to_yaml(msg), '    ').rstrip('\n')
+    return f'{title}\n{indent}{message_to_yaml(msg)}'
 
 
 def cmd_send_goal(args: argparse.Namespace) -> int:
     from zros.action import ActionClient
-    from zros.convert import message_from_yaml
+    from zros.convert import message_from_yaml, message_to_ordereddict
     from zros.errors import CliError
     from zros.executors import SingleThreadedExecutor
     from zros.typesupport import get_action
     name = absolute_name(args.action_name, 'action name')
     action_type = get_action(args.action_type)
     goal = message_from_yaml(action_type.Goal, args.goal)
+
+    def say(text: str) -> None:
+        if not args.json:
+            print(text, flush=True)
+
+    def emit(record: dict) -> None:
+        if args.json:
+            print(json.dumps(record), flush=True)
+
     with cli_context() as ctx:
         node = cli_node(ctx)
         executor = SingleThreadedExecutor(context=ctx)
         executor.add_node(node)
 
         def on_feedback(message) -> None:
-            print('Feedback:')
-            print(_indented(message.feedback) + '\n', flush=True)
+            say(_ros2_block('Feedback:', message.feedback))
+            emit({'feedback': message_to_ordereddict(message.feedback)})
 
         client = ActionClient(node, action_type, name)
-        if not client.server_is_ready():
-            print('Waiting for an action server to become available...', flush=True)
-            if not client.wait_for_server(args.timeout):
-                raise CliError(f"action server '{name}' did not appear within {args.timeout} s")
-        print('Sending goal:')
-        print(_indented(goal) + '\n', flush=True)
+        say('Waiting for an action server to become available...')
+        if not client.server_is_ready() and not client.wait_for_server(args.timeout):
+            raise CliError(f"action server '{name}' did not appear within {args.timeout} s")
+        say(_ros2_block('Sending goal:', goal, indent='     '))
         sent = client.send_goal_async(goal, feedback_callback=on_feedback if args.feedback else None)
         executor.spin_until_future_complete(sent, timeout_sec=args.timeout)
         if not sent.done():
             raise CliError(f"action server '{name}' did not answer the goal within {args.timeout} s")
         handle = sent.result()
         if not handle.accepted:
-            print('Goal was rejected.')
+            say('Goal was rejected.')
+            emit({'accepted': False})
             return 1
-        print(f'Goal accepted with ID: {bytes(handle.goal_id.uuid).hex()}\n', flush=True)
+        goal_id = bytes(handle.goal_id.uuid).hex()
+        say(f'Goal accepted with ID: {goal_id}\n')
+        emit({'accepted': True, 'goal_id': goal_id})
         result = handle.get_result_async()
         try:
             while not result.done():
                 executor.spin_once(timeout_sec=0.1)
         except KeyboardInterrupt:
-            print('Canceling goal...', flush=True)
+            say('Canceling goal...')
             cancel = handle.cancel_goal_async()
             executor.spin_until_future_complete(cancel, timeout_sec=5.0)
             response = cancel.result() if cancel.done() else None
             if response is None or not response.goals_canceling:
-                print('Failed to cancel goal')
+                say('Failed to cancel goal')
                 return 130
-            print('Goal canceled.')
+            say('Goal canceled.')
+            emit({'status': 'CANCELED'})
             return 130
         response = result.result()
-        print('Result:')
-        print(_indented(response.result) + '\n')
-        print(f'Goal finished with status: {_STATUS.get(response.status, response.status)}')
+        status = _STATUS.get(response.status, str(response.status))
+        say(_ros2_block('Result:', response.result))
+        say(f'Goal finished with status: {status}')
+        emit({'status': status, 'result': message_to_ordereddict(response.result)})
         return 0 if response.status == 4 else 1

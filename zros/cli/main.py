@@ -28,6 +28,7 @@ VERBS = {
     'security': ('zros.cli.security', 'Create TLS keys and certificates (a CA and one per node)'),
     'bag': ('zros.cli.bag', 'Record and play back topics (MCAP files)'),
     'doctor': ('zros.cli.doctor', 'Check the zros set-up and the running system for problems'),
+    'wtf': ('zros.cli.doctor', 'Alias of doctor (as ros2 wtf)'),
     'graph': ('zros.cli.graph', 'Print the node/topic graph as Graphviz DOT (or render SVG)'),
     'completion': ('zros.cli.completion', 'Print a bash or zsh completion script'),
     'port': ('zros.cli.port', 'Apply the rclpy -> zros porting edits to files or a package, show the diff'),

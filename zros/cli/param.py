@@ -47,6 +47,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     p = sub.add_parser('dump', help='Dump the parameters of a node as YAML (ROS 2 parameter file layout)')
     p.add_argument('node_name')
     p.add_argument('--output-dir', help='Write <node>.yaml into this directory instead of printing')
+    p.add_argument('--print', action='store_true',
+                   help='Print the YAML (the default; with --output-dir, print it as well as writing it)')
     common(p)
     p.set_defaults(handler=cmd_dump)
     p = sub.add_parser('load', help='Load parameters of a node from a YAML file')
@@ -142,7 +144,16 @@ def cmd_get(args: argparse.Namespace) -> int:
     return 0
 
 
+# ROS parameter names: tokens of letters, digits and '_' joined by '.' (nesting) or '/' (as in
+# qos_overrides./topic.publisher.depth), not starting with a digit.
+_PARAMETER_NAME = re.compile(r'^[A-Za-z_][A-Za-z0-9_]*(?:[./]+[A-Za-z0-9_]+)*$')
+
+
 def _parameter_msg(name: str, value):
+    from zros.errors import CliError
+    if not _PARAMETER_NAME.match(name):
+        raise CliError(f"invalid parameter name '{name}': use letters, digits and '_', with '.' between "
+                       'nested names')
     from zros.parameter import Parameter
     try:
         return Parameter(name, value=value).to_parameter_msg()
@@ -154,9 +165,9 @@ def _parameter_msg(name: str, value):
 def cmd_set(args: argparse.Namespace) -> int:
     from zros.errors import CliError
     from zros.parameter import parse_parameter_value
+    msg = _parameter_msg(args.parameter_name, parse_parameter_value(args.value))
     with cli_context() as ctx:
         remote = _Remote(ctx, args.node_name, args.timeout)
-        msg = _parameter_msg(args.parameter_name, parse_parameter_value(args.value))
         result = remote.call('set_parameters', 'SetParameters', parameters=[msg]).results[0]
     if result.successful:
         print('Set parameter successful')
@@ -223,7 +234,7 @@ def cmd_dump(args: argparse.Namespace) -> int:
         with open(path, 'w', encoding='utf-8') as stream:
             stream.write(text)
         print(f'Saving to:  {path}')
-    else:
+    if args.print or not args.output_dir:
         sys.stdout.write(text)
     return 0
 

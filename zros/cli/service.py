@@ -34,6 +34,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     p.add_argument('-r', '--rate', type=float, help='Repeat the call at this rate in Hz (default: call once)')
     p.add_argument('--timeout', type=float, default=10.0,
                    help='Seconds to wait for the service to appear and for each answer (default 10)')
+    p.add_argument('--json', action='store_true',
+                   help='Print only each response, as one JSON object per line (instead of ros2\'s text)')
     p.set_defaults(handler=cmd_call)
 
 
@@ -79,17 +81,22 @@ def cmd_find(args: argparse.Namespace) -> int:
 
 
 def cmd_call(args: argparse.Namespace) -> int:
-    from zros.convert import message_from_yaml, message_to_yaml
+    """ros2 service call's output: the request and the response in their repr form, e.g.
+    `response:` / `example_interfaces.srv.AddTwoInts_Response(sum=3)`, each followed by a blank line."""
+    from zros.convert import message_from_yaml, message_to_ordereddict
     from zros.errors import CliError
     from zros.typesupport import get_service
     name = absolute_name(args.service_name, 'service name')
     srv_type = get_service(args.service_type)
     request = message_from_yaml(srv_type.Request, args.values)
+    if args.rate is not None and args.rate <= 0:
+        raise CliError('--rate must be > 0')
+    say = (lambda text: None) if args.json else (lambda text: print(text, flush=True))
     with cli_context() as ctx:
         node = cli_node(ctx)
         client = node.create_client(srv_type, name)
         if not client.service_is_ready():
-            print('waiting for service to become available...', flush=True)
+            say('waiting for service to become available...')
             if not client.wait_for_service(args.timeout):
                 raise CliError(f"service '{name}' did not appear within {args.timeout} s")
         offered = {e.type for e in graph_entities(ctx) if e.kind == EntityKind.SERVICE and e.name == name}
@@ -98,10 +105,12 @@ def cmd_call(args: argparse.Namespace) -> int:
         period = None if not args.rate else 1.0 / args.rate
         while True:
             started = time.monotonic()
-            print(f'requester: making request: {request!r}\n', flush=True)
+            say(f'requester: making request: {request!r}\n')
             response = client.call(request, timeout_sec=args.timeout)
-            print('response:')
-            print(message_to_yaml(response), flush=True)
+            if args.json:
+                print(json.dumps(message_to_ordereddict(response)), flush=True)
+            else:
+                say(f'response:\n{response!r}\n')
             if period is None:
                 return 0
             time.sleep(max(0.0, period - (time.monotonic() - started)))

@@ -19,8 +19,32 @@ __all__ = ['add_arguments', 'add_qos_arguments', 'qos_from_args']
 _TOPIC_KINDS = (EntityKind.PUBLISHER, EntityKind.SUBSCRIPTION)
 
 
+class _VerbParser(argparse.ArgumentParser):
+    """argparse reads `--rate -1` as `--rate` followed by the option `-1` (`--once`), and any
+    other negative number as an unknown option, so the user sees "expected one argument". A
+    negative number right after an option that takes a value is that option's value here, and
+    the verb then says what is wrong with it."""
+
+    def parse_known_args(self, args=None, namespace=None):
+        if args is not None:
+            args = list(args)
+            takes_value = {o for a in self._actions if a.option_strings and a.nargs is None
+                           and not isinstance(a, (argparse._StoreConstAction, argparse._CountAction))
+                           for o in a.option_strings}
+            i = 0
+            while i < len(args) - 1:
+                if args[i] in takes_value and self._negative_number_matcher.match(args[i + 1]):
+                    args[i:i + 2] = [f'{self._long_option(args[i])}={args[i + 1]}']
+                i += 1
+        return super().parse_known_args(args, namespace)
+
+    def _long_option(self, option: str) -> str:
+        action = self._option_string_actions[option]
+        return max(action.option_strings, key=len)
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    sub = parser.add_subparsers(dest='topic_verb', metavar='<command>')
+    sub = parser.add_subparsers(dest='topic_verb', metavar='<command>', parser_class=_VerbParser)
 
     p = sub.add_parser('list', help='Output a list of available topics')
     p.add_argument('-t', '--show-types', action='store_true', help='Additionally show the topic type')
@@ -99,7 +123,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     p.set_defaults(handler=cmd_pub)
 
     p = sub.add_parser('hz', help='Print the average publishing rate to screen')
-    p.add_argument('topic_name')
+    p.add_argument('topic_name', nargs='+', help="Names of the topics to listen to (e.g. '/chatter')")
     p.add_argument('-w', '--window', dest='window_size', type=_positive_int, default=10000, metavar='WINDOW',
                    help='Window size, in # of messages, for calculating rate (default 10000)')
     p.add_argument('--filter', dest='filter_expr', metavar='EXPR',
@@ -248,11 +272,13 @@ def cmd_info(args: argparse.Namespace) -> int:
         raise CliError(f"Unknown topic '{topic}'")
     pubs = [e for e in entities if e.kind == EntityKind.PUBLISHER and e.name == topic]
     subs = [e for e in entities if e.kind == EntityKind.SUBSCRIPTION and e.name == topic]
+    hashes = _TypeHashes()
     if args.json:
         def describe(e):
             counters = stats.get((e.zid, e.node_id, e.entity_id))
             extra = {} if counters is None else dict(zip(('received', 'dropped', 'lost', 'rejected'), counters))
-            return {'node': e.node_fqn, 'type': e.type, 'type_hash': e.type_hash, 'qos': e.qos, **extra}
+            return {'node': e.node_fqn, 'type': e.type, 'type_hash': e.type_hash,
+                    'type_hash_rihs01': hashes.rihs01(e.type, e.type_hash), 'qos': e.qos, **extra}
         print(json.dumps({'name': topic, 'types': types, 'publishers': [describe(e) for e in pubs],
                           'subscriptions': [describe(e) for e in subs]}))
         return 0
@@ -268,7 +294,7 @@ def cmd_info(args: argparse.Namespace) -> int:
                 print(f'Node name: {e.node_name}')
                 print(f'Node namespace: {e.namespace}')
                 print(f'Topic type: {e.type}')
-                print(f'Topic type hash: {e.type_hash}')
+                print(f'Topic type hash: {hashes.text(e.type, e.type_hash)}')
                 print(f'Endpoint type: {kind}')
                 print(f'GID: {e.zid}.{e.node_id}.{e.entity_id}')
                 print('QoS profile:')
@@ -293,6 +319,39 @@ def cmd_info(args: argparse.Namespace) -> int:
 def _qos_duration(duration: 'Duration') -> str:
     """As ros2 topic info -v prints a QoS duration: unset (0) is Infinite."""
     return f'{duration.nanoseconds} nanoseconds' if duration.nanoseconds else 'Infinite'
+
+
+class _TypeHashes:
+    """The type hash `topic info -v` prints (docs/cli.md): ROS 2's `RIHS01_<64 hex>`, computed from
+    this machine's definition of the type, when the endpoint announces that same definition (its
+    zros hash matches ours); otherwise `ZROS_<16 hex>`, the zros type hash it announced
+    (docs/protocol.md, *The type hash*), which says its definition is not the one installed here."""
+
+    def __init__(self) -> None:
+        self._codec = None
+        self._known: dict[tuple[str, str], str | None] = {}
+
+    def rihs01(self, type_name: str, zros_hash: str) -> str | None:
+        key = (type_name, zros_hash)
+        if key not in self._known:
+            self._known[key] = self._compute(type_name, zros_hash)
+        return self._known[key]
+
+    def _compute(self, type_name: str, zros_hash: str) -> str | None:
+        from zros.errors import ZrosError
+        from zros.typesupport import get_message
+        try:
+            if get_message(type_name)._HASH != zros_hash:
+                return None
+            if self._codec is None:
+                from zros.bag.cdr import CdrCodec
+                self._codec = CdrCodec()
+            return self._codec.rihs01(type_name)
+        except ZrosError:
+            return None
+
+    def text(self, type_name: str, zros_hash: str) -> str:
+        return self.rihs01(type_name, zros_hash) or f'ZROS_{zros_hash}'
 
 
 def cmd_type(args: argparse.Namespace) -> int:
@@ -502,6 +561,23 @@ def _stdin_documents(stream):
         yield ''.join(buffer)
 
 
+def _wait_for_subscriptions(publisher, count: int, max_wait: float) -> None:
+    """ros2 topic pub's wait: say once a second what it waits for (`Waiting for at least 1
+    matching subscription(s)...`); after `max_wait` seconds publish anyway, with a warning."""
+    deadline = time.monotonic() + max_wait
+    if publisher.wait_for_subscribers(count, min(0.3, max_wait)):  # the graph's first read
+        return
+    while True:
+        print(f'Waiting for at least {count} matching subscription(s)...', flush=True)
+        remaining = deadline - time.monotonic()
+        if remaining <= 0:
+            print(f'Waiting for at least {count} matching subscription(s) timed out after {max_wait:g} s; '
+                  'publishing anyway', file=sys.stderr)
+            return
+        if publisher.wait_for_subscribers(count, min(1.0, remaining)):
+            return
+
+
 def cmd_pub(args: argparse.Namespace) -> int:
     from zros.convert import message_from_yaml
     from zros.errors import CliError
@@ -514,7 +590,7 @@ def cmd_pub(args: argparse.Namespace) -> int:
     if wait_for is None:
         wait_for = 1 if (times or args.stdin) else 0
     if args.rate <= 0:
-        raise CliError('--rate must be > 0')
+        raise CliError(f'--rate must be > 0, got {args.rate:g}')
     qos = qos_from_args(args)
     with cli_context() as ctx:
         entities = graph_entities(ctx, timeout=0.5)
@@ -523,9 +599,8 @@ def cmd_pub(args: argparse.Namespace) -> int:
             raise CliError(f"topic '{topic}' has type {', '.join(types)}, not {msg_type._TYPE}")
         node = _node_for(ctx, args.node_name)
         publisher = node.create_publisher(msg_type, topic, qos)
-        if wait_for > 0 and not publisher.wait_for_subscribers(wait_for, args.max_wait_time_secs):
-            print(f'Waiting for at least {wait_for} matching subscription(s) timed out after '
-                  f'{args.max_wait_time_secs} s; publishing anyway', file=sys.stderr)
+        if wait_for > 0:
+            _wait_for_subscriptions(publisher, wait_for, args.max_wait_time_secs)
         print('publisher: beginning loop', flush=True)
         count = 0
         if args.stdin:
@@ -565,43 +640,49 @@ class _Monitor:
 
     def __init__(self, args: argparse.Namespace) -> None:
         self.args = args
-        self.topic = absolute_name(args.topic_name)
+        names = args.topic_name if isinstance(args.topic_name, list) else [args.topic_name]
+        self.topics = list(dict.fromkeys(absolute_name(name) for name in names))
+        self.topic = self.topics[0]
 
-    def wait_for_type(self, ctx):
+    def wait_for_type(self, ctx, topic: str):
         from zros.errors import CliError
         from zros.typesupport import get_message
         deadline = None if self.args.timeout is None else time.monotonic() + self.args.timeout
         warned = False
         while True:
             entities = graph_entities(ctx)
-            types = sorted({e.type for e in entities if e.kind == EntityKind.PUBLISHER and e.name == self.topic})
+            types = sorted({e.type for e in entities if e.kind == EntityKind.PUBLISHER and e.name == topic})
             if len(types) > 1:
-                raise CliError(f"Topic '{self.topic}' has more than one type ({', '.join(types)})")
+                raise CliError(f"Topic '{topic}' has more than one type ({', '.join(types)})")
             if types:
                 return get_message(types[0]), entities
             if not warned:
-                print(f'WARNING: topic [{self.topic}] does not appear to be published yet', flush=True)
+                print(f'WARNING: topic [{topic}] does not appear to be published yet', flush=True)
                 warned = True
             if deadline is not None and time.monotonic() >= deadline:
-                raise CliError(f"timed out after {self.args.timeout} s: topic '{self.topic}' is not published")
+                raise CliError(f"timed out after {self.args.timeout} s: topic '{topic}' is not published")
             time.sleep(0.2)
 
-    def run(self, on_message, report, *, raw: bool = True, check=None) -> int:
-        """Subscribe and call `report()` every second until Ctrl-C (or --timeout with no message).
-        `report()` returns whether any message has arrived yet; `check(msg_type)` may refuse the type."""
+    def run(self, callback_for, report, *, raw: bool = True, check=None) -> int:
+        """Subscribe to each topic with `callback_for(topic)` and call `report()` every second
+        until Ctrl-C (or --timeout with no message). `report()` returns whether any message has
+        arrived yet; `check(msg_type)` may refuse a type."""
         from zros.errors import CliError
         from zros.executors import SingleThreadedExecutor
         from zros.qos import QoSProfile, ReliabilityPolicy
         with cli_context() as ctx:
-            msg_type, entities = self.wait_for_type(ctx)
-            if check is not None:
-                check(msg_type)
-            offered = _offered_qos(entities, self.topic)
-            reliable = bool(offered) and all(q.reliability == ReliabilityPolicy.RELIABLE for q in offered)
-            qos = QoSProfile(depth=10000, reliability=ReliabilityPolicy.RELIABLE if reliable
-                             else ReliabilityPolicy.BEST_EFFORT)
             node = cli_node(ctx)
-            node.create_subscription(msg_type, self.topic, on_message, qos, raw=raw)
+            for topic in self.topics:
+                msg_type, entities = self.wait_for_type(ctx, topic)
+                if check is not None:
+                    check(msg_type)
+                offered = _offered_qos(entities, topic)
+                reliable = bool(offered) and all(q.reliability == ReliabilityPolicy.RELIABLE for q in offered)
+                qos = QoSProfile(depth=10000, reliability=ReliabilityPolicy.RELIABLE if reliable
+                                 else ReliabilityPolicy.BEST_EFFORT)
+                node.create_subscription(msg_type, topic, callback_for(topic), qos, raw=raw)
+                if len(self.topics) > 1:
+                    print(f'Subscribed to [{topic}]', flush=True)
             executor = SingleThreadedExecutor(context=ctx)
             executor.add_node(node)
             started = time.monotonic()
@@ -618,7 +699,7 @@ class _Monitor:
                     elif (started is not None and self.args.timeout is not None
                           and now - started >= self.args.timeout):
                         raise CliError(f"timed out after {self.args.timeout} s waiting for a message on "
-                                       f"'{self.topic}'")
+                                       f"'{', '.join(self.topics)}'")
 
 
 def _stats(values) -> tuple[float, float, float, float]:
@@ -627,33 +708,78 @@ def _stats(values) -> tuple[float, float, float, float]:
     return mean, min(values), max(values), (sum((x - mean) ** 2 for x in values) / n) ** 0.5
 
 
+class _Rate:
+    """One topic's receive-time gaps over the last `window` messages (ros2 topic hz's figures)."""
+
+    def __init__(self, window: int) -> None:
+        from collections import deque
+        self.deltas: deque = deque(maxlen=window)
+        self.last: int | None = None
+        self.new = False
+
+    def add(self, now: int) -> None:
+        if self.last is not None and now >= self.last:
+            self.deltas.append(now - self.last)
+            self.new = True
+        self.last = now
+
+    def take(self) -> tuple[float, float, float, float, int] | None:
+        """(rate [Hz], min, max, std dev [s], window) if messages came since the last call."""
+        if not self.new or not self.deltas:
+            return None
+        self.new = False
+        mean, low, high, std = _stats(self.deltas)
+        return (1e9 / mean if mean > 0 else 0.0), low * 1e-9, high * 1e-9, std * 1e-9, len(self.deltas)
+
+
+def _ascii_table(header: list[str], rows: list[list[str]]) -> str:
+    """ros2 topic hz's table for several topics: centred titles, a `=` rule, left-aligned cells."""
+    widths = [max([len(h)] + [len(row[i]) for row in rows]) for i, h in enumerate(header)]
+    lines = ['   '.join(h.center(w) for h, w in zip(header, widths)), '=' * (sum(widths) + 3 * (len(header) - 1))]
+    lines += ['   '.join(cell.ljust(w) for cell, w in zip(row, widths)) for row in rows]
+    return '\n'.join(lines) + '\n'
+
+
 def cmd_hz(args: argparse.Namespace) -> int:
-    from collections import deque
     monitor = _Monitor(args)
     accept = _compile_filter(args.filter_expr)
-    deltas: deque = deque(maxlen=args.window_size)
-    state = {'last': None, 'new': False}
+    rates = {topic: _Rate(args.window_size) for topic in monitor.topics}
 
-    def on_message(msg, info) -> None:
-        if accept is not None and not accept(msg):
-            return
-        now = info['received_timestamp']
-        last = state['last']
-        if last is not None and now >= last:
-            deltas.append(now - last)
-            state['new'] = True
-        state['last'] = now
+    def callback_for(topic: str):
+        rate = rates[topic]
+
+        def on_message(msg, info) -> None:
+            if accept is None or accept(msg):
+                rate.add(info['received_timestamp'])
+        return on_message
 
     def report() -> bool:
-        if not state['new'] or not deltas:
-            return state['last'] is not None
-        state['new'] = False
-        mean, low, high, std = _stats(deltas)
-        rate = 1e9 / mean if mean > 0 else 0.0
-        print(f'average rate: {rate:.3f}\n\tmin: {low * 1e-9:.3f}s max: {high * 1e-9:.3f}s '
-              f'std dev: {std * 1e-9:.5f}s window: {len(deltas)}', flush=True)
-        return True
-    return monitor.run(on_message, report, raw=accept is None)
+        figures = {topic: rate.take() for topic, rate in rates.items()}
+        if len(rates) == 1:
+            (figure,) = figures.values()
+            if figure is not None:
+                hz, low, high, std, window = figure
+                print(f'average rate: {hz:.3f}\n\tmin: {low:.3f}s max: {high:.3f}s std dev: {std:.5f}s '
+                      f'window: {window}', flush=True)
+        else:
+            rows = [[topic, f'{hz:.3f}', f'{low:.3f}', f'{high:.3f}', f'{std:.5f}', str(window)]
+                    for topic, figure in figures.items() if figure is not None
+                    for hz, low, high, std, window in [figure]]
+            if rows:
+                print(_ascii_table(['topic', 'rate', 'min_delta', 'max_delta', 'std_dev', 'window'], rows),
+                      flush=True)
+        return any(rate.last is not None for rate in rates.values())
+    return monitor.run(callback_for, report, raw=accept is None)
+
+
+def _bw_units(value: float, per_second: float) -> str:
+    """ros2 topic bw's units, chosen by the rate for every figure of a report: `512 B`,
+    `1.50 KB`, `2.00 MB` (decimal kilo and mega)."""
+    if per_second < 1000:
+        return f'{value:.0f} B'
+    if per_second < 1_000_000:
+        return f'{value / 1000:.2f} KB'
+    return f'{value / 1000 / 1000:.2f} MB'
 
 
 def cmd_bw(args: argparse.Namespace) -> int:
@@ -672,13 +798,13 @@ def cmd_bw(args: argparse.Namespace) -> int:
         sizes = [size for _, size in window]
         total = sum(sizes)
         per_second = total / elapsed if elapsed > 0 else 0.0
-        unit, scale = (('B', 1) if per_second < 1000 else ('KB', 1e3) if per_second < 1e6 else ('MB', 1e6))
-        print(f'{per_second / scale:.2f} {unit}/s from {len(sizes)} messages\n'
-              f'\tMessage size mean: {total / len(sizes) / scale:.2f} {unit} min: {min(sizes) / scale:.2f} {unit} '
-              f'max: {max(sizes) / scale:.2f} {unit}', flush=True)
+        rate, mean, low, high = (_bw_units(v, per_second) for v in (per_second, total / len(sizes), min(sizes),
+                                                                     max(sizes)))
+        print(f'{rate}/s from {len(sizes)} messages\n\tMessage size mean: {mean} min: {low} max: {high}',
+              flush=True)
         return True
     print(f'Subscribed to [{monitor.topic}]', flush=True)
-    return monitor.run(on_message, report)
+    return monitor.run(lambda _topic: on_message, report)
 
 
 def cmd_delay(args: argparse.Namespace) -> int:
@@ -714,4 +840,4 @@ def cmd_delay(args: argparse.Namespace) -> int:
         print(f'average delay: {mean * 1e-9:.3f}\n\tmin: {low * 1e-9:.3f}s max: {high * 1e-9:.3f}s '
               f'std dev: {std * 1e-9:.5f}s window: {len(delays)}', flush=True)
         return True
-    return monitor.run(on_message, report, check=check)
+    return monitor.run(lambda _topic: on_message, report, check=check)
