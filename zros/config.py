@@ -13,6 +13,11 @@ Environment (each also a `zros run` / `zros launch` option, see docs/multi-machi
     ZROS_LISTEN      comma-separated endpoints to listen on
     ZROS_DISCOVERY   localhost (default) | subnet (multicast scouting) | off
     ZROS_CONFIG      a Zenoh JSON5 config file, applied first; the settings above override it
+    ROS_SECURITY_ENABLE=true with ROS_SECURITY_KEYSTORE (SROS2's words): when ZROS_CONFIG is
+                     unset, the config is the enclave's `tls.json5` in the keystore that
+                     `zros security create_keystore/create_enclave` made (the enclave from
+                     `--ros-args --enclave`, ROS_SECURITY_ENCLAVE_OVERRIDE, else '/');
+                     ROS_SECURITY_STRATEGY=Enforce makes a missing enclave an error
 
 What each setting does, and the rules that pick the session's endpoints:
 - localhost: the loopback hub, as above. A process that finds the hub port held by a Zenoh
@@ -47,7 +52,7 @@ from dataclasses import dataclass, field
 
 from zros.errors import ZrosError
 
-__all__ = ['SessionSettings', 'settings_from_env', 'HUB_BASE_PORT', 'open_session', 'build_config',
+__all__ = ['SessionSettings', 'settings_from_env', 'security_config_file', 'HUB_BASE_PORT', 'open_session', 'build_config',
            'validate_endpoint', 'DISCOVERY_MODES', 'SETTINGS_ENV', 'SESSION_OPTIONS', 'add_session_options',
            'apply_session_options', 'split_session_options']
 
@@ -183,8 +188,44 @@ def _load_file(path: str) -> _FileConfig:
     return _file_cache[key]
 
 
-def settings_from_env(env: os._Environ | dict | None = None, *, domain_id: int | None = None) -> SessionSettings:
-    """The session settings in effect for this environment; ZrosError (one line) on a bad value."""
+def security_config_file(env: os._Environ | dict | None = None, enclave: str | None = None, *,
+                         default_enclave: str = '/') -> str | None:
+    """The Zenoh config file SROS2's variables ask for, or None when security is off.
+
+    ROS_SECURITY_ENABLE=true and ROS_SECURITY_KEYSTORE=DIR select `DIR/enclaves/<enclave>/tls.json5`
+    (an mTLS client of the keystore's router; for the router, its mTLS listener). The enclave is
+    ROS_SECURITY_ENCLAVE_OVERRIDE, else `enclave` (`--ros-args --enclave`), else `default_enclave`.
+    A missing enclave is an error under ROS_SECURITY_STRATEGY=Enforce; under Permissive (the
+    default, as in SROS2) the process warns and runs without security.
+    """
+    env = os.environ if env is None else env
+    if (env.get('ROS_SECURITY_ENABLE') or '').strip().lower() != 'true':
+        return None
+    keystore = (env.get('ROS_SECURITY_KEYSTORE') or '').strip()
+    if not keystore:
+        raise ZrosError('ROS_SECURITY_ENABLE=true needs ROS_SECURITY_KEYSTORE, a directory made by '
+                        '`zros security create_keystore DIR`')
+    name = (env.get('ROS_SECURITY_ENCLAVE_OVERRIDE') or enclave or default_enclave).strip() or '/'
+    path = os.path.join(os.path.expanduser(keystore), 'enclaves', *[p for p in name.split('/') if p], 'tls.json5')
+    if os.path.isfile(path):
+        return path
+    if name.strip('/'):
+        problem = (f"no enclave '{name}' in the keystore '{keystore}' "
+                   f"(create it with: zros security create_enclave {keystore} {name})")
+    else:
+        problem = ('no enclave given: pass `--ros-args --enclave NAME` or set ROS_SECURITY_ENCLAVE_OVERRIDE=NAME '
+                   f"(enclaves of '{keystore}': zros security list_enclaves {keystore})")
+    if (env.get('ROS_SECURITY_STRATEGY') or '').strip().lower() == 'enforce':
+        raise ZrosError(problem)
+    print(f'[WARN] zros: {problem}; running without security (ROS_SECURITY_STRATEGY is not Enforce)',
+          file=sys.stderr)
+    return None
+
+
+def settings_from_env(env: os._Environ | dict | None = None, *, domain_id: int | None = None,
+                      enclave: str | None = None) -> SessionSettings:
+    """The session settings in effect for this environment; ZrosError (one line) on a bad value.
+    `enclave` is the process's `--ros-args --enclave` (see `security_config_file`)."""
     env = os.environ if env is None else env
     reasons: dict[str, str] = {}
     if domain_id is None:
@@ -203,9 +244,13 @@ def settings_from_env(env: os._Environ | dict | None = None, *, domain_id: int |
         raise ZrosError(f'domain id must be within 0-232, got {domain_id}')
 
     config_file = (env.get('ZROS_CONFIG') or '').strip() or None
-    loaded = _load_file(config_file) if config_file else None
     if config_file:
         reasons['config_file'] = 'ZROS_CONFIG'
+    else:
+        config_file = security_config_file(env, enclave)
+        if config_file:
+            reasons['config_file'] = 'ROS_SECURITY_KEYSTORE'
+    loaded = _load_file(config_file) if config_file else None
 
     def endpoints(variable: str, from_file: tuple[str, ...]) -> tuple[str, ...]:
         raw = env.get(variable)

@@ -53,7 +53,7 @@ class Context:
             parsed = parse_ros_args(argv)
             for logger, level in parsed.log_levels:
                 set_logger_level(logger, severity_from_string(level))
-            settings = settings_from_env(domain_id=domain_id)
+            settings = settings_from_env(domain_id=domain_id, enclave=parsed.enclave)
             self._session, self._is_hub = open_session(settings)
             self._settings, self._args, self._argv = settings, parsed, argv
             self._graph = None

@@ -15,6 +15,7 @@ __all__ = ['main']
 # verb -> (module, one-line help)
 VERBS = {
     'run': ('zros.cli.run', 'Run an executable from a package (like ros2 run)'),
+    'env': ('zros.cli.env', 'Print the exports that make a workspace\'s packages visible (eval "$(zros env WS)")'),
     'topic': ('zros.cli.topic', 'Inspect and publish topics'),
     'node': ('zros.cli.node', 'Inspect nodes'),
     'interface': ('zros.cli.interface', 'Show message, service and action definitions'),

@@ -245,8 +245,11 @@ class Router:
 
 
 def main(args: argparse.Namespace) -> int:
+    from zros.config import security_config_file
+    # SROS2's ROS_SECURITY_* variables: the keystore's router enclave (zros security create_keystore).
+    config_file = args.config or security_config_file(default_enclave='router')
     router = Router(listen=_endpoint_list(args.listen, '--listen'), connect=_endpoint_list(args.connect, '--connect'),
-                    config_file=args.config, domain=args.domain, verbose=args.verbose)
+                    config_file=config_file, domain=args.domain, verbose=args.verbose)
     stop = threading.Event()
     previous = {s: signal.signal(s, lambda *_: stop.set()) for s in (signal.SIGINT, signal.SIGTERM)}
     try:

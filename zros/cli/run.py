@@ -2,7 +2,7 @@
 
 Executables are looked up in this order:
 1. entry points in the group `zros.nodes` named `PKG/EXECUTABLE` (how an installed
-   package registers its own nodes, see docs/nodes.md);
+   package registers its own nodes, see README.md, "Running nodes");
 2. modules `nodes.PKG.EXECUTABLE` shipped with zros (the `nodes/` directory);
 3. `PKG/EXECUTABLE.py` under each directory of `ZROS_NODE_PATH` (loaded with zros.import_hook
    installed, so unmodified rclpy code runs as it is).

@@ -1,5 +1,21 @@
-"""`zros security create-keys DIR`: a certificate authority and one certificate per node, for
-Zenoh TLS and mutual TLS (mTLS), laid out like an SROS2 keystore.
+"""`zros security create_keystore|create_enclave|list_enclaves|create-keys`: a certificate
+authority and one certificate per node (an *enclave*, in SROS2's words), for Zenoh TLS and
+mutual TLS (mTLS), laid out like an SROS2 keystore.
+
+SROS2's steps carry over:
+
+    zros security create_keystore demo_keystore          # the CA, and the router's enclave
+    zros security create_enclave demo_keystore /talker_listener/talker
+    export ROS_SECURITY_KEYSTORE=demo_keystore ROS_SECURITY_ENABLE=true ROS_SECURITY_STRATEGY=Enforce
+    zros router &                                        # mTLS router (enclave router)
+    zros run demo_nodes talker --ros-args --enclave /talker_listener/talker
+
+With ROS_SECURITY_ENABLE=true every zros process uses its enclave's tls.json5 as its Zenoh
+config (zros.config.security_config_file): an mTLS client of the keystore's router, which
+listens on tls/0.0.0.0:7447 and which clients dial at tls/localhost:7447 unless ZROS_CONNECT
+says where it is. Encryption and authentication come from TLS; access control from the
+router's config (docs/multi-machine.md). `create-keys` is the same tool with zros's own
+options:
 
     zros security create-keys keys --nodes router,talker,listener --hosts 192.168.1.10,robot.local
 
@@ -10,6 +26,8 @@ Zenoh TLS and mutual TLS (mTLS), laid out like an SROS2 keystore.
     DIR/enclaves/<node>/ca.cert.pem  a copy of the CA certificate, so one folder is all a host needs
     DIR/enclaves/<node>/tls.json5    ready-to-use ZROS_CONFIG for that node: a client of an mTLS
                                      router (for `router`: an mTLS router config instead)
+    An enclave named like a path (/talker_listener/talker) lives in DIR/enclaves/talker_listener/talker/
+    and its certificate's common name is that path, as in SROS2.
 
 Run it again with more --nodes to add nodes signed by the same CA (existing ones are kept
 unless --force). Keys are ECDSA P-256 (PKCS#8 PEM), certificates X.509 v3 with SHA-256.
@@ -29,7 +47,7 @@ import re
 import socket
 from pathlib import Path
 
-__all__ = ['add_arguments', 'main', 'create_keys']
+__all__ = ['add_arguments', 'main', 'create_keys', 'enclave_dir']
 
 _NAME = re.compile(r'^[A-Za-z0-9_][A-Za-z0-9_.\-]*$')
 _HOSTNAME = re.compile(r'^[A-Za-z0-9]([A-Za-z0-9-]*[A-Za-z0-9])?(\.[A-Za-z0-9]([A-Za-z0-9-]*[A-Za-z0-9])?)*$')
@@ -49,6 +67,23 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     create.add_argument('--days', type=int, default=365, metavar='N', help='validity of new certificates (default 365)')
     create.add_argument('--force', action='store_true', help='replace the keys of nodes that already exist')
     create.set_defaults(handler=main)
+
+    hosts_help = ('extra DNS names / IP addresses the router is dialled at (for its certificate\'s subject '
+                  'alternative names; localhost, 127.0.0.1 and this host\'s name are always in)')
+    p = sub.add_parser('create_keystore', help='create a keystore: a CA and the router\'s enclave (SROS2\'s verb)')
+    p.add_argument('directory', metavar='ROOT', help='the keystore directory (created if missing)')
+    p.add_argument('--hosts', default='', metavar='H,...', help=hosts_help)
+    p.add_argument('--days', type=int, default=365, metavar='N', help='validity of new certificates (default 365)')
+    p.set_defaults(handler=cmd_create_keystore)
+    p = sub.add_parser('create_enclave', help='create an enclave (a key and certificate) in a keystore (SROS2\'s verb)')
+    p.add_argument('directory', metavar='ROOT', help='the keystore made by create_keystore')
+    p.add_argument('name', metavar='NAME', help='the enclave, e.g. /talker_listener/talker')
+    p.add_argument('--hosts', default='', metavar='H,...', help=hosts_help)
+    p.add_argument('--days', type=int, default=365, metavar='N', help='validity of the certificate (default 365)')
+    p.set_defaults(handler=cmd_create_enclave)
+    p = sub.add_parser('list_enclaves', help='list the enclaves of a keystore (SROS2\'s verb)')
+    p.add_argument('directory', metavar='ROOT', help='the keystore')
+    p.set_defaults(handler=cmd_list_enclaves)
 
 
 def _write(path: Path, data: bytes, private: bool = False) -> None:
@@ -139,6 +174,16 @@ def _make_node(name: str, hosts: list[str], days: int, ca_key, ca_cert):
     return key, builder.sign(ca_key, hashes.SHA256())
 
 
+def enclave_dir(root: str | Path, name: str) -> Path:
+    """Where enclave `name` ('talker' or SROS2's '/talker_listener/talker') lives in keystore `root`."""
+    from zros.errors import CliError
+    parts = [part for part in name.split('/') if part]
+    if not parts or not all(_NAME.match(part) for part in parts):
+        raise CliError(f"enclave name '{name}' is not usable as a certificate name (letters, digits, _ . -, "
+                       "parts separated by '/')")
+    return Path(root, 'enclaves', *parts)
+
+
 def snippet(enclave: Path, role: str) -> str:
     """The JSON5 config for one enclave: an mTLS router, or a client of one."""
     ca, cert, key = (str((enclave / f).resolve()) for f in ('ca.cert.pem', 'cert.pem', 'key.pem'))
@@ -155,13 +200,13 @@ def snippet(enclave: Path, role: str) -> str:
     else:
         body = {
             'mode': 'client',
-            'connect': {'endpoints': ['tls/ROUTER_HOST:7447']},
+            'connect': {'endpoints': ['tls/localhost:7447']},
             'transport': {'link': {'tls': {
                 'root_ca_certificate': ca, 'connect_private_key': key, 'connect_certificate': cert,
                 'enable_mtls': True}}},
         }
         head = ('// mTLS client config made by `zros security create-keys`:  ZROS_CONFIG=THIS_FILE zros run ...\n'
-                '// Replace ROUTER_HOST, or leave it and set ZROS_CONNECT=tls/<router>:7447 (which overrides it).\n'
+                '// It dials a router on this machine; ZROS_CONNECT=tls/<router>:7447 (which overrides it) names another.\n'
                 '// The router\'s certificate must name the address you dial (create-keys --hosts).\n')
     return head + json.dumps(body, indent=2) + '\n'
 
@@ -176,8 +221,7 @@ def create_keys(directory: str | Path, nodes: list[str], *, hosts: list[str] = (
     if days < 1:
         raise CliError(f'--days must be at least 1, got {days}')
     for name in nodes:
-        if not _NAME.match(name):
-            raise CliError(f"node name '{name}' is not usable as a certificate name (letters, digits, _ . -)")
+        enclave_dir(root, name)  # validates the name
     ca_key_path, ca_cert_path = root / 'private' / 'ca.key.pem', root / 'public' / 'ca.cert.pem'
     if ca_key_path.exists() and ca_cert_path.exists():
         try:
@@ -196,14 +240,14 @@ def create_keys(directory: str | Path, nodes: list[str], *, hosts: list[str] = (
     all_hosts = [h.strip() for h in [*hosts, *default_hosts] if h and h.strip()]
     written: dict[str, Path] = {}
     for name in nodes:
-        enclave = root / 'enclaves' / name
+        enclave = enclave_dir(root, name)
         if (enclave / 'key.pem').exists() and not force:
             continue
         key, cert = _make_node(name, all_hosts, days, ca_key, ca_cert)
         _write(enclave / 'key.pem', _key_pem(key), private=True)
         _write(enclave / 'cert.pem', _cert_pem(cert))
         _write(enclave / 'ca.cert.pem', _cert_pem(ca_cert))
-        _write(enclave / 'tls.json5', snippet(enclave, 'router' if name == 'router' else 'client').encode())
+        _write(enclave / 'tls.json5', snippet(enclave, 'router' if name.strip('/') == 'router' else 'client').encode())
         os.chmod(enclave, 0o700)
         written[name] = enclave
     return written
@@ -227,4 +271,42 @@ def main(args: argparse.Namespace) -> int:
     print('next:  zros router --config ' + str((root / 'enclaves' / 'router' / 'tls.json5').resolve())
           if 'router' in nodes else
           'next:  ZROS_CONFIG=<DIR>/enclaves/<node>/tls.json5 ZROS_CONNECT=tls/<router>:7447 zros run ...')
+    return 0
+
+
+def _hosts(text: str) -> list[str]:
+    return [h.strip() for h in text.split(',') if h.strip()]
+
+
+def cmd_create_keystore(args: argparse.Namespace) -> int:
+    root = Path(args.directory)
+    written = create_keys(root, ['router'], hosts=_hosts(args.hosts), days=args.days)
+    print(f'keystore {root.resolve()}')
+    print(f'  CA certificate  {(root / "public" / "ca.cert.pem").resolve()}')
+    print(f'  CA key          {(root / "private" / "ca.key.pem").resolve()}  (keep it private)')
+    state = 'created' if written else 'kept (exists)'
+    print(f'  router enclave  {enclave_dir(root, "router").resolve()}  {state}')
+    print(f'next:  zros security create_enclave {args.directory} /talker_listener/talker')
+    return 0
+
+
+def cmd_create_enclave(args: argparse.Namespace) -> int:
+    from zros.errors import CliError
+    root = Path(args.directory)
+    if not (root / 'public' / 'ca.cert.pem').is_file():
+        raise CliError(f"'{root}' is not a keystore: run `zros security create_keystore {args.directory}` first")
+    written = create_keys(root, [args.name], hosts=_hosts(args.hosts), days=args.days)
+    enclave = enclave_dir(root, args.name).resolve()
+    print(f"enclave {args.name}  {enclave}/{{cert.pem,key.pem,tls.json5}}  "
+          f"{'created' if written else 'kept (exists)'}")
+    return 0
+
+
+def cmd_list_enclaves(args: argparse.Namespace) -> int:
+    from zros.errors import CliError
+    base = Path(args.directory) / 'enclaves'
+    if not base.is_dir():
+        raise CliError(f"'{args.directory}' is not a keystore (no enclaves/ directory)")
+    for cert in sorted(base.rglob('cert.pem')):
+        print('/' + cert.parent.relative_to(base).as_posix())
     return 0
