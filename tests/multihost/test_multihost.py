@@ -81,7 +81,7 @@ def test_service_call_across_hosts(net, system):
     result = net.h3.zros('service', 'call', '/add_two_ints', 'example_interfaces/srv/AddTwoInts', '{a: 2, b: 40}',
                          '--timeout', '15', ZROS_CONNECT=MAIN, timeout=30)
     assert result.returncode == 0, result
-    assert 'sum: 42' in result.stdout, result
+    assert 'AddTwoInts_Response(sum=42)' in result.stdout, result
 
 
 def test_action_across_hosts(net, system):
