@@ -1,0 +1,192 @@
+"""zros.sim's robot: drive, limits, walls, collisions, odometry noise, lidar, determinism."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from zros.sim import BURGER, LDS_01, SimError, Simulation, load_world, parse_world
+
+WALL_AT_1M = parse_world('obstacles:\n- segment: {from: [1.0, -5.0], to: [1.0, 5.0]}\n')
+
+
+def test_driving_0_2_m_s_for_5_s_moves_1_m() -> None:
+    sim = Simulation(load_world('empty_world'))
+    robot = sim.add_robot('burger', (0.0, 0.0, 0.0))
+    robot.command(0.2, 0.0)
+    sim.step(5.0)
+    robot.command(0.0, 0.0)
+    sim.step(1.0)
+    assert robot.pose.x == pytest.approx(1.0, rel=0.02)
+    assert abs(robot.pose.y) < 1e-9 and robot.velocity == (0.0, 0.0)
+
+
+def test_speed_and_acceleration_limits_are_the_burgers() -> None:
+    sim = Simulation(load_world('empty_world'))
+    robot = sim.add_robot('burger', (0.0, 0.0, 0.0))
+    robot.command(5.0, 0.0)
+    sim.step(0.1)
+    assert robot.velocity[0] == pytest.approx(0.1, abs=0.006)      # 1 m/s^2 at the wheels
+    sim.step(1.0)
+    assert robot.velocity[0] == pytest.approx(BURGER.max_linear)
+    robot.command(0.0, -10.0)
+    sim.step(1.0)
+    assert robot.velocity == pytest.approx((0.0, -BURGER.max_angular))
+    with pytest.raises(ValueError, match='finite'):
+        robot.command(float('nan'), 0.0)
+
+
+def test_odometry_equals_truth_without_noise() -> None:
+    sim = Simulation(load_world('empty_world'))
+    robot = sim.add_robot('burger', (1.0, 2.0, 0.5), slip_stddev=0.0)
+    for linear, angular, seconds in [(0.2, 0.0, 3), (0.15, 0.8, 7.3), (-0.1, -2.84, 3), (0.0, 0.0, 1)]:
+        robot.command(linear, angular)
+        sim.step(seconds)
+    truth, odom = robot.pose, robot.odometry()
+    c, s = math.cos(0.5), math.sin(0.5)      # odom starts at the spawn pose
+    assert truth.x == pytest.approx(1.0 + c * odom.x - s * odom.y, abs=1e-9)
+    assert truth.y == pytest.approx(2.0 + s * odom.x + c * odom.y, abs=1e-9)
+    assert math.remainder(truth.yaw - odom.yaw - 0.5, 2 * math.pi) == pytest.approx(0.0, abs=1e-9)
+
+
+def test_odometry_drifts_by_the_configured_slip_only() -> None:
+    slip, distance = 0.01, 2.0
+    wheel_errors, yaw_errors = [], []
+    for seed in range(24):
+        sim = Simulation(load_world('empty_world'), seed=seed)
+        robot = sim.add_robot('burger', (0.0, 0.0, 0.0), slip_stddev=slip)
+        robot.command(0.2, 0.0)
+        sim.step(distance / 0.2)
+        robot.command(0.0, 0.0)
+        sim.step(0.5)
+        assert robot.pose.x == pytest.approx(distance, abs=1e-9)      # the truth drives straight
+        wheel_errors += [p * BURGER.wheel_radius - distance for p in robot.wheel_positions]
+        yaw_errors.append(robot.odometry().yaw)
+    # Each wheel's travel error has variance slip^2 * distance; heading error is their difference
+    # over the wheel separation.
+    sigma_wheel = slip * math.sqrt(distance)
+    sigma_yaw = math.sqrt(2.0) * sigma_wheel / BURGER.wheel_separation
+    for errors, sigma in ((np.array(wheel_errors), sigma_wheel), (np.array(yaw_errors), sigma_yaw)):
+        assert np.abs(errors).max() < 4 * sigma
+        assert 0.6 * sigma < errors.std() < 1.5 * sigma
+
+
+def test_the_robot_never_passes_a_wall_at_full_speed_and_each_bump_counts() -> None:
+    world = load_world('turtlebot3_world')
+    sim = Simulation(world)
+    robot = sim.add_robot('burger', (0.55, 0.55, 0.0))
+    bumps = []
+    sim.on_collision = lambda r: bumps.append(r.name)
+    closest = np.inf
+    for heading in np.linspace(-math.pi, math.pi, 12, endpoint=False):
+        sim.teleport('burger', (0.55, 0.55, heading))
+        before = robot.collisions
+        robot.command(BURGER.max_linear, 0.0)
+        for _ in range(80):        # 16 s: far enough to reach a pillar or the wall, then push on it
+            sim.step(0.2)
+            p = robot.pose
+            assert not world.contains([[p.x, p.y]])[0]
+            closest = min(closest, world.distance([[p.x, p.y]])[0])
+        assert robot.in_contact and robot.collisions > before   # a pillar grazed, then a wall: 2
+    assert closest > BURGER.body_radius - 0.0015           # at most 1.5 mm into a surface
+    assert robot.collisions == len(bumps)
+
+
+def test_pushing_and_sliding_along_a_wall_is_one_collision() -> None:
+    sim = Simulation(WALL_AT_1M)
+    robot = sim.add_robot('burger', (0.0, 0.0, 0.5))
+    robot.command(BURGER.max_linear, 0.0)
+    sim.step(20.0)
+    assert robot.in_contact and robot.collisions == 1
+    assert robot.pose.x == pytest.approx(1.0 - BURGER.body_radius, abs=0.001)
+    y = robot.pose.y
+    sim.step(1.0)                                          # slides at the tangential speed
+    assert robot.pose.y - y == pytest.approx(BURGER.max_linear * math.sin(0.5), abs=0.002)
+
+
+def test_lidar_reads_the_distance_to_a_known_wall() -> None:
+    sim = Simulation(WALL_AT_1M, seed=3)
+    robot = sim.add_robot('burger', (0.0, 0.0, 0.0))
+    sensor_x = BURGER.lidar_mount[0]
+    ranges = np.stack([robot.scan() for _ in range(50)])
+    assert ranges.shape == (50, 360) and ranges.dtype == np.float32
+    ahead = ranges[:, 0]
+    assert abs(ahead.mean() - (1.0 - sensor_x)) < 0.01
+    assert 0.005 < ahead.std() < 0.015                    # sigma = 0.01 m
+    exact = robot.scan(noise=False)
+    angles = LDS_01.angles()
+    facing = np.cos(angles) > (1.0 - sensor_x) / LDS_01.range_max + 1e-6   # beams that can reach it
+    assert np.allclose(exact[facing], (1.0 - sensor_x) / np.cos(angles[facing]), atol=1e-5)
+    assert np.isinf(exact[~facing]).all() and (exact[~facing] > 0).all()
+
+
+def test_lidar_reports_too_close_as_minus_inf_and_sees_other_robots() -> None:
+    sim = Simulation(WALL_AT_1M)
+    robot = sim.add_robot('burger', (0.5, 0.0, math.pi))   # backs onto the wall: 0.07 m behind the lidar
+    robot.command(-0.1, 0.0)
+    sim.step(5.0)
+    assert robot.in_contact
+    behind = robot.scan(noise=False)[180]
+    assert behind == -np.inf
+    other = sim.add_robot('other', (-1.0, 0.0, 0.0))
+    ahead = robot.scan(noise=False)[0]
+    gap = robot.sensor_pose(BURGER.lidar_mount)[0] - other.sensor_pose(BURGER.lidar_mount)[0]
+    assert ahead == pytest.approx(gap - BURGER.lidar_housing_radius, abs=1e-4)
+
+
+def test_same_seed_and_commands_give_the_same_trajectory() -> None:
+    def run(seed: int) -> tuple:
+        sim = Simulation(load_world('turtlebot3_world'), seed=seed)
+        robot = sim.add_robot('burger')
+        trace = []
+        for k in range(30):
+            robot.command(0.22 * math.sin(k), 2.0 * math.cos(0.7 * k))
+            sim.step(0.5)
+            trace.append((robot.pose, robot.odometry(), robot.scan().tobytes(), robot.imu()))
+        return tuple(trace)
+    assert run(1) == run(1)
+    assert run(1) != run(2)
+
+
+def test_reset_restarts_time_poses_odometry_and_noise() -> None:
+    sim = Simulation(load_world('turtlebot3_world'), seed=5)
+    robot = sim.add_robot('burger')
+    first_scan = robot.scan()
+    robot.command(0.2, 0.5)
+    sim.step(3.0)
+    sim.reset()
+    assert sim.time_ns == 0 and robot.pose == sim.world.spawn and robot.odometry().x == 0.0
+    assert np.array_equal(robot.scan(), first_scan)
+    assert robot.velocity == (0.0, 0.0)
+
+
+def test_command_timeout_stops_a_robot_that_hears_nothing() -> None:
+    sim = Simulation(load_world('empty_world'))
+    robot = sim.add_robot('burger', (0.0, 0.0, 0.0))
+    robot.command_timeout = 0.5
+    robot.command(0.2, 0.0)
+    sim.step(3.0)
+    assert robot.velocity == (0.0, 0.0)
+    assert robot.pose.x == pytest.approx(0.2 * 0.5, abs=0.01)
+    robot.command_timeout = None          # the default: the last command holds
+    robot.command(0.2, 0.0)
+    sim.step(3.0)
+    assert robot.velocity[0] == pytest.approx(0.2)
+
+
+def test_bad_spawns_and_teleports_are_refused() -> None:
+    sim = Simulation(load_world('turtlebot3_world'))
+    sim.add_robot('burger')
+    with pytest.raises(SimError, match='already exists'):
+        sim.add_robot('burger', (0.5, 0.5, 0.0))
+    with pytest.raises(SimError, match='obstacle'):
+        sim.add_robot('second', (0.0, 0.0, 0.0))           # on a pillar
+    with pytest.raises(SimError, match="overlaps robot 'burger'"):
+        sim.add_robot('second', (-2.1, -0.5, 0.0))
+    with pytest.raises(SimError, match='obstacle'):
+        sim.teleport('burger', (1.1, 1.1, 0.0))
+    with pytest.raises(SimError, match="no robot named 'ghost'"):
+        sim.teleport('ghost', (0.5, 0.5, 0.0))
+    sim.teleport('burger', (0.55, 0.55, 1.0))
+    assert sim.robot('burger').pose.x == 0.55 and sim.robot('burger').odometry().x == 0.0
