@@ -15,7 +15,7 @@ import os
 import select
 import sys
 import threading
-from typing import Any
+from typing import Any, Callable
 
 import zros
 from zros.action import ActionClient
@@ -25,7 +25,7 @@ from zros.node import Node
 from interfaces.geometry_msgs.msg import Twist
 from interfaces.turtlesim.action import RotateAbsolute
 
-__all__ = ['TeleopTurtle', 'KeyboardReader', 'KEYS', 'INSTRUCTIONS', 'main']
+__all__ = ['TeleopTurtle', 'KeyboardReader', 'KEYS', 'INSTRUCTIONS', 'run_with_keyboard', 'main']
 
 INSTRUCTIONS = (
     'Reading from keyboard\n'
@@ -160,23 +160,31 @@ def key_loop(node: TeleopTurtle, reader: KeyboardReader) -> None:
             break
 
 
+def run_with_keyboard(node: Node, loop: Callable[[KeyboardReader], None]) -> int:
+    """Spin `node` on a background thread while `loop(reader)` reads keys from stdin on this one
+    (teleop nodes: turtlesim's and turtlebot3_teleop's). Returns the exit code: 1 when the
+    terminal cannot be read. KeyboardInterrupt (Ctrl-C) passes through, after the spin stops."""
+    executor = SingleThreadedExecutor()
+    executor.add_node(node)
+    spinner = threading.Thread(target=_spin, args=(executor,), name='teleop-spin', daemon=True)
+    spinner.start()
+    try:
+        with KeyboardReader(sys.stdin.fileno()) as reader:
+            loop(reader)
+    except OSError as exc:
+        print(f'read(): {exc}', file=sys.stderr)
+        return 1
+    finally:
+        executor.shutdown(timeout_sec=1.0)
+    return 0
+
+
 def main(args: list[str] | None = None) -> int:
     code = 0
     try:
         with zros.init(args=args):
             node = TeleopTurtle()
-            executor = SingleThreadedExecutor()
-            executor.add_node(node)
-            spinner = threading.Thread(target=_spin, args=(executor,), name='teleop-spin', daemon=True)
-            spinner.start()
-            try:
-                with KeyboardReader(sys.stdin.fileno()) as reader:
-                    key_loop(node, reader)
-            except OSError as exc:
-                print(f'read(): {exc}', file=sys.stderr)
-                code = 1
-            finally:
-                executor.shutdown(timeout_sec=1.0)
+            code = run_with_keyboard(node, lambda reader: key_loop(node, reader))
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     return code

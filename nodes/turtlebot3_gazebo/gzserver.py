@@ -1,0 +1,454 @@
+"""gzserver: the simulated world in Gazebo's role, a 2D pymunk world with TurtleBot3s in it.
+
+    zros run turtlebot3_gazebo gzserver --ros-args -p world:=turtlebot3_world -p x_pose:=-2.0
+    zros launch turtlebot3_gazebo turtlebot3_world.launch.py          # the usual way
+
+One node, `/gazebo`, runs zros.sim's Simulation on its own thread, in fixed 5 ms steps, paced
+to `real_time_factor` x real time (0: as fast as it can), and publishes what the real robot
+and Gazebo publish: `/clock` (rosgraph_msgs/Clock), and per robot `scan`, `odom`, `tf`,
+`tf_static`, `joint_states`, `imu`, plus the ground truth apart under `sim/` (`sim/ground_truth`,
+`sim/collisions`). Commands come in on `cmd_vel`. Services: Gazebo's `/reset_simulation`,
+`/reset_world`, `/pause_physics`, `/unpause_physics` (std_srvs/Empty), `/spawn_entity`,
+`/delete_entity`, `/get_entity_state`, `/set_entity_state`, `/get_model_list` (gazebo_msgs),
+Gazebo Sim's `/world/<world>/control` (ros_gz_interfaces/ControlWorld: pause, step N, reset),
+and `/sim/get_map` (nav_msgs/GetMap: the world's exact occupancy, `map_resolution` m cells).
+
+Time: the simulation owns it. Steps never depend on when the thread wakes up, only on their
+count, so a run at 20x and one at 1x with the same commands at the same simulated times give
+the same trajectory; pacing only decides when steps happen on the wall clock. If the machine
+cannot keep up, the simulation slows down (it never skips physics) and says so once.
+"""
+from __future__ import annotations
+
+import math
+import os
+import sys
+import threading
+import time
+from dataclasses import replace
+from typing import Any
+
+import zros
+from zros.errors import CliError
+from zros.executors import ExternalShutdownException, MultiThreadedExecutor
+from zros.node import Node
+from zros.qos import QoSProfile
+from zros.sim import (LDS_01, TURTLEBOT3_IMU, LidarSpec, Pose2D, SimError, SimRobot, Simulation, load_world, rasterize,
+                      robot_spec, wrap_angle)
+
+from interfaces.gazebo_msgs.srv import DeleteEntity, GetEntityState, GetModelList, SetEntityState, SpawnEntity
+from interfaces.nav_msgs.srv import GetMap
+from interfaces.rcl_interfaces.msg import SetParametersResult
+from interfaces.rosgraph_msgs.msg import Clock
+from interfaces.ros_gz_interfaces.srv import ControlWorld
+from interfaces.std_srvs.srv import Empty
+
+from nodes.turtlebot3_gazebo._robot_io import RobotEndpoints, stamp
+
+__all__ = ['GazeboNode', 'main']
+
+ODOM_RATE = 30.0            # [Hz] odom, tf, joint_states, ground truth (Gazebo's plugins)
+#: Behind the wall clock by more than this [s], the pacing gives up catching up.
+MAX_LAG = 0.25
+PAUSED_CLOCK_PERIOD = 0.1   # [s] wall time between /clock repeats while paused, for late joiners
+
+
+def _default_model() -> str:
+    return os.environ.get('TURTLEBOT3_MODEL', 'burger') or 'burger'
+
+
+class _Robot:
+    """A robot in the world: the simulated body and its topics."""
+
+    def __init__(self, sim_robot: SimRobot, endpoints: RobotEndpoints) -> None:
+        self.sim = sim_robot
+        self.io = endpoints
+
+
+class GazeboNode(Node):
+
+    def __init__(self, **kwargs: Any) -> None:
+        super().__init__('gazebo', **kwargs)
+        self._lock = threading.RLock()
+        self._stop = threading.Event()
+        self._wake = threading.Event()
+        self._thread: threading.Thread | None = None
+        self._robots: dict[str, _Robot] = {}
+        world = load_world(self._string('world', 'empty_world'))
+        self._world_name = world.name
+        self._sim = Simulation(world, seed=self._integer('seed', 0), on_collision=self._on_collision)
+        self._rtf = self._number('real_time_factor', 1.0, minimum=0.0)
+        self._clock_period_ns = int(1e9 / self._number('publish_rate', 100.0, minimum=1e-3))
+        self._paused = bool(self.declare_parameter('paused', False).value)
+        self._stamped = bool(self.declare_parameter('enable_stamped_cmd_vel', False).value)
+        self._publish_frames = bool(self.declare_parameter('publish_robot_frames', True).value)
+        self._cmd_vel_timeout = self._number('cmd_vel_timeout', 0.0, minimum=0.0)
+        self._lidar_noise = self._number('lidar_noise_stddev', 0.01, minimum=0.0)
+        self._slip = self._number('wheel_slip_stddev', 0.002, minimum=0.0)
+        self._number('map_resolution', 0.05, minimum=1e-4)
+        self._run_until_ns: int | None = None
+        self._clock_pub = self.create_publisher(Clock, '/clock', QoSProfile(depth=1))
+        self._clock_msg = Clock()
+        self.add_on_set_parameters_callback(self._check_parameters)
+        self.add_post_set_parameters_callback(self._on_parameters_set)
+
+        if self.declare_parameter('spawn_robot', True).value:
+            model = self._string('model', _default_model())
+            name = self._string('robot_name', model)
+            pose = Pose2D(self._number('x_pose', world.spawn.x), self._number('y_pose', world.spawn.y),
+                          self._number('yaw', world.spawn.yaw))
+            try:
+                self._spawn(name, model, self._string('robot_namespace', ''), pose)
+            except (SimError, ValueError) as exc:
+                raise CliError(f'cannot spawn the robot: {exc}') from None
+
+        self.get_logger().info(f"World '{world.name}' from {world.source or world.name}: {len(world.edges)} wall "
+                               f'segments, {len(world.circles)} round obstacles; real_time_factor {self._rtf:g}')
+        self._create_services()
+        self._schedule_reset()
+        self._thread = threading.Thread(target=self._run, name='gzserver-sim', daemon=True)
+        self._thread.start()
+
+    # -- parameters ----------------------------------------------------------------------------
+    def _number(self, name: str, default: float, *, minimum: float | None = None) -> float:
+        value = self.declare_parameter(name, float(default)).value
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            raise CliError(f"parameter '{name}' must be a number, got {value!r}") from None
+        if not math.isfinite(number) or (minimum is not None and number < minimum):
+            raise CliError(f"parameter '{name}' must be a finite number"
+                           + (f' >= {minimum:g}' if minimum is not None else '') + f', got {value!r}')
+        return number
+
+    def _integer(self, name: str, default: int) -> int:
+        value = self.declare_parameter(name, default).value
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise CliError(f"parameter '{name}' must be an integer, got {value!r}")
+        return value
+
+    def _string(self, name: str, default: str) -> str:
+        return str(self.declare_parameter(name, default).value)
+
+    def _check_parameters(self, parameters: list[Any]) -> SetParametersResult:
+        for p in parameters:
+            if p.name in ('real_time_factor', 'cmd_vel_timeout', 'map_resolution'):
+                try:
+                    value = float(p.value)
+                except (TypeError, ValueError):
+                    return SetParametersResult(successful=False, reason=f'{p.name} must be a number')
+                floor = 1e-4 if p.name == 'map_resolution' else 0.0
+                if not (math.isfinite(value) and value >= floor):
+                    return SetParametersResult(successful=False, reason=f'{p.name} must be >= {floor:g}')
+        return SetParametersResult(successful=True)
+
+    def _on_parameters_set(self, parameters: list[Any]) -> None:
+        with self._lock:
+            for p in parameters:
+                if p.name == 'real_time_factor':
+                    self._rtf = float(p.value)
+                elif p.name == 'cmd_vel_timeout':
+                    self._cmd_vel_timeout = float(p.value)
+                    for robot in self._robots.values():
+                        robot.sim.command_timeout = self._cmd_vel_timeout or None
+                elif p.name == 'paused':
+                    self._paused = bool(p.value)
+        self._wake.set()
+
+    # -- robots -------------------------------------------------------------------------------
+    def _spawn(self, name: str, model: str, namespace: str, pose: Pose2D) -> _Robot:
+        """Add a robot and its topics (caller holds the lock, or is the constructor)."""
+        spec = robot_spec(model)
+        namespace = namespace.strip('/')
+        if any(r.io.namespace == namespace for r in self._robots.values()):
+            raise SimError(f"namespace '/{namespace}' is already used by another robot; give each "
+                           'robot its own robot_namespace')
+        lidar = self._sim_lidar()
+        sim_robot = self._sim.add_robot(name, pose, spec=spec, lidar=lidar, slip_stddev=self._slip)
+        sim_robot.command_timeout = self._cmd_vel_timeout or None
+        try:
+            endpoints = RobotEndpoints(self, sim_robot, namespace, stamped_cmd_vel=self._stamped,
+                                       publish_frames=self._publish_frames)
+        except Exception:
+            self._sim.remove_robot(name)
+            raise
+        robot = self._robots[name] = _Robot(sim_robot, endpoints)
+        endpoints.publish_static_frames()
+        endpoints.publish_collisions()
+        self.get_logger().info(
+            f"Spawned {spec.model} '{name}' at x={pose.x:g} y={pose.y:g} yaw={pose.yaw:g} "
+            f"(topics under '/{namespace}', cmd_vel as {endpoints.cmd_type._TYPE})")
+        return robot
+
+    def _sim_lidar(self) -> LidarSpec:
+        return replace(LDS_01, noise_stddev=self._lidar_noise)
+
+    def _on_collision(self, robot: SimRobot) -> None:
+        """The simulation says a robot started touching something: count it where benchmarks
+        look (`sim/collisions`) and tell the user."""
+        entry = self._robots.get(robot.name)
+        if entry is not None:
+            entry.io.publish_collisions()
+        p = robot.pose
+        self.get_logger().warn(f"'{robot.name}' collided at x={p.x:.2f} y={p.y:.2f} "
+                               f'(collision #{robot.collisions})', throttle_duration_sec=1.0)
+
+    # -- services ----------------------------------------------------------------------------
+    def _create_services(self) -> None:
+        self.create_service(Empty, '/reset_simulation', self._on_reset_simulation)
+        self.create_service(Empty, '/reset_world', self._on_reset_world)
+        self.create_service(Empty, '/pause_physics', lambda req, res: self._set_paused(True, res))
+        self.create_service(Empty, '/unpause_physics', lambda req, res: self._set_paused(False, res))
+        self.create_service(SpawnEntity, '/spawn_entity', self._on_spawn_entity)
+        self.create_service(DeleteEntity, '/delete_entity', self._on_delete_entity)
+        self.create_service(GetEntityState, '/get_entity_state', self._on_get_entity_state)
+        self.create_service(SetEntityState, '/set_entity_state', self._on_set_entity_state)
+        self.create_service(GetModelList, '/get_model_list', self._on_get_model_list)
+        self.create_service(ControlWorld, f'/world/{self._world_name}/control', self._on_control_world)
+        self.create_service(GetMap, '/sim/get_map', self._on_get_map)
+
+    def _set_paused(self, paused: bool, response: Any) -> Any:
+        with self._lock:
+            self._paused = paused
+            self._run_until_ns = None
+        self._wake.set()
+        return response
+
+    def _on_reset_simulation(self, request: Any, response: Any) -> Any:
+        with self._lock:
+            self._reset_simulation()
+        return response
+
+    def _reset_simulation(self) -> None:
+        self._sim.reset()
+        self._schedule_reset()
+        for robot in self._robots.values():
+            robot.io.publish_collisions()
+        self._publish_clock()
+        self._wake.set()
+
+    def _on_reset_world(self, request: Any, response: Any) -> Any:
+        with self._lock:
+            self._reset_world()
+        return response
+
+    def _reset_world(self) -> None:
+        """Robots back to where they were spawned, stopped, odometry restarted; time goes on."""
+        for robot in self._robots.values():
+            try:
+                self._sim.teleport(robot.sim.name, robot.sim.spawn_pose)
+            except SimError as exc:   # another robot stands there now
+                self.get_logger().warn(f"reset_world: {exc}; '{robot.sim.name}' stays where it is")
+            robot.sim.odom.reset()
+
+    def _on_spawn_entity(self, request: Any, response: Any) -> Any:
+        model = next((m for m in ('waffle_pi', 'waffle', 'burger') if m in request.xml), _default_model())
+        p = request.initial_pose
+        pose = Pose2D(p.position.x, p.position.y, _yaw(p.orientation))
+        name = request.name or f'{model}_{len(self._robots)}'
+        with self._lock:
+            try:
+                self._spawn(name, model, request.robot_namespace, pose)
+            except (SimError, ValueError) as exc:
+                response.success, response.status_message = False, str(exc)
+                return response
+        response.success, response.status_message = True, f"spawned '{name}'"
+        return response
+
+    def _on_delete_entity(self, request: Any, response: Any) -> Any:
+        with self._lock:
+            robot = self._robots.pop(request.name, None)
+            if robot is None:
+                response.success = False
+                response.status_message = f"no entity named '{request.name}'"
+                return response
+            self._sim.remove_robot(request.name)
+            robot.io.destroy()
+        response.success, response.status_message = True, f"deleted '{request.name}'"
+        return response
+
+    def _on_get_entity_state(self, request: Any, response: Any) -> Any:
+        with self._lock:
+            robot = self._robots.get(request.name)
+            stamp(response.header, self._sim.time_ns)
+            response.header.frame_id = 'world'
+            if robot is None:
+                response.success = False
+                return response
+            pose, (linear, angular) = robot.sim.pose, robot.sim.velocity
+        state = response.state
+        state.name, state.reference_frame = request.name, 'world'
+        state.pose.position.x, state.pose.position.y = pose.x, pose.y
+        state.pose.orientation.z, state.pose.orientation.w = math.sin(pose.yaw / 2), math.cos(pose.yaw / 2)
+        state.twist.linear.x = linear * math.cos(pose.yaw)
+        state.twist.linear.y = linear * math.sin(pose.yaw)
+        state.twist.angular.z = angular
+        response.success = True
+        return response
+
+    def _on_set_entity_state(self, request: Any, response: Any) -> Any:
+        state = request.state
+        pose = Pose2D(state.pose.position.x, state.pose.position.y, _yaw(state.pose.orientation))
+        with self._lock:
+            try:
+                self._sim.teleport(state.name, pose)
+                response.success = True
+            except SimError as exc:
+                self.get_logger().warn(f'set_entity_state: {exc}')
+                response.success = False
+        return response
+
+    def _on_get_model_list(self, request: Any, response: Any) -> Any:
+        with self._lock:
+            stamp(response.header, self._sim.time_ns)
+            response.model_names = list(self._robots)
+        response.success = True
+        return response
+
+    def _on_control_world(self, request: Any, response: Any) -> Any:
+        control = request.world_control
+        with self._lock:
+            if control.seed:
+                self._sim.seed = int(control.seed)    # used from the next reset
+            reset = control.reset
+            if reset.all:
+                self._reset_simulation()
+            elif reset.model_only:
+                self._reset_world()
+            elif reset.time_only:
+                self._sim.time_ns = 0
+                self._schedule_reset()
+            self._paused = bool(control.pause)
+            steps = int(control.multi_step) or (1 if control.step else 0)
+            for _ in range(steps):
+                self._step()
+            target = control.run_to_sim_time.sec * 1_000_000_000 + control.run_to_sim_time.nanosec
+            self._run_until_ns = target if target > self._sim.time_ns else None
+            if self._run_until_ns is not None:
+                self._paused = False
+        self._wake.set()
+        response.success = True
+        return response
+
+    def _on_get_map(self, request: Any, response: Any) -> Any:
+        resolution = float(self.get_parameter('map_resolution').value)
+        raster = rasterize(self._sim.world, resolution)
+        grid = response.map
+        with self._lock:
+            stamp(grid.header, self._sim.time_ns)
+        grid.header.frame_id = 'map'
+        grid.info.resolution = raster.resolution
+        grid.info.width, grid.info.height = raster.width, raster.height
+        grid.info.origin.position.x, grid.info.origin.position.y = raster.origin
+        grid.data = raster.occupancy_data()
+        return response
+
+    # -- the simulation thread --------------------------------------------------------------------
+    def _schedule_reset(self) -> None:
+        """Outputs fall due one period after now (a scan at 0.2 s, 0.4 s, ... of simulated time)."""
+        now = self._sim.time_ns
+        self._next_clock = now + self._clock_period_ns
+        self._next_odom = now + _period_ns(ODOM_RATE)
+        self._next_scan = now + _period_ns(LDS_01.rate)
+        self._next_imu = now + _period_ns(TURTLEBOT3_IMU.rate)
+        self._anchor = None    # the pacing restarts from here
+
+    def _step(self) -> None:
+        """One physics step and whatever outputs fall due (caller holds the lock)."""
+        self._sim.step()
+        now = self._sim.time_ns
+        if now >= self._next_clock:
+            self._publish_clock()
+            self._next_clock += self._clock_period_ns
+        robots = [robot.io for robot in self._robots.values()]
+        if now >= self._next_imu:
+            self._next_imu += _period_ns(TURTLEBOT3_IMU.rate)
+            for robot in robots:
+                robot.publish_imu(now)
+        if now >= self._next_odom:
+            self._next_odom += _period_ns(ODOM_RATE)
+            for robot in robots:
+                robot.publish_odometry(now)
+        if now >= self._next_scan:
+            self._next_scan += _period_ns(LDS_01.rate)
+            for robot in robots:
+                robot.publish_scan(now)
+        if self._run_until_ns is not None and now >= self._run_until_ns:
+            self._paused, self._run_until_ns = True, None
+
+    def _publish_clock(self) -> None:
+        stamp(self._clock_msg, self._sim.time_ns, field='clock')
+        self._clock_pub.publish(self._clock_msg)
+
+    def _run(self) -> None:
+        behind_warned = False
+        last_paused_clock = 0.0
+        while not self._stop.is_set():
+            try:
+                with self._lock:
+                    paused, rtf = self._paused, self._rtf
+                    if not paused:
+                        self._step()
+                        sim_ns = self._sim.time_ns
+                        if self._anchor is None or self._anchor[2] != rtf:
+                            self._anchor = (time.monotonic(), sim_ns, rtf)
+                    else:
+                        self._anchor = None
+                        now = time.monotonic()
+                        if now - last_paused_clock >= PAUSED_CLOCK_PERIOD:
+                            self._publish_clock()
+                            last_paused_clock = now
+            except Exception as exc:  # noqa: BLE001 - a dying sim thread would freeze the world silently
+                if self._stop.is_set() or not self.context.ok():
+                    return
+                self.get_logger().error(f'simulation step failed: {exc}')
+                raise
+            if paused:
+                self._wake.wait(PAUSED_CLOCK_PERIOD)
+                self._wake.clear()
+                continue
+            if rtf <= 0.0:
+                continue
+            wall0, sim0, _ = self._anchor
+            delay = wall0 + (sim_ns - sim0) / 1e9 / rtf - time.monotonic()
+            if delay > 0.0:
+                if self._wake.wait(delay):
+                    self._wake.clear()
+            elif delay < -MAX_LAG:
+                if not behind_warned:
+                    behind_warned = True
+                    self.get_logger().warn(f'cannot keep up with real_time_factor {rtf:g}: the simulation '
+                                           'runs slower than asked (it never skips physics)')
+                with self._lock:
+                    self._anchor = None
+
+    def destroy_node(self) -> None:
+        self._stop.set()
+        self._wake.set()
+        if self._thread is not None and self._thread.is_alive() and threading.current_thread() is not self._thread:
+            self._thread.join(timeout=2.0)
+        super().destroy_node()
+
+
+def _period_ns(rate: float) -> int:
+    return int(round(1e9 / rate))
+
+
+def _yaw(q: Any) -> float:
+    """Yaw [rad] of a geometry_msgs/Quaternion (an all-zero quaternion counts as none)."""
+    if q.x == q.y == q.z == q.w == 0.0:
+        return 0.0
+    return wrap_angle(math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z)))
+
+
+def main(args: list[str] | None = None) -> None:
+    try:
+        with zros.init(args=args):
+            node = GazeboNode()
+            zros.spin(node, executor=MultiThreadedExecutor(num_threads=4))
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+
+
+if __name__ == '__main__':
+    main(sys.argv)
