@@ -179,8 +179,8 @@ class RobotEndpoints:
         self.tf_pub.publish(self.tf)
 
         stamp(self.joints.header, time_ns)
-        self.joints.position = list(robot.wheel_positions)
-        self.joints.velocity = list(robot.wheel_velocities)
+        self.joints.position = np.array(robot.wheel_positions)
+        self.joints.velocity = np.array(robot.wheel_velocities)
         self.joint_pub.publish(self.joints)
 
         truth, (linear, angular) = robot.pose, robot.velocity

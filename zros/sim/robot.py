@@ -141,9 +141,9 @@ class WheelOdometry:
         half = self.spec.wheel_separation / 2.0
         travel = [forward - turn * half, forward + turn * half]
         if self.slip_stddev > 0.0:
-            scale = self.slip_stddev * np.sqrt(np.abs(travel))
-            noise = self.rng.standard_normal(2) * scale
-            travel = [travel[0] + float(noise[0]), travel[1] + float(noise[1])]
+            noise = self.rng.standard_normal(2).tolist()
+            k = self.slip_stddev
+            travel = [t + k * math.sqrt(abs(t)) * n for t, n in zip(travel, noise)]
         r = self.spec.wheel_radius
         for i in (0, 1):
             self.wheel_positions[i] += travel[i] / r

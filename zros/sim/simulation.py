@@ -152,12 +152,10 @@ class SimRobot:
 
     def imu(self) -> ImuReading:
         linear, angular = self._velocity
-        rng, spec = self._imu_rng, self.imu_spec
-        gyro = rng.standard_normal(3) * spec.gyro_noise_stddev
-        accel = rng.standard_normal(3) * spec.accel_noise_stddev
-        return ImuReading(self.pose.yaw, (float(gyro[0]), float(gyro[1]), angular + float(gyro[2])),
-                          (self._acceleration + float(accel[0]), linear * angular + float(accel[1]),
-                           GRAVITY + float(accel[2])))
+        g, a = self.imu_spec.gyro_noise_stddev, self.imu_spec.accel_noise_stddev
+        n = self._imu_rng.standard_normal(6).tolist()
+        return ImuReading(self.pose.yaw, (g * n[0], g * n[1], angular + g * n[2]),
+                          (self._acceleration + a * n[3], linear * angular + a * n[4], GRAVITY + a * n[5]))
 
     # -- stepping (called by Simulation) -------------------------------------------------------
     def _before_step(self, dt: float) -> None:
