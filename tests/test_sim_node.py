@@ -301,14 +301,16 @@ def test_two_robots_in_namespaces_do_not_see_each_others_topics(fresh: Harness) 
         assert fresh.call(GetModelList, '/get_model_list').model_names == ['burger', 'tb3_1']
         mine, theirs = fresh.record(Odometry, '/odom'), fresh.record(Odometry, '/tb3_1/odom')
         scans = fresh.record(LaserScan, '/tb3_1/scan')
-        fresh.twist(-0.2, topic='/tb3_1/cmd_vel')     # backs away from the first robot
+        fresh.twist(-0.2, topic='/tb3_1/cmd_vel')     # backs towards the first robot (0.5 m behind)
         fresh.step(1.0)
         fresh.wait('/tb3_1/odom', lambda m: m and m[-1].pose.pose.position.x < -0.1, what='tb3_1 to move')
         assert all(m.pose.pose.position.x == 0.0 for m in mine)        # the first robot never moved
         assert theirs[-1].header.frame_id == 'odom' and theirs[-1].child_frame_id == 'base_footprint'
         assert fresh.state('burger')[:2] == SPAWN
         # tb3_1's lidar sees the first robot's lidar housing straight behind it.
-        behind = np.asarray(scans[-1].ranges)[180]
+        last = fresh.wait('/tb3_1/scan', lambda m: m and m[-1].header.stamp.sec == 1 and m[-1],
+                          what="tb3_1's scan at 1 s")      # the one taken where the robot stopped
+        behind = np.asarray(last.ranges)[180]
         x1 = fresh.state('tb3_1')[0]
         gap = (x1 - 0.032 * 1) - (SPAWN[0] - 0.032) - BURGER.lidar_housing_radius
         assert behind == pytest.approx(gap, abs=0.05)
