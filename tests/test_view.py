@@ -221,14 +221,33 @@ def test_image_save_cli(camera, zros_cli, tmp_path):
     assert missing.returncode == 1 and "no image arrived on '/no/such/image' within 0.5 s" in missing.stderr
 
 
-def test_view_cli_prints_its_url(camera, spawn):
+def test_view_cli_prints_its_urls(camera, spawn):
     import sys
     child = spawn(sys.executable, '-m', 'zros.cli.main', 'view', '--port', '0', '--topic', '/camera/image', name='view')
-    text = child.wait_for_output('(Ctrl-C to stop)', 15)
-    url = text.split('serving ', 1)[1].split(' ', 1)[0]
-    assert url.startswith('http://127.0.0.1:') and url.endswith('/?topic=/camera/image')
-    status, _, body = _get(url.split('?')[0] + 'frame.png?topic=/camera/image&timeout=5')
+    text = child.wait_for_output('full-size images at', 20)
+    scene = text.split('serving ', 1)[1].split(' ', 1)[0]
+    assert scene.startswith('http://127.0.0.1:') and '(Ctrl-C to stop)' in text
+    status, _, page = _get(scene)
+    assert status == 200 and b'<html' in page.lower()                  # viser's client, shipped in its wheel
+    images = text.split('full-size images at ', 1)[1].split()[0]
+    assert images.startswith('http://127.0.0.1:') and images.endswith('/?topic=/camera/image')
+    status, _, body = _get(images.split('?')[0] + 'frame.png?topic=/camera/image&timeout=5')
     assert status == 200 and decode_png(body).shape == (30, 40, 3)
+
+
+def test_view_cli_bad_config_and_busy_port(zros_cli, tmp_path):
+    import socket
+
+    from conftest import assert_clean_failure
+    bad = tmp_path / 'bad.rviz'
+    bad.write_text('a: [')
+    assert_clean_failure(zros_cli('view', '-d', str(bad), '--port', '0'), 'is not valid YAML')
+    assert_clean_failure(zros_cli('view', '-d', str(tmp_path / 'none.rviz'), '--port', '0'), 'cannot read')
+    with socket.socket() as busy:
+        busy.bind(('127.0.0.1', 0))
+        busy.listen()
+        port = busy.getsockname()[1]
+        assert_clean_failure(zros_cli('view', '--port', str(port)), 'address already in use', '--port')
 
 
 # -- a real browser ------------------------------------------------------------------------------

@@ -22,7 +22,7 @@ VERBS = {
     'service': ('zros.cli.service', 'Inspect and call services'),
     'param': ('zros.cli.param', 'Inspect and change node parameters'),
     'action': ('zros.cli.action', 'Inspect actions and send goals'),
-    'view': ('zros.cli.view', 'Show image topics live in the browser'),
+    'view': ('zros.cli.view', 'The scene view in the browser (RViz, rqt_graph, rqt_console, images)'),
     'image': ('zros.cli.image', 'Save a frame of an image topic as PNG'),
     'launch': ('zros.cli.launch', 'Run a YAML launch file'),
     'router': ('zros.cli.router', 'Run a Zenoh router for multi-machine set-ups'),

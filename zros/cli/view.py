@@ -1,7 +1,9 @@
-"""`zros view [--port P] [--topic T]`: show sensor_msgs/Image topics live in the browser.
+"""`zros view [-d FILE] [--fixed-frame F] [--port P] [--topic T]`: the scene view in the browser.
 
-Serves zros.view's page on localhost (standard library HTTP server, no CDN) and prints its
-URL; runs until Ctrl-C. Module-level imports stay light: the CLI imports every verb at start.
+RViz's role (3D scene, displays, 2D Pose Estimate / Nav2 Goal tools, teleop) with the topics,
+graph, console and image pages beside it (zros.view.scene). Without `-d` every topic a display
+can draw is shown as it appears. It prints the page's URL and the image page's, and runs until
+Ctrl-C. Module-level imports stay light: the CLI imports every verb at start.
 """
 from __future__ import annotations
 
@@ -11,44 +13,45 @@ __all__ = ['add_arguments', 'cmd_view']
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument('-d', '--display-config', metavar='FILE', default='',
+                        help='a .rviz file or a zros view file (saved from the page) to start from')
+    parser.add_argument('-f', '--fixed-frame', default='', help='the fixed frame (default: the file\'s, else map, '
+                                                                'else odom, else a root of the TF tree)')
     parser.add_argument('--port', type=int, default=None,
                         help='TCP port (default 8080, or the next free one up to 8089; 0 picks any free port)')
     parser.add_argument('--host', default='127.0.0.1',
                         help='address to listen on (default 127.0.0.1: this machine only)')
-    parser.add_argument('--topic', default=None,
-                        help='image topic to show first (default /turtlesim/image if present, else the first one)')
+    parser.add_argument('--topic', default='',
+                        help='an image topic to show first (e.g. /turtlesim/image)')
     parser.set_defaults(handler=cmd_view)
 
 
 def cmd_view(args: argparse.Namespace) -> int:
-    from zros.cli.common import cli_context, cli_node
+    from zros.cli.common import cli_context
     from zros.errors import CliError
     from zros.executors import SingleThreadedExecutor
-    from zros.view.server import DEFAULT_PORT, ViewServer
+    from zros.view.scene.app import ViewError
+    from zros.view.scene.config import ConfigError
+    from zros.view.scene.node import ViewNode
     ctx = cli_context()
     try:
-        node = cli_node(ctx)
-        explicit = args.port is not None
         try:
-            server = ViewServer(node, host=args.host, port=args.port if explicit else DEFAULT_PORT,
-                                topic=_absolute(args.topic), port_tries=1 if explicit else 10)
-        except OSError as exc:
-            raise CliError(f'{exc} (choose another with --port)') from None
+            node = ViewNode('view', config=args.display_config, fixed_frame=args.fixed_frame, port=args.port,
+                            host=args.host, topic=args.topic, context=ctx)
+        except (ConfigError, ViewError) as exc:
+            raise CliError(str(exc) + (' (choose another with --port)' if isinstance(exc, ViewError) else '')) \
+                from None
         executor = SingleThreadedExecutor(context=ctx)
         executor.add_node(node)
-        with server:
-            print(f'zros view: serving {server.page_url()} (Ctrl-C to stop)', flush=True)
-            try:
-                while ctx.ok():
-                    executor.spin_once(timeout_sec=0.25)
-            except KeyboardInterrupt:
-                pass
+        print(f'zros view: serving {node.view.url} (Ctrl-C to stop)', flush=True)
+        print(f'zros view: full-size images at {node.images.page_url()}', flush=True)
+        try:
+            while ctx.ok():
+                executor.spin_once(timeout_sec=0.25)
+        except KeyboardInterrupt:
+            pass
+        finally:
+            node.destroy_node()
         return 0
     finally:
         ctx.shutdown()
-
-
-def _absolute(topic: str | None) -> str | None:
-    if not topic:
-        return None
-    return topic if topic.startswith('/') else '/' + topic

@@ -233,10 +233,10 @@ class ViewServer:
     def close(self) -> None:
         """Stop serving (idempotent); open streams end within a second."""
         self.store.close()
-        if self._thread is not None:
+        thread, self._thread = self._thread, None
+        if thread is not None:
             self._httpd.shutdown()
-            self._thread.join(timeout=2.0)
-            self._thread = None
+            thread.join(timeout=2.0)
         self._httpd.server_close()
 
     def __enter__(self) -> 'ViewServer':
