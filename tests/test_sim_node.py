@@ -289,9 +289,11 @@ def test_collisions_are_counted_reported_and_never_pass_the_wall(fresh: Harness)
 
 
 def test_two_robots_in_namespaces_do_not_see_each_others_topics(fresh: Harness) -> None:
+    from zros.qos import DurabilityPolicy, QoSProfile
     from interfaces.gazebo_msgs.srv import DeleteEntity, GetModelList, SpawnEntity
     from interfaces.nav_msgs.msg import Odometry
     from interfaces.sensor_msgs.msg import LaserScan
+    from interfaces.tf2_msgs.msg import TFMessage
     request = SpawnEntity.Request(name='tb3_1', robot_namespace='tb3_1', xml='<robot name="burger"/>')
     request.initial_pose.position.x, request.initial_pose.position.y = -1.5, -0.5
     response = fresh.call(SpawnEntity, '/spawn_entity', name=request.name, robot_namespace=request.robot_namespace,
@@ -306,6 +308,9 @@ def test_two_robots_in_namespaces_do_not_see_each_others_topics(fresh: Harness) 
         fresh.wait('/tb3_1/odom', lambda m: m and m[-1].pose.pose.position.x < -0.1, what='tb3_1 to move')
         assert all(m.pose.pose.position.x == 0.0 for m in mine)        # the first robot never moved
         assert theirs[-1].header.frame_id == 'odom' and theirs[-1].child_frame_id == 'base_footprint'
+        static = fresh.record(TFMessage, '/tb3_1/tf_static', QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
+        fresh.wait('/tb3_1/tf_static', lambda m: m and 'base_scan' in {t.child_frame_id for t in m[-1].transforms},
+                   what="tb3_1's own fixed frames")
         assert fresh.state('burger')[:2] == SPAWN
         # tb3_1's lidar sees the first robot's lidar housing straight behind it.
         last = fresh.wait('/tb3_1/scan', lambda m: m and m[-1].header.stamp.sec == 1 and m[-1],

@@ -101,7 +101,7 @@ class GazeboNode(Node):
             pose = Pose2D(self._number('x_pose', world.spawn.x), self._number('y_pose', world.spawn.y),
                           self._number('yaw', world.spawn.yaw))
             try:
-                self._spawn(name, model, self._string('robot_namespace', ''), pose)
+                self._spawn(name, model, self._string('robot_namespace', ''), pose, self._publish_frames)
             except (SimError, ValueError) as exc:
                 raise CliError(f'cannot spawn the robot: {exc}') from None
 
@@ -159,8 +159,9 @@ class GazeboNode(Node):
         self._wake.set()
 
     # -- robots -------------------------------------------------------------------------------
-    def _spawn(self, name: str, model: str, namespace: str, pose: Pose2D) -> _Robot:
-        """Add a robot and its topics (caller holds the lock, or is the constructor)."""
+    def _spawn(self, name: str, model: str, namespace: str, pose: Pose2D, publish_frames: bool) -> _Robot:
+        """Add a robot and its topics (caller holds the lock, or is the constructor);
+        `publish_frames`: publish its fixed and wheel frames (no robot_state_publisher for it)."""
         spec = robot_spec(model)
         namespace = namespace.strip('/')
         if any(r.io.namespace == namespace for r in self._robots.values()):
@@ -171,7 +172,7 @@ class GazeboNode(Node):
         sim_robot.command_timeout = self._cmd_vel_timeout or None
         try:
             endpoints = RobotEndpoints(self, sim_robot, namespace, stamped_cmd_vel=self._stamped,
-                                       publish_frames=self._publish_frames)
+                                       publish_frames=publish_frames)
         except Exception:
             self._sim.remove_robot(name)
             raise
@@ -251,7 +252,8 @@ class GazeboNode(Node):
         name = request.name or f'{model}_{len(self._robots)}'
         with self._lock:
             try:
-                self._spawn(name, model, request.robot_namespace, pose)
+                # No launch file started a robot_state_publisher for it: its frames come from here.
+                self._spawn(name, model, request.robot_namespace, pose, True)
             except (SimError, ValueError) as exc:
                 response.success, response.status_message = False, str(exc)
                 return response
