@@ -1,0 +1,249 @@
+"""nav2_lifecycle_manager's lifecycle_manager: brings a list of lifecycle nodes up and down in
+order, and watches them while they run.
+
+    zros run nav2_lifecycle_manager lifecycle_manager --ros-args -r __node:=lifecycle_manager_navigation \\
+        -p node_names:="['map_server', 'amcl']" -p autostart:=true
+
+Parameters (Nav2's): `node_names` (configured then activated in this order, brought down in
+reverse), `autostart` (start up at once), `bond_timeout` (0 turns the health check off),
+`attempt_respawn_reconnection` and `bond_respawn_max_duration` (after a crash, start the stack
+up again when every node answers once more, if that happens within this many seconds).
+Services: `<manager>/manage_nodes` (nav2_msgs/srv/ManageLifecycleNodes: STARTUP, PAUSE,
+RESUME, RESET, SHUTDOWN) and `<manager>/is_active` (std_srvs/srv/Trigger).
+
+The health check replaces Nav2's bond heartbeats with the nodes' liveliness tokens: a managed
+node whose process dies is noticed within a fraction of a second, not after `bond_timeout`.
+Then, as in Nav2, it is reported and the rest of the stack is reset (deactivated and cleaned up).
+"""
+from __future__ import annotations
+
+import sys
+import threading
+import time
+from typing import Any, Callable
+
+import zros
+from zros.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
+from zros.clock import Clock, ClockType
+from zros.errors import ServiceCallError
+from zros.executors import ExternalShutdownException, MultiThreadedExecutor
+from zros.graph import EntityKind
+from zros.lifecycle import LifecycleClient
+from zros.node import Node
+
+from interfaces.lifecycle_msgs.msg import Transition
+from interfaces.nav2_msgs.srv import ManageLifecycleNodes
+from interfaces.std_srvs.srv import Trigger
+
+_VERB = {Transition.TRANSITION_CONFIGURE: 'Configuring', Transition.TRANSITION_CLEANUP: 'Cleaning up',
+         Transition.TRANSITION_ACTIVATE: 'Activating', Transition.TRANSITION_DEACTIVATE: 'Deactivating',
+         Transition.TRANSITION_UNCONFIGURED_SHUTDOWN: 'Shutting down'}
+_GOAL = {Transition.TRANSITION_CONFIGURE: 'inactive', Transition.TRANSITION_CLEANUP: 'unconfigured',
+         Transition.TRANSITION_ACTIVATE: 'active', Transition.TRANSITION_DEACTIVATE: 'inactive',
+         Transition.TRANSITION_UNCONFIGURED_SHUTDOWN: 'finalized'}
+_FORWARD = (Transition.TRANSITION_CONFIGURE, Transition.TRANSITION_ACTIVATE)
+_WAIT_LOG_PERIOD_S = 2.0
+_HEALTH_PERIOD_S = 0.2
+_RESPAWN_PERIOD_S = 1.0
+
+
+class LifecycleManager(Node):
+    def __init__(self) -> None:
+        super().__init__('lifecycle_manager')
+        self.declare_parameter('node_names', [''])
+        self.declare_parameter('autostart', False)
+        self.declare_parameter('bond_timeout', 4.0)
+        self.declare_parameter('bond_respawn_max_duration', 10.0)
+        self.declare_parameter('attempt_respawn_reconnection', True)
+        self.node_names = [n for n in self.get_parameter('node_names').value if n]
+        self._lifecycle = {name: LifecycleClient(self, name) for name in self.node_names}
+        self._fqn = {name: self.resolve_topic_name(name) for name in self.node_names}
+        self._busy = threading.Lock()
+        self.system_active = False
+        self._respawn_started: float | None = None
+        self._wall = Clock(clock_type=ClockType.STEADY_TIME)
+        work = MutuallyExclusiveCallbackGroup()
+        self.create_service(ManageLifecycleNodes, '~/manage_nodes', self._on_manage_nodes, callback_group=work)
+        self.create_service(Trigger, '~/is_active', self._on_is_active, callback_group=ReentrantCallbackGroup())
+        self._health = self.create_timer(_HEALTH_PERIOD_S, self._check_health, work, clock=self._wall, autostart=False)
+        self._respawn = self.create_timer(_RESPAWN_PERIOD_S, self._check_respawn, work, clock=self._wall,
+                                          autostart=False)
+        self.get_logger().info(f"Managing {', '.join(self.node_names) or 'no nodes (node_names is empty)'}")
+        if self.get_parameter('autostart').value:
+            self._autostart = self.create_timer(0.01, self._start_once, work, clock=self._wall)
+
+    def _message(self, text: str) -> None:
+        self.get_logger().info(text)
+
+    # -- transitions ------------------------------------------------------------------------------
+    def _wait_for(self, name: str) -> bool:
+        """Wait (logging now and then) until `name`'s lifecycle services exist; False on shutdown."""
+        client = self._lifecycle[name]
+        while self.context.ok():
+            if client.wait_for_services(timeout_sec=_WAIT_LOG_PERIOD_S):
+                return True
+            self._message(f'Waiting for service {name}/get_state...')
+        return False
+
+    def _change_state(self, name: str, transition: int, wait: bool) -> bool:
+        self._message(f'{_VERB[transition]} {name}')
+        client = self._lifecycle[name]
+        try:
+            if wait and not self._wait_for(name):
+                return False
+            if client.change_state(transition) and client.get_state().label == _GOAL[transition]:
+                return True
+        except ServiceCallError as exc:
+            self.get_logger().error(f'Failed to change state for node: {name}. Exception: {exc}.')
+            return False
+        self.get_logger().error(f'Failed to change state for node: {name}')
+        return False
+
+    def _change_all(self, transition: int, *, hard: bool = False, wait: bool = False) -> bool:
+        """Configure/activate in list order, the rest in reverse; stop at the first failure
+        unless `hard` (then carry on and report the overall outcome)."""
+        names = self.node_names if transition in _FORWARD else list(reversed(self.node_names))
+        ok = True
+        for name in names:
+            if not self._change_state(name, transition, wait):
+                ok = False
+                if not hard:
+                    return False
+        return ok
+
+    def startup(self) -> bool:
+        self._message('Starting managed nodes bringup...')
+        if not (self._change_all(Transition.TRANSITION_CONFIGURE, wait=True)
+                and self._change_all(Transition.TRANSITION_ACTIVATE)):
+            self.get_logger().error('Failed to bring up all requested nodes. Aborting bringup.')
+            return False
+        self._message('Managed nodes are active')
+        self._set_active(True)
+        return True
+
+    def shutdown(self) -> bool:
+        self._set_active(False)
+        self._message('Shutting down managed nodes...')
+        self._message('Deactivate, cleanup, and shutdown nodes')
+        for transition in (Transition.TRANSITION_DEACTIVATE, Transition.TRANSITION_CLEANUP,
+                           Transition.TRANSITION_UNCONFIGURED_SHUTDOWN):
+            self._change_all(transition, hard=True)  # Nav2 stops at a failure; every node should go down
+        self._message('Managed nodes have been shut down')
+        return True
+
+    def reset(self, hard: bool = False) -> bool:
+        self._set_active(False)
+        self._message('Resetting managed nodes...')
+        ok = self._change_all(Transition.TRANSITION_DEACTIVATE, hard=hard)
+        if ok or hard:
+            ok = self._change_all(Transition.TRANSITION_CLEANUP, hard=hard) and ok
+        if not ok and not hard:
+            self.get_logger().error('Failed to reset nodes: aborting reset')
+            return False
+        self._message('Managed nodes have been reset')
+        return True
+
+    def pause(self) -> bool:
+        self._set_active(False)
+        self._message('Pausing managed nodes...')
+        if not self._change_all(Transition.TRANSITION_DEACTIVATE):
+            self.get_logger().error('Failed to pause nodes: aborting pause')
+            return False
+        self._message('Managed nodes have been paused')
+        return True
+
+    def resume(self) -> bool:
+        self._message('Resuming managed nodes...')
+        if not self._change_all(Transition.TRANSITION_ACTIVATE):
+            self.get_logger().error('Failed to resume nodes: aborting resume')
+            return False
+        self._message('Managed nodes are active')
+        self._set_active(True)
+        return True
+
+    def _set_active(self, active: bool) -> None:
+        self.system_active = active
+        if active and self.get_parameter('bond_timeout').value > 0:
+            self._health.reset()
+        else:
+            self._health.cancel()
+
+    def _exclusively(self, action: Callable[[], bool]) -> bool:
+        with self._busy:
+            return action()
+
+    # -- callbacks ----------------------------------------------------------------------------------
+    def _start_once(self) -> None:
+        self._autostart.cancel()
+        self._exclusively(self.startup)
+
+    def _on_manage_nodes(self, request: Any, response: Any) -> Any:
+        actions = {ManageLifecycleNodes.Request.STARTUP: self.startup,
+                   ManageLifecycleNodes.Request.PAUSE: self.pause,
+                   ManageLifecycleNodes.Request.RESUME: self.resume,
+                   ManageLifecycleNodes.Request.RESET: self.reset,
+                   ManageLifecycleNodes.Request.SHUTDOWN: self.shutdown}
+        action = actions.get(request.command)
+        if action is None:
+            self.get_logger().error(f'manage_nodes: unknown command {request.command} (0-4: STARTUP, PAUSE, RESUME, '
+                                    'RESET, SHUTDOWN)')
+            response.success = False
+        else:
+            response.success = self._exclusively(action)
+        return response
+
+    def _on_is_active(self, request: Any, response: Any) -> Any:
+        response.success = self.system_active
+        return response
+
+    def _alive(self) -> set[str]:
+        return {e.node_fqn for e in self.context.graph.entities() if e.kind == EntityKind.NODE}
+
+    def _check_health(self) -> None:
+        if not self.system_active:
+            return
+        alive = self._alive()
+        for name in self.node_names:
+            if self._fqn[name] not in alive:
+                self._message(f'Have not received a heartbeat from {name}.')
+                self.get_logger().error(f'CRITICAL FAILURE: SERVER {name} IS DOWN (its process is gone). '
+                                        'Shutting down related nodes.')
+                self._exclusively(lambda: self.reset(hard=True))
+                if self.get_parameter('attempt_respawn_reconnection').value:
+                    self._respawn_started = time.monotonic()
+                    self._respawn.reset()
+                return
+
+    def _check_respawn(self) -> None:
+        if self.system_active or self._respawn_started is None:
+            self._respawn.cancel()
+            return
+        try:
+            for client in self._lifecycle.values():
+                client.get_state(timeout_sec=0.5)
+        except ServiceCallError:
+            if time.monotonic() - self._respawn_started >= self.get_parameter('bond_respawn_max_duration').value:
+                self._message('Failed to re-establish connection from a server crash after maximum timeout.')
+                self._respawn_started = None
+                self._respawn.cancel()
+            return
+        self._message('Successfully re-established connections from server respawns, starting back up.')
+        self._respawn_started = None
+        self._respawn.cancel()
+        self._exclusively(self.startup)
+
+
+def main(args: list[str] | None = None) -> int:
+    try:
+        with zros.init(args=args):
+            node = LifecycleManager()
+            executor = MultiThreadedExecutor(num_threads=2)
+            executor.add_node(node)
+            executor.spin()
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())

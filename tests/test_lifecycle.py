@@ -1,0 +1,150 @@
+"""Managed nodes: the state machine alone, a LifecycleNode in process, `zros lifecycle` walking
+a real node through its states, and the lifecycle manager bringing a stack up in order,
+noticing a node that dies and starting up again when it is respawned."""
+from __future__ import annotations
+
+import signal
+import time
+
+import pytest
+
+from conftest import assert_clean_failure, wait_until
+from zros.lifecycle import LifecycleNode, State, TransitionCallbackReturn, TransitionError
+from zros.lifecycle.state_machine import LifecycleStateMachine
+
+
+def test_state_machine_walk_and_refusals():
+    machine = LifecycleStateMachine()
+    assert machine.current.label == 'unconfigured'
+    for transition, middle, result, end in (
+            ('configure', 'configuring', TransitionCallbackReturn.SUCCESS, 'inactive'),
+            (3, 'activating', TransitionCallbackReturn.FAILURE, 'inactive'),
+            ('activate', 'activating', TransitionCallbackReturn.SUCCESS, 'active'),
+            ('deactivate', 'deactivating', TransitionCallbackReturn.ERROR, 'errorprocessing')):
+        assert machine.begin(transition).goal.label == middle
+        assert machine.finish(result).goal.label == end
+    assert machine.finish(TransitionCallbackReturn.SUCCESS).goal.label == 'unconfigured'
+    assert [(t.transition_id, t.label) for t in machine.available_transitions()] == [(1, 'configure'), (5, 'shutdown')]
+    with pytest.raises(TransitionError, match=r"'activate' is not available in state 'unconfigured' "
+                                              r'\(available: configure \[1\], shutdown \[5\]\)'):
+        machine.begin('activate')
+    machine.begin('shutdown')
+    assert machine.finish(TransitionCallbackReturn.SUCCESS).goal.label == 'finalized'
+    assert machine.available_transitions() == []
+
+
+def test_lifecycle_node_callbacks_publisher_and_events(make_context, spin_for, capfd):
+    from zros.executors import SingleThreadedExecutor
+    from zros.node import Node
+    from interfaces.lifecycle_msgs.msg import TransitionEvent
+    from interfaces.std_msgs.msg import String
+    context = make_context()
+
+    class Camera(LifecycleNode):
+        def on_configure(self, state: State) -> TransitionCallbackReturn:
+            self.pub = self.create_lifecycle_publisher(String, 'frames', 10)
+            return TransitionCallbackReturn.SUCCESS
+
+        def on_activate(self, state: State) -> TransitionCallbackReturn:
+            if getattr(self, 'broken', False):
+                raise RuntimeError('lens cap on')
+            return super().on_activate(state)
+
+    camera = Camera('camera', context=context)
+    probe = Node('probe', context=context)
+    received, events = [], []
+    probe.create_subscription(String, 'frames', received.append, 10)
+    probe.create_subscription(TransitionEvent, 'camera/transition_event', events.append, 10)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(probe)
+    wait_until(lambda: probe.count_publishers('camera/transition_event') == 1, 5, message='event publisher')
+    assert camera.trigger_configure() == TransitionCallbackReturn.SUCCESS
+    camera.pub.publish(String(data='dropped: inactive'))
+    assert camera.trigger_activate() == TransitionCallbackReturn.SUCCESS
+    assert camera.current_state == State('active', 3)
+    camera.pub.publish(String(data='seen'))
+    spin_for(executor, lambda: received and len(events) >= 4, message='a frame and four transition events')
+    assert [m.data for m in received] == ['seen']
+    assert [(e.transition.id, e.transition.label, e.start_state.label, e.goal_state.label) for e in events[:4]] == [
+        (1, 'configure', 'unconfigured', 'configuring'), (10, 'transition_success', 'configuring', 'inactive'),
+        (3, 'activate', 'inactive', 'activating'), (30, 'transition_success', 'activating', 'active')]
+    assert "but the publisher is not activated" in capfd.readouterr().err
+    # a callback that raises is an ERROR: on_error runs and the node ends unconfigured
+    camera.trigger_deactivate()
+    camera.broken = True
+    assert camera.trigger_activate() == TransitionCallbackReturn.ERROR
+    assert camera.current_state.label == 'unconfigured'
+    assert 'on_activate() raised RuntimeError: lens cap on' in capfd.readouterr().err
+    with pytest.raises(TransitionError):
+        camera.trigger_activate()
+
+
+def test_cli_walks_a_node_through_its_states(spawn, zros_cli):
+    spawn.node('lifecycle', 'lifecycle_talker').wait_for_output('', timeout=1)
+    wait_until(lambda: zros_cli('lifecycle', 'nodes').stdout.split() == ['/lc_talker'], 20,
+               message='/lc_talker among lifecycle nodes')
+    assert zros_cli('lifecycle', 'get', '/lc_talker').stdout == 'unconfigured [1]\n'
+    listed = zros_cli('lifecycle', 'list', 'lc_talker').stdout
+    assert listed == ('- configure [1]\n\tStart: unconfigured\n\tGoal: configuring\n'
+                      '- shutdown [5]\n\tStart: unconfigured\n\tGoal: shuttingdown\n')
+    result = zros_cli('lifecycle', 'set', '/lc_talker', 'configure')
+    assert result.returncode == 0 and result.stdout == 'Transitioning successful\n', result
+    assert zros_cli('lifecycle', 'set', '/lc_talker', '3').stdout == 'Transitioning successful\n'
+    assert zros_cli('lifecycle', 'get').stdout == '/lc_talker: active [3]\n'
+    state = zros_cli('service', 'call', '/lc_talker/get_state', 'lifecycle_msgs/srv/GetState')
+    assert 'label: active' in state.stdout, state
+    assert_clean_failure(zros_cli('lifecycle', 'set', '/lc_talker', 'configure'),
+                         'Unknown transition requested, available ones are: deactivate [4], shutdown [7]')
+    assert_clean_failure(zros_cli('lifecycle', 'get', '/nobody'), 'Node not found')
+    assert zros_cli('lifecycle', 'set', '/lc_talker', 'shutdown').returncode == 0
+    assert zros_cli('lifecycle', 'get', 'lc_talker').stdout == 'finalized [4]\n'
+
+
+def _manager(spawn, *extra: str):
+    return spawn.node('nav2_lifecycle_manager', 'lifecycle_manager', '--ros-args', '-r',
+                      '__node:=lifecycle_manager_test', '-p', "node_names:=['map_server', 'amcl']",
+                      '-p', 'autostart:=true', *extra)
+
+
+def _talker(spawn, name: str):
+    return spawn.node('lifecycle', 'lifecycle_talker', '--ros-args', '-r', f'__node:={name}')
+
+
+def test_manager_brings_the_stack_up_in_order_and_restarts_it_after_a_crash(spawn, zros_cli):
+    map_server = _talker(spawn, 'map_server')
+    amcl = _talker(spawn, 'amcl')
+    manager = _manager(spawn, '-p', 'bond_respawn_max_duration:=30.0')
+    out = manager.wait_for_output('Managed nodes are active', timeout=30)
+    steps = [line.split(']: ')[-1] for line in out.splitlines() if ']: ' in line]
+    order = [s for s in steps if s.split(' ')[0] in ('Configuring', 'Activating')]
+    assert order == ['Configuring map_server', 'Configuring amcl', 'Activating map_server', 'Activating amcl'], out
+    assert zros_cli('lifecycle', 'get').stdout == '/amcl: active [3]\n/map_server: active [3]\n'
+    active = zros_cli('service', 'call', '/lifecycle_manager_test/is_active', 'std_srvs/srv/Trigger')
+    assert 'success: true' in active.stdout, active
+    # amcl dies: reported at once, the rest of the stack is reset
+    amcl.signal(signal.SIGKILL)
+    manager.wait_for_output('CRITICAL FAILURE: SERVER amcl IS DOWN', timeout=10)
+    manager.wait_for_output('Managed nodes have been reset', timeout=20)
+    assert zros_cli('lifecycle', 'get', '/map_server').stdout == 'unconfigured [1]\n'
+    # respawned (as a launch file's respawn would): the manager starts everything up again
+    _talker(spawn, 'amcl')
+    manager.wait_for_output('Successfully re-established connections', timeout=30)
+    wait_until(lambda: zros_cli('lifecycle', 'get').stdout == '/amcl: active [3]\n/map_server: active [3]\n', 30,
+               message='both nodes active again')
+
+
+def test_manager_service_and_a_node_that_refuses(spawn, zros_cli):
+    _talker(spawn, 'map_server')
+    spawn.node('lifecycle', 'lifecycle_talker', '--ros-args', '-r', '__node:=amcl', '-p', 'fail_on:=on_activate')
+    manager = _manager(spawn, '-p', 'attempt_respawn_reconnection:=false')
+    manager.wait_for_output('Failed to bring up all requested nodes. Aborting bringup.', timeout=30)
+    assert 'Failed to change state for node: amcl' in manager.output()
+    assert zros_cli('lifecycle', 'get').stdout == '/amcl: inactive [2]\n/map_server: active [3]\n'
+    # RESET stops at amcl, which cannot be deactivated (as in Nav2); SHUTDOWN takes every node down
+    reset = zros_cli('service', 'call', '/lifecycle_manager_test/manage_nodes',
+                     'nav2_msgs/srv/ManageLifecycleNodes', '{command: 3}')
+    assert 'success: false' in reset.stdout, reset
+    down = zros_cli('service', 'call', '/lifecycle_manager_test/manage_nodes',
+                    'nav2_msgs/srv/ManageLifecycleNodes', '{command: 4}')
+    assert 'success: true' in down.stdout, down
+    assert zros_cli('lifecycle', 'get').stdout == '/amcl: finalized [4]\n/map_server: finalized [4]\n'

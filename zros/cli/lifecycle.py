@@ -1,0 +1,122 @@
+"""`zros lifecycle nodes|get|set|list`: ros2lifecycle's verbs and output formats.
+
+A lifecycle node is one that serves `<node>/get_state` (lifecycle_msgs/srv/GetState).
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+
+from zros.cli.common import absolute_node_name, cli_context, cli_node, graph_entities, is_hidden
+from zros.errors import CliError, ServiceCallError
+from zros.graph import EntityKind
+
+__all__ = ['add_arguments', 'lifecycle_node_names']
+
+_GET_STATE_TYPE = 'lifecycle_msgs/srv/GetState'
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    sub = parser.add_subparsers(dest='lifecycle_verb', metavar='<command>')
+    p = sub.add_parser('nodes', help='Output a list of nodes with lifecycle')
+    p.add_argument('-a', '--all', action='store_true', help='Display all nodes even hidden ones')
+    p.add_argument('-c', '--count-nodes', action='store_true', help='Only display the number of nodes discovered')
+    p.set_defaults(handler=cmd_nodes)
+    p = sub.add_parser('get', help='Get lifecycle state for one or more nodes')
+    p.add_argument('node_name', nargs='?', help='Name of the node; without it, every lifecycle node')
+    p.add_argument('--include-hidden-nodes', action='store_true', help='Consider hidden nodes as well')
+    p.set_defaults(handler=cmd_get)
+    p = sub.add_parser('set', help='Trigger lifecycle state transition')
+    p.add_argument('node_name', help='Name of the node')
+    p.add_argument('transition', help='The transition, by label (configure) or id (1)')
+    p.add_argument('--include-hidden-nodes', action='store_true', help='Consider hidden nodes as well')
+    p.set_defaults(handler=cmd_set)
+    p = sub.add_parser('list', help='Output a list of available transitions')
+    p.add_argument('node_name', help='Name of the node')
+    p.add_argument('-a', '--all', action='store_true', help='Display all existing transitions')
+    p.add_argument('--include-hidden-nodes', action='store_true', help='Consider hidden nodes as well')
+    p.set_defaults(handler=cmd_list)
+
+
+def lifecycle_node_names(entities: list, include_hidden: bool = False) -> list[str]:
+    """Fully qualified names of the nodes that serve a lifecycle get_state service."""
+    names = {e.node_fqn for e in entities if e.kind == EntityKind.SERVICE and e.type == _GET_STATE_TYPE
+             and e.name == e.node_fqn + '/get_state'}
+    return sorted(n for n in names if include_hidden or not is_hidden(n))
+
+
+def _target(ctx, name: str, include_hidden: bool) -> str:
+    target = absolute_node_name(name)
+    if target not in lifecycle_node_names(graph_entities(ctx), include_hidden=True):
+        raise CliError('Node not found')
+    return target
+
+
+def cmd_nodes(args: argparse.Namespace) -> int:
+    with cli_context() as ctx:
+        names = lifecycle_node_names(graph_entities(ctx), args.all)
+    if args.count_nodes:
+        print(len(names))
+    else:
+        for name in names:
+            print(name)
+    return 0
+
+
+def cmd_get(args: argparse.Namespace) -> int:
+    from zros.lifecycle import LifecycleClient
+    with cli_context() as ctx:
+        if args.node_name:
+            targets = [_target(ctx, args.node_name, args.include_hidden_nodes)]
+        else:
+            targets = lifecycle_node_names(graph_entities(ctx), args.include_hidden_nodes)
+        node = cli_node(ctx)
+        failed = False
+        for target in targets:
+            try:
+                state = LifecycleClient(node, target).get_state(timeout_sec=5.0)
+            except ServiceCallError as exc:
+                if args.node_name:
+                    raise CliError(f"Exception while calling service of node '{target}': {exc}") from None
+                print(f"Exception while calling service of node '{target}': {exc}", file=sys.stderr)
+                failed = True
+                continue
+            print(('' if args.node_name else f'{target}: ') + f'{state.label} [{state.state_id}]')
+    return 1 if failed else 0
+
+
+def cmd_set(args: argparse.Namespace) -> int:
+    from zros.lifecycle import LifecycleClient
+    with cli_context() as ctx:
+        target = _target(ctx, args.node_name, args.include_hidden_nodes)
+        client = LifecycleClient(cli_node(ctx), target)
+        try:
+            transitions = client.available_transitions(timeout_sec=5.0)
+            chosen = next((t for t in transitions if t.label == args.transition), None) or next(
+                (t for t in transitions if str(t.transition_id) == args.transition), None)
+            if chosen is None:
+                raise CliError('Unknown transition requested, available ones are: ' + ', '.join(
+                    f'{t.label} [{t.transition_id}]' for t in transitions))
+            success = client.change_state(chosen.transition_id)
+        except ServiceCallError as exc:
+            raise CliError(f"Exception while calling service of node '{args.node_name}': {exc}") from None
+    if success:
+        print('Transitioning successful')
+        return 0
+    print('Transitioning failed', file=sys.stderr)
+    return 1
+
+
+def cmd_list(args: argparse.Namespace) -> int:
+    from zros.lifecycle import LifecycleClient
+    from zros.lifecycle.state_machine import PUBLIC_TRANSITIONS, RESULT_TRANSITIONS
+    with cli_context() as ctx:
+        target = _target(ctx, args.node_name, args.include_hidden_nodes)
+        try:
+            transitions = (list(PUBLIC_TRANSITIONS + RESULT_TRANSITIONS) if args.all
+                           else LifecycleClient(cli_node(ctx), target).available_transitions(timeout_sec=5.0))
+        except ServiceCallError as exc:
+            raise CliError(f"Exception while calling service of node '{args.node_name}': {exc}") from None
+    for t in transitions:
+        print(f'- {t.label} [{t.transition_id}]\n\tStart: {t.start.label}\n\tGoal: {t.goal.label}')
+    return 0
