@@ -179,3 +179,13 @@ def test_view_frames_writes_every_frame(spawn, zros_cli, tmp_path):
         assert {'world', 'turtle1', 'carrot1', 'sea', 'island'} <= texts
     else:
         assert picture.read_bytes().startswith(b'%PDF')
+    tree = zros_cli('tf', 'tree', '-t', '1.5')
+    assert tree.returncode == 0, tree
+    lines = tree.stdout.splitlines()
+    assert 'world' in lines and 'sea' in lines and '└── island (static)' in lines, tree.stdout
+    assert any(line.startswith('└── turtle1 (') and line.endswith(' Hz)') for line in lines), tree.stdout
+    assert '    └── carrot1 (static)' in lines, tree.stdout
+    import json
+    monitor = {row['frame']: row for row in json.loads(zros_cli('tf', 'monitor', '-t', '1.5', '--json').stdout)}
+    assert monitor['turtle1']['parent'] == 'world' and monitor['turtle1']['rate_hz'] > 5
+    assert monitor['carrot1']['static'] is True

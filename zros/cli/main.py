@@ -24,6 +24,7 @@ VERBS = {
     'action': ('zros.cli.action', 'Inspect actions and send goals'),
     'view': ('zros.cli.view', 'The scene view in the browser (RViz, rqt_graph, rqt_console, images)'),
     'image': ('zros.cli.image', 'Save a frame of an image topic as PNG'),
+    'tf': ('zros.cli.tf', 'Print the TF frame tree and its rates'),
     'lifecycle': ('zros.cli.lifecycle', 'Inspect and drive the lifecycle of managed nodes'),
     'launch': ('zros.cli.launch', 'Run a YAML launch file'),
     'router': ('zros.cli.router', 'Run a Zenoh router for multi-machine set-ups'),
