@@ -111,11 +111,14 @@ class Client(NodeEntity):
                 else:
                     future.set_result(outcome)
 
+        # Known before the query is sent: with no server, Zenoh may call on_done before _send returns.
+        timeout = _NO_TIMEOUT if timeout_sec is None else max(0.001, timeout_sec)
+
         def on_done() -> None:
             if not future.done():
                 future.set_exception(self._no_answer(started, timeout))
 
-        timeout, _ = self._send(request, timeout_sec, zenoh.handlers.Callback(on_reply, on_done))
+        self._send(request, timeout_sec, zenoh.handlers.Callback(on_reply, on_done))
         return future
 
     def call(self, request: Any, timeout_sec: float | None = None) -> Any:

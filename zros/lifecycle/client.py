@@ -72,8 +72,13 @@ class LifecycleClient:
 
 
 def _call(client: Any, request: Any, timeout_sec: float | None) -> Any:
+    """The response; ServiceCallError on failure, on shutdown, or (a second after the query's
+    own timeout, should its completion never arrive) on timeout."""
     future = client.call_async(request, timeout_sec=timeout_sec)
+    deadline = None if timeout_sec is None else time.monotonic() + timeout_sec + 1.0
     while not future.wait(0.1):
         if not client._node.context.ok():
             raise ServiceCallError(f"service '{client.srv_name}': zros is shutting down")
+        if deadline is not None and time.monotonic() > deadline:
+            raise ServiceCallError(f"service '{client.srv_name}' did not answer within {timeout_sec:g} s")
     return future.result()
