@@ -304,7 +304,7 @@ class BufferCore:
                 except ExtrapolationException as exc:
                     broken = exc
                     break
-                acc = compose(value, acc)
+                acc = value if acc is IDENTITY else compose(value, acc)
                 frame = parent
                 if frame in chain:
                     raise LookupException(f'The tf tree is invalid because it contains a loop at "{frame}".')
@@ -329,12 +329,13 @@ class BufferCore:
                 except ExtrapolationException as exc:
                     raise ExtrapolationException(f'{exc}, when looking up transform from frame [{source}] '
                                                  f'to frame [{target}]') from None
-                acc_t = compose(value, acc_t)
+                acc_t = value if acc_t is IDENTITY else compose(value, acc_t)
                 frame = parent
                 depth += 1
                 if depth > _MAX_GRAPH_DEPTH:
                     raise LookupException('The tf tree is invalid because it contains a loop.')
-            return t, compose(inverse(acc_t), chain[frame])
+            source_in_common = chain[frame]
+            return t, source_in_common if acc_t is IDENTITY else compose(inverse(acc_t), source_in_common)
 
     def _latest_common_time(self, target: str, source: str) -> int:
         """The newest time at which every dynamic link between the two frames has data (0 if
@@ -451,10 +452,16 @@ class BufferCore:
                            for child, cache in self._caches.items())
 
 
+_transform_stamped: Any = None
+
+
 def _stamped(target: str, source: str, stamp: int, value: Transform) -> Any:
-    from interfaces.geometry_msgs.msg import TransformStamped
+    global _transform_stamped
+    if _transform_stamped is None:
+        from interfaces.geometry_msgs.msg import TransformStamped
+        _transform_stamped = TransformStamped
     sec, nanosec = divmod(stamp, 1_000_000_000)
     tx, ty, tz, qx, qy, qz, qw = value
     # the message's wire header, decoded: one checked construction instead of six setter calls
-    return TransformStamped._DEC1((((sec, nanosec), target), source,
-                                   ((float(tx), float(ty), float(tz)), (float(qx), float(qy), float(qz), float(qw)))))
+    return _transform_stamped._DEC1((((sec, nanosec), target), source,
+                                     ((float(tx), float(ty), float(tz)), (float(qx), float(qy), float(qz), float(qw)))))

@@ -73,28 +73,30 @@ def slerp(q0: tuple, q1: tuple, ratio: float) -> tuple:
     """Spherical linear interpolation of unit quaternions (x, y, z, w), along the shorter arc.
 
     ratio 0 gives q0, 1 gives q1 (or -q1, the same rotation)."""
-    x0, y0, z0, w0 = q0
-    x1, y1, z1, w1 = q1
+    return interpolate((0.0, 0.0, 0.0, *q0), (0.0, 0.0, 0.0, *q1), ratio)[3:]
+
+
+def interpolate(a: Transform, b: Transform, ratio: float) -> Transform:
+    """Translation linear, rotation slerp; ratio 0 gives `a`, 1 gives `b` (tf2's rule).
+
+    The slerp is written out here rather than calling `slerp`: this runs once per link of
+    every lookup."""
+    r0 = 1.0 - ratio
+    x0, y0, z0, w0 = a[3], a[4], a[5], a[6]
+    x1, y1, z1, w1 = b[3], b[4], b[5], b[6]
     dot = x0 * x1 + y0 * y1 + z0 * z1 + w0 * w1
     if dot < 0.0:
         x1, y1, z1, w1, dot = -x1, -y1, -z1, -w1, -dot
     if dot > _SLERP_LINEAR_ABOVE:
-        s0, s1 = 1.0 - ratio, ratio
+        s0, s1 = r0, ratio
     else:
         theta = math.acos(dot)
         sin_theta = math.sin(theta)
-        s0 = math.sin((1.0 - ratio) * theta) / sin_theta
+        s0 = math.sin(r0 * theta) / sin_theta
         s1 = math.sin(ratio * theta) / sin_theta
     x, y, z, w = s0 * x0 + s1 * x1, s0 * y0 + s1 * y1, s0 * z0 + s1 * z1, s0 * w0 + s1 * w1
-    n = math.sqrt(x * x + y * y + z * z + w * w)
-    return (x / n, y / n, z / n, w / n)
-
-
-def interpolate(a: Transform, b: Transform, ratio: float) -> Transform:
-    """Translation linear, rotation slerp; ratio 0 gives `a`, 1 gives `b` (tf2's rule)."""
-    r0 = 1.0 - ratio
-    x, y, z, w = slerp(a[3:], b[3:], ratio)
-    return (a[0] * r0 + b[0] * ratio, a[1] * r0 + b[1] * ratio, a[2] * r0 + b[2] * ratio, x, y, z, w)
+    n = 1.0 / math.sqrt(x * x + y * y + z * z + w * w)
+    return (a[0] * r0 + b[0] * ratio, a[1] * r0 + b[1] * ratio, a[2] * r0 + b[2] * ratio, x * n, y * n, z * n, w * n)
 
 
 def normalize_quaternion(x: float, y: float, z: float, w: float) -> tuple[tuple, float]:
