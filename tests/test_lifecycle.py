@@ -92,7 +92,7 @@ def test_cli_walks_a_node_through_its_states(spawn, zros_cli):
     assert zros_cli('lifecycle', 'set', '/lc_talker', '3').stdout == 'Transitioning successful\n'
     assert zros_cli('lifecycle', 'get').stdout == '/lc_talker: active [3]\n'
     state = zros_cli('service', 'call', '/lc_talker/get_state', 'lifecycle_msgs/srv/GetState')
-    assert 'label: active' in state.stdout, state
+    assert "label='active'" in state.stdout, state
     assert_clean_failure(zros_cli('lifecycle', 'set', '/lc_talker', 'configure'),
                          'Unknown transition requested, available ones are: deactivate [4], shutdown [7]')
     assert_clean_failure(zros_cli('lifecycle', 'get', '/nobody'), 'Node not found')
@@ -120,7 +120,7 @@ def test_manager_brings_the_stack_up_in_order_and_restarts_it_after_a_crash(spaw
     assert order == ['Configuring map_server', 'Configuring amcl', 'Activating map_server', 'Activating amcl'], out
     assert zros_cli('lifecycle', 'get').stdout == '/amcl: active [3]\n/map_server: active [3]\n'
     active = zros_cli('service', 'call', '/lifecycle_manager_test/is_active', 'std_srvs/srv/Trigger')
-    assert 'success: true' in active.stdout, active
+    assert 'success=True' in active.stdout, active
     # amcl dies: reported at once, the rest of the stack is reset
     amcl.signal(signal.SIGKILL)
     manager.wait_for_output('CRITICAL FAILURE: SERVER amcl IS DOWN', timeout=10)
@@ -143,8 +143,8 @@ def test_manager_service_and_a_node_that_refuses(spawn, zros_cli):
     # RESET stops at amcl, which cannot be deactivated (as in Nav2); SHUTDOWN takes every node down
     reset = zros_cli('service', 'call', '/lifecycle_manager_test/manage_nodes',
                      'nav2_msgs/srv/ManageLifecycleNodes', '{command: 3}')
-    assert 'success: false' in reset.stdout, reset
+    assert 'success=False' in reset.stdout, reset
     down = zros_cli('service', 'call', '/lifecycle_manager_test/manage_nodes',
                     'nav2_msgs/srv/ManageLifecycleNodes', '{command: 4}')
-    assert 'success: true' in down.stdout, down
+    assert 'success=True' in down.stdout, down
     assert zros_cli('lifecycle', 'get').stdout == '/amcl: finalized [4]\n/map_server: finalized [4]\n'
