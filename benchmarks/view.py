@@ -10,8 +10,8 @@ a 60-pose plan and frontier markers at 1 Hz. Two phases:
 
 1. **Server and page.** `zros view` runs in its own process with every display on (auto mode);
    headless Chromium (software WebGL) opens the page. Over the window we read the server
-   process's CPU time and bytes written (/proc; its writes are the websocket, as it publishes
-   almost nothing) and the page's frame rate (requestAnimationFrame callbacks per second).
+   process's CPU time (/proc), the bytes its websocket sent (the kernel's TCP counters, read
+   with `ss`) and the page's frame rate (requestAnimationFrame callbacks per second).
 2. **Latency.** A SceneView in this process, with the same load and a browser connected; this
    process also publishes a LaserScan in the fixed frame at 10 Hz and times each one from
    `publish()` to the end of its display's scene update (the arrays handed to viser, which
@@ -45,9 +45,12 @@ def _cpu_seconds(pid: int) -> float:
     return (int(fields[11]) + int(fields[12])) / os.sysconf('SC_CLK_TCK')
 
 
-def _bytes_written(pid: int) -> int:
-    with open(f'/proc/{pid}/io') as handle:
-        return next(int(line.split()[1]) for line in handle if line.startswith('wchar:'))
+def _bytes_sent(port: int) -> int:
+    """Bytes the server's TCP sockets on `port` have sent (the kernel's count, via iproute2's ss)."""
+    import re
+    out = subprocess.run(['ss', '-tinH', 'state', 'established', f'( sport = :{port} )'], capture_output=True,
+                         text=True, check=True).stdout
+    return sum(int(n) for n in re.findall(r'bytes_sent:(\d+)', out))
 
 
 def _spawn(argv: list[str], env: dict[str, str]) -> subprocess.Popen:
@@ -94,9 +97,10 @@ def phase_server(window: float) -> dict:
         with Browser(width=1400, height=850) as browser:
             browser.open(url, wait_for='document.querySelector("canvas")', timeout=60)
             time.sleep(8)                                   # displays appear, first map sent
-            cpu0, sent0, t0 = _cpu_seconds(view.pid), _bytes_written(view.pid), time.monotonic()
+            port = int(url.rstrip('/').rsplit(':', 1)[1])
+            cpu0, sent0, t0 = _cpu_seconds(view.pid), _bytes_sent(port), time.monotonic()
             time.sleep(window)
-            cpu1, sent1, t1 = _cpu_seconds(view.pid), _bytes_written(view.pid), time.monotonic()
+            cpu1, sent1, t1 = _cpu_seconds(view.pid), _bytes_sent(port), time.monotonic()
             fps = browser.frame_rate(min(5.0, window / 2))
         return {'cpu_percent': 100.0 * (cpu1 - cpu0) / (t1 - t0), 'bytes_per_s': (sent1 - sent0) / (t1 - t0),
                 'fps': fps, 'window_s': t1 - t0}
@@ -175,7 +179,7 @@ def main() -> int:
     rows = [
         ['server CPU (one core = 100 %)', f"{server['cpu_percent']:.1f} %", f'< {CPU_GOAL:g} %',
          'ok' if server['cpu_percent'] < CPU_GOAL else 'MISS'],
-        ['bytes/s written by the server (websocket)', f"{server['bytes_per_s'] / 1000:.0f} kB/s", '-', ''],
+        ['bytes/s sent to the browser (websocket)', f"{server['bytes_per_s'] / 1000:.0f} kB/s", '-', ''],
         ['page frame rate (headless, software WebGL)', f"{server['fps']:.1f} fps", f'>= {FPS_GOAL:g} fps',
          'ok' if server['fps'] >= FPS_GOAL else 'MISS'],
         ['publish -> scene update, median', f"{latency['median_ms']:.1f} ms", f'< {LATENCY_GOAL:g} ms',

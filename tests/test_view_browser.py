@@ -212,3 +212,14 @@ def test_missing_transform_is_shown_in_the_page(world):
     finally:
         stop.set()
         thread.join(timeout=2)
+
+
+def test_graph_and_console_pages(world):
+    world.browser.click_text('Graph')
+    world.browser.wait_for('[...document.querySelectorAll("svg text")].some(t => t.textContent === "/fake_robot")',
+                           timeout=20)
+    world.browser.wait_for('[...document.querySelectorAll("svg text")].some(t => t.textContent === "/scan")')
+    world.browser.click_text('Console')
+    world.node.get_logger().warn('the console shows this line')
+    world.browser.wait_for('document.body.innerText.includes("the console shows this line")', timeout=20)
+    assert 'WARN' in world.browser.evaluate('document.body.innerText')

@@ -23,6 +23,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='address to listen on (default 127.0.0.1: this machine only)')
     parser.add_argument('--topic', default='',
                         help='an image topic to show first (e.g. /turtlesim/image)')
+    parser.add_argument('--use-sim-time', action='store_true',
+                        help='stamp the tools\' messages with /clock time, as the rest of a simulated robot does')
     parser.set_defaults(handler=cmd_view)
 
 
@@ -32,12 +34,14 @@ def cmd_view(args: argparse.Namespace) -> int:
     from zros.executors import SingleThreadedExecutor
     from zros.view.scene.app import ViewError
     from zros.view.scene.config import ConfigError
+    from zros.parameter import Parameter
     from zros.view.scene.node import ViewNode
     ctx = cli_context()
     try:
         try:
             node = ViewNode('view', config=args.display_config, fixed_frame=args.fixed_frame, port=args.port,
-                            host=args.host, topic=args.topic, context=ctx)
+                            host=args.host, topic=args.topic, context=ctx,
+                            parameter_overrides=[Parameter('use_sim_time', value=True)] if args.use_sim_time else None)
         except (ConfigError, ViewError) as exc:
             raise CliError(str(exc) + (' (choose another with --port)' if isinstance(exc, ViewError) else '')) \
                 from None

@@ -204,18 +204,21 @@ class Browser:
         time.sleep(0.1)
         self._mouse('mouseReleased', x1, y1, buttons=0, button='left')
 
-    def click_text(self, text: str, *, selector: str = 'button') -> None:
-        """Click the first `selector` element whose visible text is `text`.
+    def click_text(self, text: str, *, selector: str = 'button, [role=tab]') -> None:
+        """Click (with the mouse, at its middle) the first visible `selector` element whose text is
+        `text`.
 
         Raises:
             BrowserError: there is no such element.
         """
         found = self.evaluate(
             f'(() => {{ const el = [...document.querySelectorAll({json.dumps(selector)})]'
-            f'.find(e => e.innerText.trim() === {json.dumps(text)});'
-            ' if (!el) return false; el.click(); return true; })()')
+            f'.find(e => e.innerText.trim() === {json.dumps(text)} && e.getClientRects().length);'
+            ' if (!el) return null; const r = el.getBoundingClientRect();'
+            ' return [r.x + r.width / 2, r.y + r.height / 2]; })()')
         if not found:
             raise BrowserError(f'no {selector} with the text {text!r}')
+        self.click(*found)
 
     def frame_rate(self, seconds: float = 3.0) -> float:
         """Frames the page drew per second (requestAnimationFrame callbacks), over `seconds`."""

@@ -149,6 +149,7 @@ class SceneView:
         scene.set_up_direction('+z')
         scene.world_axes.visible = False
         scene.configure_environment_map(None)     # viser's default HDRI washes out unlit planes (the map)
+        scene.configure_default_lights(True, cast_shadow=False)   # a shadow pass per frame buys nothing here
         self.grid: Any = None
         self._apply_grid(self.config.grid)
         camera = self.config.camera
@@ -560,7 +561,8 @@ class SceneView:
     def _auto_add(self) -> None:
         shown = {d.topic for d in self.displays}
         for name, types in self._topic_types:
-            if name in shown or name in _AUTO_SKIP or not types or not self._publishers_on.get(name):
+            if (name in shown or name in _AUTO_SKIP or name.startswith('/sim/') or not types
+                    or not self._publishers_on.get(name)):
                 continue
             cls = display_for_topic(name, types[0])
             if cls is None:

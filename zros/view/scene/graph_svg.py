@@ -114,7 +114,8 @@ def to_svg(content: dict[str, Any], *, dark: bool = False) -> str:
     height = max(y for _, y, _ in placed.values()) + BOX_H + PAD
     ink = '#ddd' if dark else '#333'
     parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width:.0f}" height="{height:.0f}" '
-             f'viewBox="0 0 {width:.0f} {height:.0f}" font-family="sans-serif" font-size="12">',
+             f'viewBox="0 0 {width:.0f} {height:.0f}" font-family="sans-serif" font-size="12" '
+             'style="max-width:100%;height:auto">',
              '<defs><marker id="zros-arrow" viewBox="0 0 10 10" refX="10" refY="5" markerWidth="7" '
              f'markerHeight="7" orient="auto"><path d="M0,0 L10,5 L0,10 z" fill="{ink}"/></marker></defs>']
     for src, dst in content['edges']:
@@ -134,15 +135,14 @@ def to_svg(content: dict[str, Any], *, dark: bool = False) -> str:
     for vertex, (x, y, w) in placed.items():
         label = html.escape(_label(vertex))
         if vertex.startswith('n:'):
-            parts.append(f'<ellipse cx="{x + w / 2:.1f}" cy="{y + BOX_H / 2:.1f}" rx="{w / 2:.1f}" ry="{BOX_H / 2}" '
-                         'fill="#dbe9ff" stroke="#3b6fd1" stroke-width="1.2"/>')
-            title = 'node'
+            shape = (f'<ellipse cx="{x + w / 2:.1f}" cy="{y + BOX_H / 2:.1f}" rx="{w / 2:.1f}" ry="{BOX_H / 2}" '
+                     'fill="#dbe9ff" stroke="#3b6fd1" stroke-width="1.2"/>')
+            title = 'node ' + label
         else:
-            types = ', '.join(content['topics'].get(_label(vertex), []))
-            parts.append(f'<rect x="{x:.1f}" y="{y:.1f}" width="{w:.1f}" height="{BOX_H}" rx="3" '
-                         'fill="#fff4d6" stroke="#c78a00" stroke-width="1.2"/>')
-            title = html.escape(types)
-        parts.append(f'<text x="{x + w / 2:.1f}" y="{y + BOX_H / 2 + 4:.1f}" text-anchor="middle" fill="#111">'
-                     f'<title>{title}</title>{label}</text>')
+            shape = (f'<rect x="{x:.1f}" y="{y:.1f}" width="{w:.1f}" height="{BOX_H}" rx="3" '
+                     'fill="#fff4d6" stroke="#c78a00" stroke-width="1.2"/>')
+            title = html.escape(', '.join(content['topics'].get(_label(vertex), [])))
+        parts.append(f'<g><title>{title}</title>{shape}<text x="{x + w / 2:.1f}" y="{y + BOX_H / 2 + 4:.1f}" '
+                     f'text-anchor="middle" fill="#111">{label}</text></g>')
     parts.append('</svg>')
     return ''.join(parts)
