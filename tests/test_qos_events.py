@@ -84,6 +84,8 @@ def _spin(executor) -> None:
 
 def test_subscription_deadline_liveliness_and_matched_from_a_real_publisher(spinning, spawn, wait_for):
     from interfaces.std_msgs.msg import String
+    from zros.qos_event import SubscriptionEventCallbacks as HumbleName
+    assert HumbleName is SubscriptionEventCallbacks
     events, received = Events(), []
     callbacks = SubscriptionEventCallbacks(deadline=events.deadline, liveliness=events.liveliness,
                                            matched=events.matched, message_lost=events.lost)
