@@ -15,6 +15,7 @@ from zros.errors import DecodeError, ServiceCallError
 from zros.graph import EntityKind
 from zros.message import deserialize, serialize
 from zros.qos import QoSProfile
+from zros.shm import payload as shm_payload
 from zros.task import Future
 from zros.wire import AttachmentWriter, max_message_size
 
@@ -68,7 +69,7 @@ class Client(NodeEntity):
             raise RuntimeError(f"client of '{self.srv_name}' has been destroyed")
         timeout = _NO_TIMEOUT if timeout_sec is None else max(0.001, timeout_sec)
         receiver = self._node.context.session.get(
-            self._key, handler, payload=serialize(request), attachment=self._stamp(),
+            self._key, handler, payload=shm_payload(serialize(request)), attachment=self._stamp(),
             timeout=timeout, consolidation=zenoh.ConsolidationMode.NONE)
         return timeout, receiver
 

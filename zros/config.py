@@ -401,6 +401,10 @@ def build_config(settings: SessionSettings, *, as_hub: bool):
     if unset('scouting/gossip/enabled'):
         put('scouting/gossip/enabled', True)
     put('timestamping/enabled', True)
+    from zros.shm import zenoh_settings
+    for key, value in zenoh_settings().items():  # the shared-memory pool (zros.shm)
+        if unset(key):
+            put(key, value)
     # The loopback hub is re-dialled quickly: when its process exits, the next zros process takes
     # the port over, and a short-lived one (a CLI command) only waits ~0.3 s for peers to join.
     retry_max_ms = 200 if settings.uses_hub else 1000

@@ -18,6 +18,7 @@ from zros.errors import DecodeError
 from zros.graph import EntityKind
 from zros.message import deserialize, serialize
 from zros.qos import QoSProfile
+from zros.shm import payload as shm_payload
 from zros.wire import describe_type, foreign_protocol, max_request_size, mismatch_reason, read_header, type_tail
 
 if TYPE_CHECKING:
@@ -59,7 +60,7 @@ class DeferredResponse:
         self._query = None
         try:
             if kind == 'ok':
-                query.reply(query.key_expr, serialize(value))
+                query.reply(query.key_expr, shm_payload(serialize(value)))
             else:
                 query.reply_err(str(value).encode())
         finally:
@@ -173,7 +174,7 @@ class Service(QueuedEntity):
             self._node.get_logger().error(text)
             query.reply_err(text.encode())
             return None
-        query.reply(query.key_expr, serialize(response))
+        query.reply(query.key_expr, shm_payload(serialize(response)))
         return None
 
     def _release(self) -> None:

@@ -247,6 +247,23 @@ def test_short_link_outage_loses_nothing(net, procs):
     assert got == list(range(got[0], got[-1] + 1)), f'lost or reordered samples: {sorted(set(range(got[0], got[-1])) - set(got))[:20]}'
 
 
+def test_large_arrays_across_hosts_without_shared_memory(net, procs):
+    """4 MB images from a publisher with shared memory to a subscriber on another host with
+    none: Zenoh copies the shared-memory payloads into the network messages, bit-exact."""
+    endpoint = f'tcp/{ROUTER}:7467'
+    net.h1.zros_bg('router', '--listen', endpoint, name='router-big').wait_for('listening on')
+    sub = net.h3.spawn(sys.executable, HERE / 'bigarray.py', 'sub', name='bigsub', domain=13, ZROS_CONNECT=endpoint,
+                       ZROS_SHM_POOL_SIZE='0')
+    sub.wait_for('subscribed')
+    pub = net.h2.spawn(sys.executable, HERE / 'bigarray.py', 'pub', '5', name='bigpub', domain=13,
+                       ZROS_CONNECT=endpoint)
+
+    def lines(proc, word):
+        return re.findall(rf'^{word} (\d+ \w+)$', proc.output(), re.M)
+    wait_until(lambda: len(lines(sub, 'got')) >= 5, 40, lambda: f'received: {sub.output()[-800:]}')
+    assert lines(sub, 'got') == lines(pub, 'published')
+
+
 def test_dropped_link_resumes(net, procs, tmp_path):
     """Cable out for longer than the lease (1 s here, by config): Zenoh closes the links, the
     samples of the outage are lost, and delivery resumes by itself when the cable is back."""
