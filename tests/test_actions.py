@@ -282,3 +282,36 @@ def test_goal_canceled_before_it_executes_ends_canceled(make_context, client_nod
         assert server not in node._entities
     finally:
         spinner.close()
+
+
+def test_status_array_lists_retained_goals_and_drops_expired_ones(make_context, client_node, Fibonacci):
+    """The status array is assembled from cached entries: it must still list every retained
+    goal with its current status, and forget goals whose results expired."""
+    from interfaces.action_msgs.msg import GoalStatusArray
+    server_ctx = make_context()
+    server_node = Node('status_server', context=server_ctx)
+    ActionServer(server_node, Fibonacci, 'status_fib', lambda gh: (gh.succeed(), Fibonacci.Result())[1],
+                 result_timeout=0.5)
+    spinner = Spinner(SingleThreadedExecutor(context=server_ctx))
+    spinner.executor.add_node(server_node)
+    arrays = []
+    client_node.create_subscription(GoalStatusArray, 'status_fib/_action/status', arrays.append, 10)
+    try:
+        client = _client(client_node, Fibonacci, 'status_fib')
+        first = [client.send_goal(Fibonacci.Goal(order=i)) for i in range(3)]
+        assert all(r.status == GoalStatus.SUCCEEDED for r in first)
+        deadline = time.monotonic() + 5
+        while not (arrays and [s.status for s in arrays[-1].status_list] == [GoalStatus.SUCCEEDED] * 3) \
+                and time.monotonic() < deadline:
+            time.sleep(0.02)
+        assert [s.status for s in arrays[-1].status_list] == [GoalStatus.SUCCEEDED] * 3
+        time.sleep(0.6)  # the three results expire
+        handle = _send(client, Fibonacci.Goal(order=1))
+        assert handle.get_result().status == GoalStatus.SUCCEEDED
+        while not (arrays and len(arrays[-1].status_list) == 1 and arrays[-1].status_list[0].status == 4) \
+                and time.monotonic() < deadline + 5:
+            time.sleep(0.02)
+        latest = arrays[-1].status_list
+        assert len(latest) == 1 and latest[0].goal_info.goal_id == handle.goal_id
+    finally:
+        spinner.close()

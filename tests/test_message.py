@@ -469,6 +469,13 @@ def test_deserialize_accepts_what_assignment_accepts():
                        .Float32).data == float('inf')
 
 
+@pytest.mark.parametrize('count', [0, 15, 16, 65535, 65536])
+def test_packed_array_joins_packed_items_into_a_msgpack_array(count):
+    from zros.message import packed_array
+    items = [i % 300 for i in range(count)]
+    assert packed_array([msgpack.packb(i) for i in items]) == msgpack.packb(items)
+
+
 def test_bounded_containers_changed_in_place_are_checked_on_publish(custom_package):
     import importlib
     Custom = importlib.import_module(f'interfaces.{custom_package}.msg').Custom

@@ -36,7 +36,7 @@ from zros.errors import DecodeError, MessageTypeError
 from zros.idl import ActionSpec, Field, FieldType, MessageSpec, ServiceSpec
 
 __all__ = ['Message', 'make_message_class', 'make_service_class', 'make_action_class', 'type_hash',
-           'ARRAY_TYPECODES', 'NUMPY_DTYPES', 'serialize', 'serialize_parts', 'pack_payload', 'deserialize']
+           'ARRAY_TYPECODES', 'NUMPY_DTYPES', 'serialize', 'serialize_parts', 'packed_array', 'deserialize']
 
 #: array.array typecode of each numeric primitive, as rclpy uses them (`char` is uint8 in ROS 2).
 ARRAY_TYPECODES: dict[str, str] = {
@@ -237,6 +237,8 @@ def _numbers(msg_type: str, name: str, ftype: FieldType, value: Any) -> np.ndarr
     if isinstance(value, (str, dict)) or not hasattr(value, '__iter__'):
         raise _type_error(msg_type, name, expected, value)
     if isinstance(value, (bytes, bytearray, memoryview)) and dtype.itemsize == 1:
+        if dtype.kind == 'u':
+            return np.frombuffer(value, np.uint8)  # every byte is a valid uint8 (UUIDs, pixels)
         probe = np.frombuffer(value, np.uint8)
     else:
         try:
@@ -630,11 +632,17 @@ def serialize_parts(msg: Message) -> tuple[bytes, list]:
     return head, tail
 
 
-def pack_payload(header: Any, tail: list) -> bytes:
-    """The payload of a header value and its tail arrays (as `_ENC` produced them): one copy
-    of each array."""
-    head = _packer()(header)
-    return b''.join((head, *tail)) if tail else head
+def packed_array(items: list[bytes]) -> bytes:
+    """The MessagePack array of `items`, each already packed: an array header then the items,
+    so that cached parts of a header are joined instead of packed again."""
+    count = len(items)
+    if count < 16:
+        prefix = bytes((0x90 | count,))
+    elif count < 1 << 16:
+        prefix = b'\xdc' + count.to_bytes(2, 'big')
+    else:
+        prefix = b'\xdd' + count.to_bytes(4, 'big')
+    return b''.join((prefix, *items))
 
 
 def serialize(msg: Message) -> bytes:

@@ -12,11 +12,12 @@ import enum
 import threading
 import time
 import uuid
+from collections import deque
 from typing import TYPE_CHECKING, Any, Callable
 
 from zros.action.types import protocol_types
 from zros.graph import EntityKind
-from zros.message import pack_payload
+from zros.message import packed_array, serialize_parts
 from zros.publisher import Publisher
 from zros.qos import QoSProfile, qos_profile_action_status_default, qos_profile_services_default
 from zros.service import DeferredResponse
@@ -77,13 +78,24 @@ class ServerGoalHandle:
         self._goal_id = goal_id
         self._request = request
         self._client_id = client_id
+        self._key = goal_id.uuid.tobytes()
         self._status = GoalStatus.ACCEPTED
         self._stamp = server._node.get_clock().now().to_msg()
         self._result: Any = None
         self._finished_at: float | None = None
-        self._status_msg: tuple | None = None  # (status, wire form of its GoalStatus entry)
         self._waiters: list[DeferredResponse] = []
         self._lock = threading.Lock()
+
+    @property
+    def _status(self) -> GoalStatus:
+        return self._state
+
+    @_status.setter
+    def _status(self, value: GoalStatus) -> None:
+        """Every change of state is noted by the server, whose next status array rebuilds only
+        the entries of the goals that changed."""
+        self._state = value
+        self._server._status_changed(self)
 
     @property
     def goal_id(self) -> Any:
@@ -142,17 +154,12 @@ class ServerGoalHandle:
     def _hex(self) -> str:
         return bytes(self._goal_id.uuid).hex()
 
-    def _status_entry(self) -> tuple[Any, list]:
-        """This goal's action_msgs/msg/GoalStatus in wire form (header value, tail arrays),
-        rebuilt only when it changes."""
-        cached = self._status_msg
-        if cached is None or cached[0] != self._status:
-            from interfaces.action_msgs.msg import GoalInfo, GoalStatus as GoalStatusMsg
-            entry = GoalStatusMsg(goal_info=GoalInfo(goal_id=self._goal_id, stamp=self._stamp),
-                                  status=int(self._status))
-            tail: list = []
-            cached = self._status_msg = (self._status, GoalStatusMsg._ENC(entry, tail), tail)
-        return cached[1], cached[2]
+    def _status_entry(self) -> tuple[bytes, bytes]:
+        """This goal's action_msgs/msg/GoalStatus in wire form: (packed header, tail bytes)."""
+        from interfaces.action_msgs.msg import GoalInfo, GoalStatus as GoalStatusMsg
+        entry = GoalStatusMsg(goal_info=GoalInfo(goal_id=self._goal_id, stamp=self._stamp), status=int(self._status))
+        head, tail = serialize_parts(entry)
+        return head, b''.join(tail)
 
 
 class ActionServer:
@@ -185,6 +192,10 @@ class ActionServer:
         self._lock = threading.RLock()
         self._destroyed = False
         self._status_pending = False
+        self._changed: set[ServerGoalHandle] = set()       # goals whose status entry is stale
+        self._status_heads: dict[bytes, bytes] = {}         # goal key -> packed GoalStatus header
+        self._status_tails: dict[bytes, bytes] = {}         # goal key -> its goal id's 16 bytes
+        self._finished: deque[tuple[float, bytes]] = deque()  # (when, goal key), oldest first
         self._status_pub = Publisher(node, GoalStatusArray, f'{self._name}/_action/status',
                                      status_pub_qos_profile, self.callback_group)
         group = self.callback_group
@@ -358,6 +369,8 @@ class ActionServer:
             handle._result = result
             handle._finished_at = time.monotonic()
             waiters, handle._waiters = handle._waiters, []
+        with self._lock:
+            self._finished.append((handle._finished_at, handle._key))
         response = self._types.GetResult.Response(status=handle.status, result=result)
         for waiter in waiters:
             waiter.resolve(response)
@@ -365,13 +378,19 @@ class ActionServer:
 
     def _expire_results(self) -> None:
         """Forget goals whose results have been kept for result_timeout (checked lazily, on the
-        next status change, instead of a timer thread per goal)."""
+        next status change, instead of a timer thread per goal; oldest first, so the cost is
+        that of the goals that expire)."""
         cutoff = time.monotonic() - self._result_timeout
         with self._lock:
-            expired = [key for key, g in self._goals.items()
-                       if g._finished_at is not None and g._finished_at <= cutoff]
-            for key in expired:
-                del self._goals[key]
+            while self._finished and self._finished[0][0] <= cutoff:
+                key = self._finished.popleft()[1]
+                self._goals.pop(key, None)
+                self._status_heads.pop(key, None)
+                self._status_tails.pop(key, None)
+
+    def _status_changed(self, handle: ServerGoalHandle) -> None:
+        with self._lock:
+            self._changed.add(handle)
 
     # -- topics -------------------------------------------------------------------------------
     def _feedback_publisher(self, client_id: str) -> Publisher:
@@ -401,20 +420,22 @@ class ActionServer:
         self._node._run_on_executor(self._flush_status)
 
     def _flush_status(self) -> None:
+        """Publish the GoalStatusArray of the retained goals: its wire form is joined from each
+        goal's cached entry ([status_list] then the goal ids' bytes), and only the entries of
+        goals that changed are rebuilt, so a flush costs little however many goals are kept."""
         with self._lock:
             self._status_pending = False
-        if self._destroyed:
-            return
-        self._expire_results()
-        with self._lock:
-            goals = list(self._goals.values())
-        entries, tail = [], []
-        for goal in goals:
-            header, arrays = goal._status_entry()
-            entries.append(header)
-            tail.extend(arrays)
-        try:  # a GoalStatusArray, assembled from the cached entries
-            self._status_pub.publish(pack_payload((entries,), tail))
+            if self._destroyed:
+                return
+            self._expire_results()
+            for goal in self._changed:
+                if goal._key in self._goals:
+                    self._status_heads[goal._key], self._status_tails[goal._key] = goal._status_entry()
+            self._changed.clear()
+            payload = (packed_array([packed_array(list(self._status_heads.values()))])
+                       + b''.join(self._status_tails.values()))
+        try:
+            self._status_pub.publish(payload)
         except RuntimeError:
             pass  # destroyed while a goal was finishing
 
