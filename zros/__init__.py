@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 from zros.context import Context, get_default_context
 from zros.parameter import Parameter
+from zros.signals import SignalHandlerOptions, install_signal_handlers, uninstall_signal_handlers
 
 if TYPE_CHECKING:
     from zros.executors import Executor
@@ -17,7 +18,8 @@ if TYPE_CHECKING:
     from zros.task import Future
 
 __all__ = ['init', 'ok', 'shutdown', 'try_shutdown', 'spin', 'spin_once', 'spin_until_future_complete',
-           'create_node', 'get_global_executor', 'get_default_context', 'Context', 'Parameter', 'utilities']
+           'create_node', 'get_global_executor', 'get_default_context', 'Context', 'Parameter', 'utilities',
+           'SignalHandlerOptions', 'install_signal_handlers', 'uninstall_signal_handlers']
 
 __version__ = '0.1.0'
 
@@ -25,10 +27,16 @@ _global_executor = None
 
 
 def init(args: list[str] | None = None, *, context: Context | None = None, domain_id: int | None = None,
-         signal_handler_options: Any = None) -> Context:
-    """Connect this process to the zros system; usable plain or as `with zros.init():`."""
-    return (context or get_default_context()).init(args, domain_id=domain_id,
-                                                     install_signal_handlers=signal_handler_options is not False)
+         signal_handler_options: SignalHandlerOptions | bool | None = None) -> Context:
+    """Connect this process to the zros system; usable plain or as `with zros.init():`.
+
+    As rclpy, SIGINT and SIGTERM handlers are installed (zros.signals) when initializing the
+    default context, unless `signal_handler_options` says otherwise (SignalHandlerOptions.NO,
+    or False, to keep the program's own)."""
+    ctx = context or get_default_context()
+    if signal_handler_options is None:
+        signal_handler_options = ctx is get_default_context()
+    return ctx.init(args, domain_id=domain_id, install_signal_handlers=signal_handler_options)
 
 
 def ok(*, context: Context | None = None) -> bool:
@@ -36,12 +44,16 @@ def ok(*, context: Context | None = None) -> bool:
 
 
 def shutdown(*, context: Context | None = None, uninstall_handlers: bool | None = None) -> None:
+    """Shut the context down (a second call is harmless). Signal handlers are uninstalled with
+    the default context unless `uninstall_handlers` is False."""
     global _global_executor
     ctx = context or get_default_context()
     if _global_executor is not None and (context is None or _global_executor.context is ctx):
         _global_executor.shutdown()
         _global_executor = None
     ctx.shutdown()
+    if uninstall_handlers or (uninstall_handlers is None and ctx is get_default_context()):
+        uninstall_signal_handlers()
 
 
 try_shutdown = shutdown

@@ -9,8 +9,6 @@ from __future__ import annotations
 
 import atexit
 import itertools
-import os
-import signal
 import sys
 import threading
 import weakref
@@ -21,7 +19,11 @@ from zros.config import SessionSettings, open_session, settings_from_env
 from zros.errors import NotInitializedError, ZrosError
 from zros.logging import set_logger_level, severity_from_string
 
-__all__ = ['Context', 'get_default_context']
+__all__ = ['Context', 'get_default_context', 'initialized_contexts']
+
+# How long a shutdown waits for the callback an executor is running to return before it
+# destroys the nodes under it (a callback that blocks longer sees its entities go).
+_CALLBACK_GRACE_S = 1.0
 
 
 class Context:
@@ -36,6 +38,7 @@ class Context:
         self._args = RosArgs()
         self._argv: list[str] = []
         self._ok = False
+        self._stop_requested = False   # a signal came in; the shutdown is on its way
         self._ids = itertools.count(1)
         self._nodes: weakref.WeakSet = weakref.WeakSet()
         self._executors: weakref.WeakSet = weakref.WeakSet()
@@ -45,7 +48,9 @@ class Context:
 
     # -- life cycle ----------------------------------------------------------------------
     def init(self, args: list[str] | None = None, *, domain_id: int | None = None,
-             install_signal_handlers: bool = True) -> 'Context':
+             install_signal_handlers: Any = True) -> 'Context':
+        """Open the session. `install_signal_handlers`: a zros.signals.SignalHandlerOptions, or
+        True (both signals) / False (none); see zros.signals."""
         with self._lock:
             if self._ok:
                 raise RuntimeError('Context.init() must only be called once')
@@ -59,6 +64,7 @@ class Context:
             self._graph = None
             self._closed.clear()
             self._ok = True
+            self._stop_requested = False
             if self._is_hub:
                 from zros.graph import GraphService
                 self.graph.start()
@@ -67,12 +73,21 @@ class Context:
             self._stats_service = StatsService(self._session, settings.domain_id, str(self._session.info.zid()),
                                                self._subscriptions)
         _register_exit_hook(self)
-        if install_signal_handlers:
-            _install_sigterm_handler()
+        from zros.signals import SignalHandlerOptions, install_signal_handlers as install
+        if install_signal_handlers is True:
+            install_signal_handlers = SignalHandlerOptions.ALL
+        install(SignalHandlerOptions(install_signal_handlers or SignalHandlerOptions.NO))
         return self
 
     def ok(self) -> bool:
-        return self._ok
+        return self._ok and not self._stop_requested
+
+    def _request_stop(self) -> None:
+        """A signal arrived: `ok()` is False from now on, and executors stop waiting (the
+        shutdown itself runs on the signal watcher's thread)."""
+        self._stop_requested = True
+        for executor in list(self._executors):
+            executor.wake()
 
     def shutdown(self) -> None:
         """Close everything this context opened. Calling it twice is harmless; a call made
@@ -86,8 +101,11 @@ class Context:
         if waiting:
             self._closed.wait(5.0)
             return
-        for executor in list(self._executors):
+        executors = list(self._executors)
+        for executor in executors:
             executor.wake()
+        for executor in executors:
+            executor._wait_until_idle(_CALLBACK_GRACE_S)
         for callback in callbacks:
             try:
                 callback()
@@ -198,6 +216,11 @@ def get_default_context() -> Context:
     return _default_context
 
 
+def initialized_contexts() -> list[Context]:
+    """Every context of this process that is initialized now (what a signal shuts down)."""
+    return [context for context in list(_exit_hooked) if context._ok]
+
+
 def _register_exit_hook(context: Context) -> None:
     """Shut the context down when the program ends without calling zros.shutdown().
 
@@ -215,26 +238,3 @@ def _register_exit_hook(context: Context) -> None:
         register(context.shutdown)
     except RuntimeError:  # no threading hook, or the interpreter is already shutting down
         atexit.register(context.shutdown)
-
-
-def _install_sigterm_handler() -> None:
-    """SIGTERM shuts the default context down, so spin() ends with ExternalShutdownException
-    and the program's own cleanup runs (SIGINT keeps Python's KeyboardInterrupt, as rclpy)."""
-    if threading.current_thread() is not threading.main_thread():
-        return
-    if signal.getsignal(signal.SIGTERM) not in (signal.SIG_DFL, None):
-        return
-
-    def on_sigterm(signum: int, frame: object) -> None:
-        threading.Thread(target=_shutdown_all, daemon=True).start()
-
-    signal.signal(signal.SIGTERM, on_sigterm)
-
-
-def _shutdown_all() -> None:
-    for context in list(_exit_hooked):
-        context.shutdown()
-    # A program that is not spinning would otherwise ignore SIGTERM for good.
-    fallback = threading.Timer(3.0, lambda: os._exit(143))
-    fallback.daemon = True
-    fallback.start()

@@ -71,6 +71,7 @@ class Executor:
         self._nodes: list[Node] = []
         self._nodes_lock = threading.Lock()
         self._spin_lock = threading.Lock()
+        self._spin_thread: int | None = None
         self._is_shutdown = False
         self._nodes_version = 0
         self._batch = 1
@@ -234,6 +235,16 @@ class Executor:
     def _spinning(self) -> '_SpinGuard':
         return _SpinGuard(self)
 
+    def _wait_until_idle(self, timeout_sec: float) -> bool:
+        """Wait (from another thread) until no callback of this executor is running, so that a
+        context shutdown does not pull the nodes from under it; False on timeout."""
+        if self._spin_thread == threading.get_ident():
+            return False  # shut down from inside one of our own callbacks
+        if not self._spin_lock.acquire(timeout=timeout_sec):
+            return False
+        self._spin_lock.release()
+        return True
+
     def shutdown(self, timeout_sec: float | None = None) -> bool:
         """Stop spinning and detach the nodes; returns True (nothing is left running)."""
         self._is_shutdown = True
@@ -251,8 +262,10 @@ class _SpinGuard:
     def __enter__(self) -> None:
         if not self._executor._spin_lock.acquire(blocking=False):
             raise RuntimeError('Executor is already spinning')
+        self._executor._spin_thread = threading.get_ident()
 
     def __exit__(self, *exc: object) -> None:
+        self._executor._spin_thread = None
         self._executor._spin_lock.release()
 
 

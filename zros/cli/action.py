@@ -117,11 +117,16 @@ def _ros2_block(title: str, msg, indent: str = '    ') -> str:
     return f'{title}\n{indent}{message_to_yaml(msg)}'
 
 
+# How long send_goal waits for the server to confirm a cancel after Ctrl-C.
+_CANCEL_WAIT_S = 2.5
+
+
 def cmd_send_goal(args: argparse.Namespace) -> int:
     from zros.action import ActionClient
     from zros.convert import message_from_yaml, message_to_ordereddict
     from zros.errors import CliError
     from zros.executors import SingleThreadedExecutor
+    from zros.signals import exit_on_signals
     from zros.typesupport import get_action
     name = absolute_name(args.action_name, 'action name')
     action_type = get_action(args.action_type)
@@ -162,13 +167,14 @@ def cmd_send_goal(args: argparse.Namespace) -> int:
         say(f'Goal accepted with ID: {goal_id}\n')
         emit({'accepted': True, 'goal_id': goal_id})
         result = handle.get_result_async()
+        exit_on_signals(grace_s=_CANCEL_WAIT_S + 0.5)   # Ctrl-C cancels the goal first, as ros2's
         try:
             while not result.done():
                 executor.spin_once(timeout_sec=0.1)
         except KeyboardInterrupt:
             say('Canceling goal...')
             cancel = handle.cancel_goal_async()
-            executor.spin_until_future_complete(cancel, timeout_sec=5.0)
+            executor.spin_until_future_complete(cancel, timeout_sec=_CANCEL_WAIT_S)
             response = cancel.result() if cancel.done() else None
             if response is None or not response.goals_canceling:
                 say('Failed to cancel goal')

@@ -54,6 +54,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     from zros.errors import ZrosError
+    from zros.signals import exit_on_signals
+    exit_on_signals()   # Ctrl-C and SIGTERM end every verb within a second, however it was started
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv[:1] and argv[0] in PASSTHROUGH:
         # `zros run` and `zros python` pass what follows the program through, --ros-args included.

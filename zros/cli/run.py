@@ -104,6 +104,9 @@ def main_passthrough(argv: list[str]) -> int:
         raise CliError(f"usage: zros run PACKAGE EXECUTABLE [args...]; executables of '{argv[0]}': "
                        + (', '.join(list_executables(argv[0])) or 'none'))
     package, executable, rest = argv[0], argv[1], argv[2:]
+    # The node's signal handling from the start, as zros.init() installs it (zros.signals).
+    from zros.signals import install_signal_handlers
+    install_signal_handlers()
     entry = find_executable(package, executable)
     if options:
         apply_session_options(options)

@@ -55,23 +55,30 @@ def make_log_dir(log_dir: str | None) -> Path:
     return default_log_base() / stamp
 
 
-def _make_preexec() -> Callable[[], None] | None:
-    """A preexec_fn that ties the child's life to this thread (Linux) and checks the parent
+def _make_preexec() -> Callable[[], None]:
+    """A preexec_fn that gives the child default SIGINT/SIGTERM/SIGHUP dispositions (a launch
+    started in the background or under nohup inherits them *ignored*, and `exec` keeps an
+    ignored signal ignored), ties the child's life to this thread (Linux) and checks the parent
     did not die before that took effect. Everything it needs is looked up here, before fork."""
-    if not sys.platform.startswith('linux'):
-        return None
-    try:
-        prctl = ctypes.CDLL(None, use_errno=True).prctl
-    except (OSError, AttributeError):
-        return None
+    reset = [(int(s), signal.SIG_DFL) for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)]
+    set_disposition = signal.signal
+    prctl = None
+    if sys.platform.startswith('linux'):
+        try:
+            prctl = ctypes.CDLL(None, use_errno=True).prctl
+        except (OSError, AttributeError):
+            prctl = None
     parent = os.getpid()
     sigkill = int(signal.SIGKILL)
     getppid, exit_now = os.getppid, os._exit
 
     def preexec() -> None:
-        prctl(_PR_SET_PDEATHSIG, sigkill, 0, 0, 0)
-        if getppid() != parent:
-            exit_now(1)
+        for signum, disposition in reset:
+            set_disposition(signum, disposition)
+        if prctl is not None:
+            prctl(_PR_SET_PDEATHSIG, sigkill, 0, 0, 0)
+            if getppid() != parent:
+                exit_now(1)
     return preexec
 
 
