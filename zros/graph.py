@@ -21,12 +21,12 @@ from __future__ import annotations
 
 import threading
 import time
-from typing import Callable, Iterable, NamedTuple
+from typing import Any, Callable, Iterable, NamedTuple
 
 from zros.keys import liveliness_prefix, mangle, unmangle
 
 __all__ = [
-    'Entity', 'EntityKind', 'entity_token', 'parse_token', 'Graph', 'fetch_entities', 'GraphService',
+    'Entity', 'EntityKind', 'EntityList', 'entity_token', 'parse_token', 'Graph', 'fetch_entities', 'GraphService',
     'StatsService', 'fetch_subscription_stats',
     'node_names_and_namespaces', 'names_and_types', 'endpoints',
 ]
@@ -100,30 +100,61 @@ def _parse_all(keys: Iterable[str]) -> list[Entity]:
     return [e for e in (parse_token(k) for k in keys) if e is not None]
 
 
+class EntityList(list):
+    """Entities of a one-shot graph read; `complete` is False when the read ran out of time
+    before it had a whole answer (the hub did not reply, or tokens were still arriving)."""
+
+    complete = True
+
+
+def _replies(query: Callable[[Any], Any], deadline: float) -> list:
+    """The OK replies of a Zenoh query started by `query(handler)`, collected by a callback
+    until the query is finalized or `deadline` (monotonic) passes, whichever comes first.
+
+    A FIFO receiver would block Zenoh on its 257th reply while this thread has not started to
+    drain it (a liveliness query is answered from the local table, on the calling thread), which
+    froze graph reads with 50 nodes up."""
+    import zenoh
+    replies: list = []
+    done = threading.Event()
+    query(zenoh.handlers.Callback(lambda reply: replies.append(reply), done.set))
+    done.wait(max(0.0, deadline - time.monotonic()))
+    return [reply.ok for reply in list(replies) if reply.ok is not None]
+
+
 def fetch_entities(session, domain: int, timeout: float = 1.0, *, is_hub: bool = False,
-                   hub_wait: float | None = None) -> list[Entity]:
-    """One-shot read of the whole graph (what the CLI uses).
+                   hub_wait: float | None = None) -> EntityList:
+    """One-shot read of the whole graph (what the CLI uses), always answered within `timeout`.
 
     The hub (or a `zros router`) is asked first, for up to `hub_wait` seconds (default: all of
     `timeout`); set-ups without one (a plain Zenoh router) pass a short wait and fall back to
-    collecting tokens."""
+    collecting tokens. A read cut short by the deadline returns what it has, marked incomplete."""
     import msgpack
-    deadline = time.monotonic() + timeout
+    started = time.monotonic()
+    deadline = started + timeout
     if not is_hub:
-        ask_until = time.monotonic() + (timeout if hub_wait is None else min(hub_wait, timeout))
+        ask_until = started + (timeout if hub_wait is None else min(hub_wait, timeout))
         while time.monotonic() < ask_until:
-            for reply in session.get(_graph_key(domain), timeout=max(0.05, min(0.5, deadline - time.monotonic()))):
-                if reply.ok is not None:
-                    keys = msgpack.unpackb(reply.ok.payload.to_bytes())
-                    own = [str(r.ok.key_expr) for r in session.liveliness().get(
-                        f'{liveliness_prefix(domain)}/**', timeout=0.2) if r.ok is not None]
-                    return _parse_all(set(keys) | set(own))
+            wait = max(0.05, min(0.5, deadline - time.monotonic()))
+            answers = _replies(lambda handler: session.get(_graph_key(domain), handler, timeout=wait),
+                               time.monotonic() + wait + 0.1)
+            if answers:
+                keys = set(msgpack.unpackb(answers[0].payload.to_bytes()))
+                # Tokens the hub has not seen yet (declared a moment ago) are in the local table.
+                local = min(0.2, max(0.05, deadline - time.monotonic()))
+                keys.update(str(sample.key_expr) for sample in _replies(
+                    lambda handler: session.liveliness().get(f'{liveliness_prefix(domain)}/**', handler,
+                                                             timeout=local),
+                    time.monotonic() + local + 0.1))
+                return EntityList(_parse_all(keys))
             time.sleep(0.01)  # the hub's queryable is not known to this fresh session yet
-    return _collect(session, domain, max(0.3, deadline - time.monotonic()), wait_for_peers=is_hub)
+    return _collect(session, domain, max(0.3, deadline - time.monotonic()), wait_for_peers=is_hub,
+                    hub_missing=not is_hub and (hub_wait is None or hub_wait >= timeout))
 
 
-def _collect(session, domain: int, limit: float, *, wait_for_peers: bool) -> list[Entity]:
-    """Tokens from a liveliness subscriber, until none has arrived for a moment."""
+def _collect(session, domain: int, limit: float, *, wait_for_peers: bool, hub_missing: bool) -> EntityList:
+    """Tokens from a liveliness subscriber, until none has arrived for a moment (complete) or
+    `limit` runs out (incomplete; so is any read that expected a hub and got none)."""
     keys: dict[str, bool] = {}
     last_change = [time.monotonic()]
 
@@ -136,6 +167,7 @@ def _collect(session, domain: int, limit: float, *, wait_for_peers: bool) -> lis
             keys[key] = True
         last_change[0] = time.monotonic()
     subscriber = session.liveliness().declare_subscriber(f'{liveliness_prefix(domain)}/**', on_sample, history=True)
+    settled = False
     try:
         started = time.monotonic()
         end = started + limit
@@ -153,10 +185,13 @@ def _collect(session, domain: int, limit: float, *, wait_for_peers: bool) -> lis
                 elif now - started < 0.3:
                     continue
             if now - last_change[0] >= quiet and now - started >= quiet:
+                settled = True
                 break
     finally:
         subscriber.undeclare()
-    return _parse_all(list(keys))
+    entities = EntityList(_parse_all(list(keys)))
+    entities.complete = settled and not hub_missing
+    return entities
 
 
 class StatsService:
@@ -188,12 +223,12 @@ def fetch_subscription_stats(session, domain: int, timeout: float = 1.0) -> dict
     """(zid, node_id, entity_id) -> [received, dropped, lost, rejected] for every subscription."""
     import msgpack
     stats = {}
-    for reply in session.get(f'{liveliness_prefix(domain)}/stats/*', timeout=timeout):
-        if reply.ok is None:
-            continue
-        zid = str(reply.ok.key_expr).rsplit('/', 1)[-1]
-        for key, counters in msgpack.unpackb(reply.ok.payload.to_bytes()).items():
-            node_id, entity_id = key.split('.')
+    key = f'{liveliness_prefix(domain)}/stats/*'
+    for sample in _replies(lambda handler: session.get(key, handler, timeout=timeout),
+                           time.monotonic() + timeout + 0.1):
+        zid = str(sample.key_expr).rsplit('/', 1)[-1]
+        for entry, counters in msgpack.unpackb(sample.payload.to_bytes()).items():
+            node_id, entity_id = entry.split('.')
             stats[(zid, int(node_id), int(entity_id))] = counters
     return stats
 

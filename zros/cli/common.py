@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import os
+import sys
 import time
 from typing import Any
 
@@ -26,9 +27,20 @@ def cli_node(context: Context) -> Any:
                 use_global_arguments=False)
 
 
+_warned_partial = False
+
+
 def graph_entities(context: Context, timeout: float = 1.0) -> list[Entity]:
-    return fetch_entities(context.session, context.domain_id, timeout, is_hub=context.is_hub,
-                          hub_wait=context.hub_wait)
+    """The graph, read within `timeout`; a read cut short says so once on stderr (the command
+    still answers with what it has, rather than hang)."""
+    global _warned_partial
+    entities = fetch_entities(context.session, context.domain_id, timeout, is_hub=context.is_hub,
+                              hub_wait=context.hub_wait)
+    if not entities.complete and not _warned_partial:
+        _warned_partial = True
+        print(f'zros: the graph read did not complete within {timeout:g} s; the answer may be partial',
+              file=sys.stderr, flush=True)
+    return entities
 
 
 def wait_for_graph(context: Context, predicate, timeout: float) -> list[Entity] | None:
