@@ -382,7 +382,10 @@ def _default_listen(settings: SessionSettings) -> list[str]:
     return [_LOOPBACK_ANY]
 
 
-def build_config(settings: SessionSettings, *, as_hub: bool):
+def build_config(settings: SessionSettings, *, as_hub: bool, mesh: bool = True):
+    """The Zenoh config for `settings`. `mesh=False` turns gossip off: the session links only to
+    the endpoints it dials (the hub, a router), which is all a graph read needs, and opening and
+    closing it costs one link instead of one per process of the system."""
     import zenoh
     loaded = _load_file(settings.config_file) if settings.config_file else None
     if loaded is not None:
@@ -398,7 +401,9 @@ def build_config(settings: SessionSettings, *, as_hub: bool):
         return loaded is None or loaded.get(key) is None
 
     put('scouting/multicast/enabled', settings.discovery == 'subnet')
-    if unset('scouting/gossip/enabled'):
+    if not mesh:
+        put('scouting/gossip/enabled', False)
+    elif unset('scouting/gossip/enabled'):
         put('scouting/gossip/enabled', True)
     put('timestamping/enabled', True)
     from zros.shm import zenoh_settings
@@ -429,18 +434,21 @@ def build_config(settings: SessionSettings, *, as_hub: bool):
     return config
 
 
-def open_session(settings: SessionSettings):
-    """Open the process's Zenoh session; returns (session, is_hub)."""
+def open_session(settings: SessionSettings, *, mesh: bool = True, connect_wait: float | None = None):
+    """Open the process's Zenoh session; returns (session, is_hub).
+
+    A peer whose endpoints do not answer opens anyway and Zenoh keeps dialling in the background.
+    Zenoh refuses to open a client without its router, so a client is retried here, with the same
+    one-line warning, for `connect_wait` seconds (None: until the router answers)."""
     import zenoh
     if settings.uses_hub and _hub_port_free(HUB_BASE_PORT + settings.domain_id):
         try:
-            return zenoh.open(build_config(settings, as_hub=True)), True
+            return zenoh.open(build_config(settings, as_hub=True, mesh=mesh)), True
         except zenoh.ZError:
             pass  # another process won the race for the hub port: join it instead
-    try:
-        session = zenoh.open(build_config(settings, as_hub=False))
-    except zenoh.ZError as exc:
-        raise ZrosError(f'cannot open the Zenoh session: {_zenoh_error_text(exc)}') from None
+    if settings.mode == 'client':
+        return _open_client(settings, mesh, connect_wait), False
+    session = _open(build_config(settings, as_hub=False, mesh=mesh))
     if settings.uses_hub and not settings.listen and list(session.info.routers_zid()):
         # The hub port is held by a Zenoh router (`zros router` listens on 0.0.0.0:7447): join
         # it the way ZROS_CONNECT would, listening beyond loopback, so that the router's other
@@ -449,13 +457,46 @@ def open_session(settings: SessionSettings):
         joined = SessionSettings(domain_id=settings.domain_id, connect=(settings.hub_endpoint,),
                                  discovery=settings.discovery, config_file=settings.config_file,
                                  mode=settings.mode, reasons=settings.reasons)
-        try:
-            session = zenoh.open(build_config(joined, as_hub=False))
-        except zenoh.ZError as exc:
-            raise ZrosError(f'cannot open the Zenoh session: {_zenoh_error_text(exc)}') from None
+        session = _open(build_config(joined, as_hub=False, mesh=mesh))
     elif settings.connect and not list(session.info.routers_zid()) and not list(session.info.peers_zid()):
         # Zenoh keeps retrying in the background (so start order does not matter), but a
         # wrong address or a TLS-only router would otherwise look like an empty system.
-        print(f"zros: cannot reach {', '.join(settings.connect)} yet (retrying in the background)",
-              file=sys.stderr, flush=True)
+        _warn_unreachable(settings)
     return session, False
+
+
+def _open(config):
+    import zenoh
+    try:
+        return zenoh.open(config)
+    except zenoh.ZError as exc:
+        raise ZrosError(f'cannot open the Zenoh session: {_zenoh_error_text(exc)}') from None
+
+
+def _warn_unreachable(settings: SessionSettings) -> None:
+    print(f"zros: cannot reach {', '.join(settings.connect)} yet (retrying in the background)",
+          file=sys.stderr, flush=True)
+
+
+def _open_client(settings: SessionSettings, mesh: bool, connect_wait: float | None):
+    """Dial the router until it answers (every 0.25 s, backing off to 2 s) or `connect_wait` runs out."""
+    import time
+    import zenoh
+    config = build_config(settings, as_hub=False, mesh=mesh)
+    deadline = None if connect_wait is None else time.monotonic() + connect_wait
+    delay = 0.25
+    warned = False
+    while True:
+        try:
+            return zenoh.open(config)
+        except zenoh.ZError as exc:
+            text = _zenoh_error_text(exc)
+            if 'Unable to connect' not in text or (deadline is not None and time.monotonic() >= deadline):
+                raise ZrosError(f'cannot open the Zenoh session: {text}') from None
+        if not warned:
+            _warn_unreachable(settings)
+            warned = True
+        pause = delay if deadline is None else min(delay, max(0.0, deadline - time.monotonic()))
+        time.sleep(pause)
+        delay = min(2.0, delay * 2)
+        config = build_config(settings, as_hub=False, mesh=mesh)   # zenoh.open consumes it

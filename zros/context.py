@@ -48,9 +48,16 @@ class Context:
 
     # -- life cycle ----------------------------------------------------------------------
     def init(self, args: list[str] | None = None, *, domain_id: int | None = None,
-             install_signal_handlers: Any = True) -> 'Context':
-        """Open the session. `install_signal_handlers`: a zros.signals.SignalHandlerOptions, or
-        True (both signals) / False (none); see zros.signals."""
+             install_signal_handlers: Any = True, mesh: bool = True,
+             connect_wait: float | None = None) -> 'Context':
+        """Open the session.
+
+        Args:
+            install_signal_handlers: a zros.signals.SignalHandlerOptions, or True (both
+                signals) / False (none); see zros.signals.
+            mesh: False links only to the hub or router (for tools that only read the graph).
+            connect_wait: how long a client-mode session waits for its router (None: forever).
+        """
         with self._lock:
             if self._ok:
                 raise RuntimeError('Context.init() must only be called once')
@@ -59,7 +66,7 @@ class Context:
             for logger, level in parsed.log_levels:
                 set_logger_level(logger, severity_from_string(level))
             settings = settings_from_env(domain_id=domain_id, enclave=parsed.enclave)
-            self._session, self._is_hub = open_session(settings)
+            self._session, self._is_hub = open_session(settings, mesh=mesh, connect_wait=connect_wait)
             self._settings, self._args, self._argv = settings, parsed, argv
             self._graph = None
             self._closed.clear()

@@ -53,7 +53,7 @@ def _actions(entities):
 
 
 def cmd_list(args: argparse.Namespace) -> int:
-    with cli_context() as ctx:
+    with cli_context(graph_only=True) as ctx:
         actions = _actions(graph_entities(ctx))
     if args.json:
         print(json.dumps([{'name': n, 'types': t} for n, t in actions]))
@@ -68,7 +68,7 @@ def cmd_list(args: argparse.Namespace) -> int:
 def cmd_info(args: argparse.Namespace) -> int:
     from zros.errors import CliError
     name = absolute_name(args.action_name, 'action name')
-    with cli_context() as ctx:
+    with cli_context(graph_only=True) as ctx:
         entities = [e for e in graph_entities(ctx) if e.kind in _KINDS and e.name == name]
     if not entities:
         raise CliError(f"Unknown action '{name}'")
@@ -90,7 +90,7 @@ def cmd_info(args: argparse.Namespace) -> int:
 def cmd_type(args: argparse.Namespace) -> int:
     from zros.errors import CliError
     name = absolute_name(args.action_name, 'action name')
-    with cli_context() as ctx:
+    with cli_context(graph_only=True) as ctx:
         types = dict(_actions(graph_entities(ctx))).get(name)
     if not types:
         raise CliError(f"Unknown action '{name}'")
@@ -100,7 +100,7 @@ def cmd_type(args: argparse.Namespace) -> int:
 
 
 def cmd_find(args: argparse.Namespace) -> int:
-    with cli_context() as ctx:
+    with cli_context(graph_only=True) as ctx:
         names = [n for n, t in _actions(graph_entities(ctx)) if args.action_type in t]
     if args.count_actions:
         print(len(names))

@@ -76,7 +76,7 @@ def cmd_graph(args: argparse.Namespace) -> int:
     if args.svg and dot_binary is None:
         raise CliError("cannot render SVG: Graphviz's 'dot' program is not installed "
                        '(e.g. apt install graphviz); --dot FILE writes the DOT text instead')
-    with cli_context() as ctx:
+    with cli_context(graph_only=True) as ctx:
         content = graph_content(graph_entities(ctx), include_hidden=args.include_hidden,
                                 include_debug=args.include_debug)
     if args.json:

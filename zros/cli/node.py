@@ -30,7 +30,7 @@ def _node_names(entities, include_hidden: bool) -> list[str]:
 
 
 def cmd_list(args: argparse.Namespace) -> int:
-    with cli_context() as ctx:
+    with cli_context(graph_only=True) as ctx:
         names = _node_names(graph_entities(ctx), args.all)
     if args.json:
         print(json.dumps(names))
@@ -52,7 +52,7 @@ _SECTIONS = (
 def cmd_info(args: argparse.Namespace) -> int:
     from zros.errors import CliError
     target = absolute_node_name(args.node_name)
-    with cli_context() as ctx:
+    with cli_context(graph_only=True) as ctx:
         entities = graph_entities(ctx)
     mine = [e for e in entities if e.node_fqn == target]
     if not any(e.kind == EntityKind.NODE for e in mine):

@@ -45,7 +45,7 @@ def _services(entities, include_hidden: bool):
 
 
 def cmd_list(args: argparse.Namespace) -> int:
-    with cli_context() as ctx:
+    with cli_context(graph_only=True) as ctx:
         services = _services(graph_entities(ctx), args.include_hidden_services)
     if args.json:
         print(json.dumps([{'name': n, 'types': t} for n, t in services]))
@@ -60,7 +60,7 @@ def cmd_list(args: argparse.Namespace) -> int:
 def cmd_type(args: argparse.Namespace) -> int:
     from zros.errors import CliError
     name = absolute_name(args.service_name, 'service name')
-    with cli_context() as ctx:
+    with cli_context(graph_only=True) as ctx:
         types = dict(_services(graph_entities(ctx), True)).get(name)
     if not types:
         raise CliError(f"Unknown service '{name}'")
@@ -70,7 +70,7 @@ def cmd_type(args: argparse.Namespace) -> int:
 
 
 def cmd_find(args: argparse.Namespace) -> int:
-    with cli_context() as ctx:
+    with cli_context(graph_only=True) as ctx:
         names = [n for n, t in _services(graph_entities(ctx), args.include_hidden_services) if args.service_type in t]
     if args.count_services:
         print(len(names))

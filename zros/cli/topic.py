@@ -230,7 +230,7 @@ def _visible_topics(entities, include_hidden: bool):
 
 
 def cmd_list(args: argparse.Namespace) -> int:
-    with cli_context() as ctx:
+    with cli_context(graph_only=True) as ctx:
         entities = graph_entities(ctx)
     topics = _visible_topics(entities, args.include_hidden_topics)
     if args.json:
@@ -264,7 +264,7 @@ def cmd_info(args: argparse.Namespace) -> int:
     from zros.qos import QoSProfile
     from zros.graph import fetch_subscription_stats
     topic = absolute_name(args.topic_name)
-    with cli_context() as ctx:
+    with cli_context(graph_only=not (args.verbose or args.json)) as ctx:
         entities = graph_entities(ctx)
         stats = fetch_subscription_stats(ctx.session, ctx.domain_id) if args.verbose or args.json else {}
     types = _types_of(entities, topic)
@@ -357,7 +357,7 @@ class _TypeHashes:
 def cmd_type(args: argparse.Namespace) -> int:
     from zros.errors import CliError
     topic = absolute_name(args.topic_name)
-    with cli_context() as ctx:
+    with cli_context(graph_only=True) as ctx:
         types = _types_of(graph_entities(ctx), topic)
     if not types:
         raise CliError(f"Unknown topic '{topic}'")
@@ -367,7 +367,7 @@ def cmd_type(args: argparse.Namespace) -> int:
 
 
 def cmd_find(args: argparse.Namespace) -> int:
-    with cli_context() as ctx:
+    with cli_context(graph_only=True) as ctx:
         topics = [n for n, types in _visible_topics(graph_entities(ctx), args.include_hidden_topics)
                   if args.topic_type in types]
     if args.count_topics:
