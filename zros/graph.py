@@ -272,6 +272,7 @@ class Graph:
         self._subscriber = None
         self._started = threading.Event()
         self._start_lock = threading.Lock()
+        self._closed = False
 
     def _ensure_started(self) -> None:
         if self._started.is_set():
@@ -292,6 +293,8 @@ class Graph:
 
     def _on_sample(self, sample) -> None:
         import zenoh
+        if self._closed:
+            return  # samples still queued for this callback when the graph was closed
         key = str(sample.key_expr)
         with self._changed:
             if sample.kind == zenoh.SampleKind.DELETE:
@@ -346,10 +349,12 @@ class Graph:
             return self._changed.wait_for(lambda: predicate(list(self._entities.values())), timeout)
 
     def close(self) -> None:
+        self._closed = True
         if self._subscriber is not None:
             self._subscriber.undeclare()
             self._subscriber = None
         with self._changed:
+            self._listeners.clear()
             self._changed.notify_all()
 
 

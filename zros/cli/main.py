@@ -89,7 +89,9 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def entry_point() -> None:
-    sys.exit(main())
+    code = main()
+    from zros.context import exit_process
+    exit_process(code if isinstance(code, int) else 0)
 
 
 if __name__ == '__main__':
