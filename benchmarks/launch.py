@@ -3,6 +3,7 @@ node costs in memory, and how long Ctrl-C takes to bring everything down.
 
     python benchmarks/launch.py                 # 20 talkers, 3 runs
     python benchmarks/launch.py --nodes 10 --runs 1
+    python benchmarks/launch.py --load          # 50 and 100 nodes under load (issue 20)
     python benchmarks/launch.py --json out.json
 
 Each run writes a launch file with N `demo_nodes/talker` nodes (distinct names `talker_00` ..),
@@ -15,7 +16,15 @@ and measures, from just before the supervisor process is spawned:
 - memory of each node after the graph is complete and everything has idled for 2 s:
   RSS and PSS from /proc/<pid>/smaps_rollup (PSS splits shared pages, such as the Python
   binary and the zenoh library, between the processes that map them), and the supervisor's;
-- `shutdown`: from SIGINT to the supervisor until it and every node have exited.
+- `shutdown`: from SIGINT to the supervisor until it and every node have exited, and how
+  many processes the supervisor had to escalate to SIGTERM or SIGKILL.
+
+`--load` runs 50 and 100 nodes, half `talker` and half `listener` (every listener hears every
+talker), once each, and adds graph reads: `zros node list` and `zros topic list`, run as a user
+runs them (a fresh process each time) `--graph-reads` times each while the launch is up, timed
+wall-clock from spawn to exit, and checked for a complete answer (all N nodes, no "partial"
+warning). Goals (issue 20): every read under 1 s, Ctrl-C to everything gone under 3 s, no
+escalation.
 """
 from __future__ import annotations
 
@@ -39,7 +48,7 @@ if str(REPO) not in sys.path:
 
 HUB_BASE_PORT = 7447
 DOMAIN_BASE = 201
-TIMEOUT_S = 120.0
+TIMEOUT_S = 120.0   # plus 2 s per node: 100 interpreters start slowly on 2 CPUs
 
 
 def _port_free(port: int) -> bool:
@@ -59,13 +68,38 @@ def _free_domain() -> int:
     raise RuntimeError('no free zros domain')
 
 
-def _launch_file(directory: Path, nodes: int) -> Path:
+def _node_names(nodes: int, pairs: bool) -> list[tuple[str, str]]:
+    """(executable, node name) of each node: all talkers, or talkers and listeners alternating."""
+    if not pairs:
+        return [('talker', f'talker_{i:02d}') for i in range(nodes)]
+    return [('talker', f'talker_{i // 2:02d}') if i % 2 == 0 else ('listener', f'listener_{i // 2:02d}')
+            for i in range(nodes)]
+
+
+def _launch_file(directory: Path, names: list[tuple[str, str]]) -> Path:
     lines = ['launch:']
-    for index in range(nodes):
-        lines.append(f'- node: {{pkg: demo_nodes, exec: talker, name: talker_{index:02d}}}')
+    for executable, name in names:
+        lines.append(f'- node: {{pkg: demo_nodes, exec: {executable}, name: {name}}}')
     path = directory / 'bench.launch.yaml'
     path.write_text('\n'.join(lines) + '\n')
     return path
+
+
+def _graph_reads(env: dict, expected: set[str], reads: int) -> dict:
+    """Wall time of `zros node list` / `zros topic list` as fresh processes, and whether each
+    answer was complete."""
+    times: dict[str, list[float]] = {'node': [], 'topic': []}
+    complete = 0
+    for _ in range(reads):
+        for verb in ('node', 'topic'):
+            started = time.monotonic()
+            done = subprocess.run([sys.executable, '-m', 'zros', verb, 'list'], capture_output=True, text=True,
+                                  env=env, cwd=REPO, timeout=60)
+            times[verb].append(time.monotonic() - started)
+            if verb == 'node':
+                complete += (done.returncode == 0 and expected <= set(done.stdout.split())
+                             and 'partial' not in done.stderr)
+    return {'node_list_s': times['node'], 'topic_list_s': times['topic'], 'complete_reads': complete}
 
 
 def _memory_kib(pid: int) -> tuple[int, int]:
@@ -84,7 +118,7 @@ def _gone(pid: int) -> bool:
     return re.search(r'^State:\s+[ZX]', status, re.M) is not None
 
 
-def run_once(nodes: int, workdir: Path) -> dict:
+def run_once(nodes: int, workdir: Path, *, pairs: bool = False, graph_reads: int = 0) -> dict:
     from zros.context import Context
     from zros.graph import fetch_entities
 
@@ -92,9 +126,10 @@ def run_once(nodes: int, workdir: Path) -> dict:
     env = dict(os.environ, ZROS_DOMAIN_ID=str(domain))
     for name in ('ZROS_CONNECT', 'ZROS_DISCOVERY', 'ZROS_CONFIG'):
         env.pop(name, None)
-    path = _launch_file(workdir, nodes)
+    names = _node_names(nodes, pairs)
+    path = _launch_file(workdir, names)
     out_path = workdir / 'launch.out'
-    expected = {f'/talker_{i:02d}' for i in range(nodes)}
+    expected = {f'/{name}' for _, name in names}
     with open(out_path, 'wb') as out:
         t0 = time.monotonic()
         popen = subprocess.Popen([sys.executable, '-m', 'zros', 'launch', str(path), '--log-dir', str(workdir / 'logs')],
@@ -104,11 +139,12 @@ def run_once(nodes: int, workdir: Path) -> dict:
         pids: list[int] = []
         try:
             while _port_free(HUB_BASE_PORT + domain):      # the supervisor becomes the hub first
-                if time.monotonic() - t0 > TIMEOUT_S or popen.poll() is not None:
+                if time.monotonic() - t0 > TIMEOUT_S + 2 * nodes or popen.poll() is not None:
                     raise RuntimeError('the supervisor did not open the hub:\n' + out_path.read_text())
                 time.sleep(0.005)
             os.environ['ZROS_DOMAIN_ID'] = str(domain)
-            context = Context().init([], install_signal_handlers=False)
+            # Linked to the hub only: this script reads the graph, it must not load the nodes.
+            context = Context().init([], install_signal_handlers=False, mesh=False)
             started = first = None
             while True:
                 now = time.monotonic() - t0
@@ -123,12 +159,13 @@ def run_once(nodes: int, workdir: Path) -> dict:
                 if seen == expected:
                     complete = time.monotonic() - t0
                     break
-                if now > TIMEOUT_S:
-                    raise RuntimeError(f'only {len(seen)} of {nodes} nodes visible after {TIMEOUT_S} s')
+                if now > TIMEOUT_S + 2 * nodes:
+                    raise RuntimeError(f'only {len(seen)} of {nodes} nodes visible after {now:.0f} s')
                 time.sleep(0.05)
             time.sleep(2.0)
             memory = [_memory_kib(pid) for pid in pids]
             supervisor = _memory_kib(popen.pid)
+            reads = _graph_reads(env, expected, graph_reads) if graph_reads else {}
             t1 = time.monotonic()
             popen.send_signal(signal.SIGINT)
             popen.wait(timeout=30)
@@ -146,44 +183,30 @@ def run_once(nodes: int, workdir: Path) -> dict:
                 except (ProcessLookupError, PermissionError):
                     pass
             popen.wait(timeout=10)
+    text = out_path.read_text(errors='replace')
     return {
         'nodes': nodes, 'domain': domain, 'started_s': started, 'first_s': first, 'all_s': complete,
-        'shutdown_s': shutdown,
+        'shutdown_s': shutdown, 'escalations': text.count('escalating to'), **reads,
         'rss_kib_mean': statistics.mean(m[0] for m in memory), 'pss_kib_mean': statistics.mean(m[1] for m in memory),
         'pss_kib_total': sum(m[1] for m in memory),
         'supervisor_rss_kib': supervisor[0], 'supervisor_pss_kib': supervisor[1],
     }
 
 
-def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
-    parser.add_argument('--nodes', type=int, default=20)
-    parser.add_argument('--runs', type=int, default=3)
-    parser.add_argument('--json', metavar='FILE', help='also write the results as JSON')
-    args = parser.parse_args()
-    if not sys.platform.startswith('linux'):
-        print('this benchmark reads /proc and runs on Linux only', file=sys.stderr)
-        return 1
-    results = []
-    for run in range(args.runs):
-        with tempfile.TemporaryDirectory(prefix='zros-bench-launch-') as tmp:
-            result = run_once(args.nodes, Path(tmp))
-        results.append(result)
-        print(f"run {run + 1}: all {args.nodes} nodes in the graph after {result['all_s']:.2f} s", file=sys.stderr)
-
+def _classic_table(results: list[dict], nodes: int, runs: int) -> None:
     def med(key: str) -> float:
         return statistics.median(r[key] for r in results)
 
-    print(f'\nzros launch benchmark: {args.nodes} talker nodes, {args.runs} runs (median; min-max)')
+    print(f'\nzros launch benchmark: {nodes} talker nodes, {runs} runs (median; min-max)')
     print(f'machine: {platform.machine()}, {os.cpu_count()} CPUs, Python {platform.python_version()}\n')
     rows = [
         ('all processes started (supervisor)', 'started_s', 's'),
         ('first node in the graph', 'first_s', 's'),
-        (f'all {args.nodes} nodes in the graph', 'all_s', 's'),
+        (f'all {nodes} nodes in the graph', 'all_s', 's'),
         ('Ctrl-C until everything exited', 'shutdown_s', 's'),
         ('RSS per idle node', 'rss_kib_mean', 'MiB'),
         ('PSS per idle node', 'pss_kib_mean', 'MiB'),
-        (f'PSS of all {args.nodes} nodes', 'pss_kib_total', 'MiB'),
+        (f'PSS of all {nodes} nodes', 'pss_kib_total', 'MiB'),
         ('supervisor RSS', 'supervisor_rss_kib', 'MiB'),
         ('supervisor PSS', 'supervisor_pss_kib', 'MiB'),
     ]
@@ -193,6 +216,69 @@ def main() -> int:
         scale = 1024.0 if unit == 'MiB' else 1.0
         values = [r[key] / scale for r in results]
         print(f'| {label:<36} | {med(key) / scale:>6.2f} {unit:<3} | {min(values):>7.2f} - {max(values):>7.2f} |')
+
+
+def _load_table(results: list[dict], reads: int) -> None:
+    """One column per launch size, the goal beside each row, MISS where it is not met."""
+    print(f'\nzros launch under load: talker/listener pairs, {reads} reads of each list verb')
+    print(f'machine: {platform.machine()}, {os.cpu_count()} CPUs, Python {platform.python_version()}, '
+          f'load average at the end: {os.getloadavg()[0]:.1f}\n')
+
+    def times(key: str):
+        return lambda r: f'{statistics.median(r[key]):.2f} s ({max(r[key]):.2f})', \
+            lambda r: max(r[key]) < 1.0
+    rows = [
+        ('`zros node list`, median (max)', *times('node_list_s'), '< 1 s every time'),
+        ('`zros topic list`, median (max)', *times('topic_list_s'), '< 1 s every time'),
+        ('node list answers complete', lambda r: f"{r['complete_reads']}/{reads}",
+         lambda r: r['complete_reads'] == reads, 'all'),
+        ('all nodes in the graph after start', lambda r: f"{r['all_s']:.1f} s", None, ''),
+        ('Ctrl-C until everything exited', lambda r: f"{r['shutdown_s']:.2f} s", lambda r: r['shutdown_s'] < 3.0,
+         '< 3 s'),
+        ('escalations to SIGTERM/SIGKILL', lambda r: str(r['escalations']), lambda r: r['escalations'] == 0, '0'),
+        ('PSS per idle node', lambda r: f"{r['pss_kib_mean'] / 1024:.1f} MiB", None, ''),
+        ('RSS per idle node', lambda r: f"{r['rss_kib_mean'] / 1024:.1f} MiB", None, ''),
+        ('PSS of all nodes', lambda r: f"{r['pss_kib_total'] / 1024:.0f} MiB", None, ''),
+        ('supervisor PSS', lambda r: f"{r['supervisor_pss_kib'] / 1024:.1f} MiB", None, ''),
+    ]
+    header = ['measure'] + [f"{r['nodes']} nodes" for r in results] + ['goal']
+    print('| ' + ' | '.join(header) + ' |')
+    print('|' + '|'.join('---' for _ in header) + '|')
+    for label, show, ok, goal in rows:
+        cells = [show(r) + ('' if ok is None or ok(r) else ' MISS') for r in results]
+        print('| ' + ' | '.join([label, *cells, goal]) + ' |')
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
+    parser.add_argument('--nodes', type=int, nargs='+', default=None, help='launch sizes (default 20)')
+    parser.add_argument('--runs', type=int, default=None, help='runs per size (default 3; 1 with --load)')
+    parser.add_argument('--pairs', action='store_true', help='talker/listener pairs instead of talkers')
+    parser.add_argument('--graph-reads', type=int, default=None, metavar='R',
+                        help='time R `zros node list` and `zros topic list` runs per launch (default 0; 5 with --load)')
+    parser.add_argument('--load', action='store_true', help='50 and 100 nodes, pairs, graph reads, one run each')
+    parser.add_argument('--json', metavar='FILE', help='also write the results as JSON')
+    args = parser.parse_args()
+    if not sys.platform.startswith('linux'):
+        print('this benchmark reads /proc and runs on Linux only', file=sys.stderr)
+        return 1
+    sizes = args.nodes or ([50, 100] if args.load else [20])
+    runs = args.runs or (1 if args.load else 3)
+    reads = args.graph_reads if args.graph_reads is not None else (5 if args.load else 0)
+    pairs = args.pairs or args.load
+    results = []
+    for nodes in sizes:
+        for run in range(runs):
+            with tempfile.TemporaryDirectory(prefix='zros-bench-launch-') as tmp:
+                result = run_once(nodes, Path(tmp), pairs=pairs, graph_reads=reads)
+            results.append(result)
+            print(f"{nodes} nodes, run {run + 1}: all in the graph after {result['all_s']:.2f} s, "
+                  f"stopped in {result['shutdown_s']:.2f} s", file=sys.stderr)
+    if reads:
+        _load_table(results, reads)
+    else:
+        for nodes in sizes:
+            _classic_table([r for r in results if r['nodes'] == nodes], nodes, runs)
     if args.json:
         Path(args.json).write_text(json.dumps(results, indent=2))
     return 0

@@ -6,7 +6,8 @@ from zros.errors import InvalidNameError, ZrosError
 __all__ = ['ParameterException', 'ParameterNotDeclaredException', 'ParameterAlreadyDeclaredException',
            'InvalidParameterException', 'InvalidParameterValueException', 'InvalidParameterTypeException',
            'ParameterImmutableException', 'ParameterUninitializedException', 'InvalidServiceNameException',
-           'InvalidTopicNameException', 'InvalidNodeNameException', 'InvalidNamespaceException']
+           'InvalidTopicNameException', 'InvalidNodeNameException', 'InvalidNamespaceException',
+           'ROSInterruptException']
 
 # rclpy has one class per kind of name; zros raises InvalidNameError for all of them.
 InvalidServiceNameException = InvalidTopicNameException = InvalidNameError
@@ -53,3 +54,10 @@ class ParameterImmutableException(ParameterException):
 class ParameterUninitializedException(ParameterException):
     def __init__(self, parameter_name: str) -> None:
         ZrosError.__init__(self, f"The parameter '{parameter_name}' is not initialized")
+
+
+class ROSInterruptException(ZrosError):
+    """`Rate.sleep()` was interrupted: the context shut down (a signal, `zros.shutdown()`)."""
+
+    def __init__(self) -> None:
+        super().__init__('zros was shut down while sleeping')

@@ -120,28 +120,25 @@ class Executor:
         return future
 
     def _next_timer(self) -> tuple[Any, int | None]:
-        """(due timer or None, ns until the next one is due or None)."""
+        """(due timer or None, ns until the next real-time timer is due or None). Timers on
+        simulated time do not count in the wait: /clock updates wake the executor."""
         key = (timer_lists_version(), self._nodes_version)
         if key != self._timers_key:
             self._timers = [t for node in self.get_nodes() for t in node._timers_snapshot()]
             self._timers_key = key
-        if not self._timers:
-            return None, None
-        now = time.monotonic_ns()
         soonest = None
         for timer in self._timers:
-            due = timer._due_ns()
-            if due is None:
+            remaining = timer._remaining_ns()
+            if remaining is None:
                 continue
-            if due <= now:
+            if remaining <= 0:
                 group = timer.callback_group
                 if group is not None and not group.can_execute(timer):
                     continue  # its group is busy; the executor is woken when the group frees
-                if timer._claim(now):
+                if timer._claim():
                     return timer, 0
-            wait = due - now
-            if soonest is None or wait < soonest:
-                soonest = wait
+            elif not timer._on_sim_time and (soonest is None or remaining < soonest):
+                soonest = remaining
         return None, soonest
 
     def _wait_for_work(self, timeout_sec: float | None, until: Callable[[], bool] | None = None) -> Any:

@@ -92,6 +92,10 @@ def parse_token(key: str) -> Entity | None:
         return None
 
 
+# Shortest interval between two calls of the graph's listeners.
+_LISTENER_INTERVAL_S = 0.05
+
+
 def _graph_key(domain: int) -> str:
     return f'{liveliness_prefix(domain)}/graph'
 
@@ -273,6 +277,9 @@ class Graph:
         self._started = threading.Event()
         self._start_lock = threading.Lock()
         self._closed = False
+        self._notify_pending = False
+        self._changed_event = threading.Event()
+        self._listener_thread: threading.Thread | None = None
 
     def _ensure_started(self) -> None:
         if self._started.is_set():
@@ -305,14 +312,38 @@ class Graph:
                     return
                 self._entities[key] = entity
             self._changed.notify_all()
-            listeners = list(self._listeners)
-        for listener in listeners:
-            listener()
+            if self._listeners and not self._notify_pending:
+                self._notify_pending = True
+                self._changed_event.set()
+
+    def _notify_listeners(self) -> None:
+        """Listener thread: one call per listener for a burst of changes, at most every
+        `_LISTENER_INTERVAL_S`. When 100 nodes start or stop, each process sees a thousand token
+        changes; a listener that compares QoS across the graph must not run a thousand times."""
+        while True:
+            self._changed_event.wait()
+            if self._closed:
+                return
+            time.sleep(_LISTENER_INTERVAL_S)   # let the rest of the burst arrive
+            with self._changed:
+                self._changed_event.clear()
+                self._notify_pending = False
+                listeners = list(self._listeners)
+            for listener in listeners:
+                try:
+                    listener()
+                except Exception:  # noqa: BLE001 - one failing listener must not stop the others
+                    pass
 
     def add_listener(self, listener: Callable[[], None]) -> None:
-        """Called (on a Zenoh thread) after every change; must be quick and thread-safe."""
+        """Called on the graph's listener thread after changes (once per burst); must be quick
+        and thread-safe."""
         with self._changed:
             self._listeners.append(listener)
+            if self._listener_thread is None:
+                self._listener_thread = threading.Thread(target=self._notify_listeners, name='zros-graph',
+                                                         daemon=True)
+                self._listener_thread.start()
 
     def remove_listener(self, listener: Callable[[], None]) -> None:
         with self._changed:
@@ -350,6 +381,7 @@ class Graph:
 
     def close(self) -> None:
         self._closed = True
+        self._changed_event.set()
         if self._subscriber is not None:
             self._subscriber.undeclare()
             self._subscriber = None

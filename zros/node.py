@@ -84,7 +84,8 @@ class Node:
         self._parameters.attach_event_publisher(
             Publisher(self, _type('rcl_interfaces/msg/ParameterEvent'), '/parameter_events',
                       qos_profile_parameter_events, self._default_callback_group))
-        self._sim_clock_sub = None
+        from zros.time_source import TimeSource
+        self._time_source = TimeSource(self)
         self.declare_parameter('use_sim_time', False)
         self.add_post_set_parameters_callback(self._on_use_sim_time)
         self._apply_use_sim_time(self.get_parameter('use_sim_time').value)
@@ -266,7 +267,7 @@ class Node:
         return self._destroy_entity(client)
 
     def create_rate(self, frequency: float, clock: Any = None) -> Rate:
-        return Rate(frequency)
+        return Rate(frequency, clock or self._clock, context=self._context)
 
     def destroy_publisher(self, publisher: Publisher) -> bool:
         return self._destroy_entity(publisher)
@@ -472,19 +473,11 @@ class Node:
                 self._apply_use_sim_time(bool(param.value))
 
     def _apply_use_sim_time(self, enabled: bool) -> None:
-        """With use_sim_time, ROS time follows /clock (rosgraph_msgs/Clock), as in ROS 2."""
-        if enabled and self._sim_clock_sub is None:
-            clock = self._clock
-
-            def on_clock(msg: Any) -> None:
-                clock._set_ros_time_override(msg.clock.sec * 1_000_000_000 + msg.clock.nanosec)
-            self._sim_clock_sub = self.create_subscription(
-                _type('rosgraph_msgs/msg/Clock'), '/clock', on_clock, QoSProfile(depth=1))
-            clock._set_ros_time_override(0)
-        elif not enabled and self._sim_clock_sub is not None:
-            self.destroy_subscription(self._sim_clock_sub)
-            self._sim_clock_sub = None
-            self._clock._set_ros_time_override(None)
+        """With use_sim_time, ROS time, timers and rates follow /clock, as in ROS 2."""
+        if enabled:
+            self._time_source.enable()
+        else:
+            self._time_source.disable()
 
     # -- /rosout ---------------------------------------------------------------------------
     def _start_rosout(self) -> None:

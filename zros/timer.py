@@ -1,9 +1,16 @@
-"""Timers: periodic callbacks run by the executor (the first call one period after creation)."""
+"""Timers and rates on a clock (the first timer call one period after creation).
+
+Both schedule on `Clock._schedule_ns()`: simulated time while the clock has it (so with
+`use_sim_time` they stop while /clock stands still and speed up with it, as rclpy's), else
+the monotonic clock. A switch between the two, or simulated time going backwards (a restarted
+simulation, a looping bag), restarts the schedule from the current time.
+"""
 from __future__ import annotations
 
 import threading
-import time
 from typing import Any, Callable
+
+from zros.clock import Clock, ClockType
 
 __all__ = ['Timer', 'Rate', 'timer_lists_changed', 'timer_lists_version']
 
@@ -21,53 +28,90 @@ def timer_lists_version() -> int:
     return _timer_lists_version
 
 
+class _Schedule:
+    """Next due time of a periodic event on a clock, in that clock's scheduling time."""
+
+    def __init__(self, clock: Clock, period_ns: int, *, running: bool) -> None:
+        self.clock = clock
+        self.period_ns = int(period_ns)
+        self.last_ns, self.sim = clock._schedule_ns()
+        self.next_ns: int | None = self.last_ns + self.period_ns if running else None
+
+    def now(self) -> int:
+        """Current scheduling time; restarts the schedule if the time base changed."""
+        now, sim = self.clock._schedule_ns()
+        if sim != self.sim or (sim and now < self.last_ns):
+            self.sim, self.last_ns = sim, now
+            if self.next_ns is not None:
+                self.next_ns = now + self.period_ns
+        return now
+
+    def restart(self) -> None:
+        self.next_ns = self.now() + self.period_ns
+
+    def advance(self, now: int) -> None:
+        """One due call taken at `now`. Missed periods are skipped, not run in a burst, and the
+        schedule keeps its phase (as rcl): a timer of 0.5 s whose simulated time jumps from 0 to
+        10.04 s calls once, then at 10.5 s."""
+        if self.next_ns <= now:
+            self.next_ns += ((now - self.next_ns) // self.period_ns + 1) * self.period_ns
+        self.last_ns = now
+
+
 class Timer:
-    """Made by `Node.create_timer`. Missed periods are skipped, not run in a burst (as rcl)."""
+    """Made by `Node.create_timer`."""
 
     def __init__(self, callback: Callable[[], Any], callback_group: Any, timer_period_ns: int,
-                 clock: Any = None, *, node: Any = None, autostart: bool = True) -> None:
+                 clock: Clock | None = None, *, node: Any = None, autostart: bool = True) -> None:
         if timer_period_ns <= 0:
             raise ValueError('timer period must be > 0')
         self.callback = callback
         self.callback_group = callback_group
-        self._clock = clock
+        self._clock = clock if clock is not None else Clock(clock_type=ClockType.STEADY_TIME)
         self._node = node
-        self._period_ns = int(timer_period_ns)
         self._lock = threading.Lock()
-        self._last_call_ns = time.monotonic_ns()
-        self._next_ns: int | None = self._last_call_ns + self._period_ns if autostart else None
+        self._schedule = _Schedule(self._clock, timer_period_ns, running=autostart)
         self._canceled = not autostart
         self._destroyed = False
 
     @property
     def timer_period_ns(self) -> int:
-        return self._period_ns
+        return self._schedule.period_ns
 
     @timer_period_ns.setter
     def timer_period_ns(self, value: int) -> None:
-        self._period_ns = int(value)
+        self._schedule.period_ns = int(value)
         self.reset()
 
     @property
-    def clock(self) -> Any:
+    def clock(self) -> Clock:
         return self._clock
 
-    def _due_ns(self) -> int | None:
-        return None if self._canceled else self._next_ns
+    @property
+    def _on_sim_time(self) -> bool:
+        """Due by simulated time: the executor is woken by /clock, not by waiting."""
+        return self._schedule.sim
 
-    def _claim(self, now_ns: int) -> bool:
-        """The executor takes one due call; advance the schedule past `now_ns`."""
+    def _remaining_ns(self) -> int | None:
+        """Scheduling-time ns until due (<= 0: due now), None when canceled."""
+        if self._canceled:
+            return None
+        schedule = self._schedule
+        now = schedule.now()
+        return None if schedule.next_ns is None else schedule.next_ns - now
+
+    def _claim(self) -> bool:
+        """The executor takes one due call."""
         with self._lock:
-            if self._canceled or self._next_ns is None or self._next_ns > now_ns:
+            schedule = self._schedule
+            now = schedule.now()
+            if self._canceled or schedule.next_ns is None or schedule.next_ns > now:
                 return False
-            self._next_ns += self._period_ns
-            if self._next_ns <= now_ns:
-                self._next_ns = now_ns + self._period_ns
-            self._last_call_ns = now_ns
+            schedule.advance(now)
             return True
 
-    def _execute(self) -> None:
-        self.callback()
+    def _execute(self) -> Any:
+        return self.callback()
 
     def cancel(self) -> None:
         with self._lock:
@@ -79,20 +123,20 @@ class Timer:
     def reset(self) -> None:
         with self._lock:
             self._canceled = False
-            self._next_ns = time.monotonic_ns() + self._period_ns
+            self._schedule.restart()
         if self._node is not None and self._node._executor is not None:
             self._node._executor.wake()
 
     def is_ready(self) -> bool:
-        due = self._due_ns()
-        return due is not None and due <= time.monotonic_ns()
+        remaining = self._remaining_ns()
+        return remaining is not None and remaining <= 0
 
     def time_since_last_call(self) -> int:
-        return time.monotonic_ns() - self._last_call_ns
+        return self._schedule.now() - self._schedule.last_ns
 
     def time_until_next_call(self) -> int | None:
-        due = self._due_ns()
-        return None if due is None else max(0, due - time.monotonic_ns())
+        remaining = self._remaining_ns()
+        return None if remaining is None else max(0, remaining)
 
     def destroy(self) -> None:
         self.cancel()
@@ -100,26 +144,41 @@ class Timer:
 
 
 class Rate:
-    """`node.create_rate(hz)`: `sleep()` keeps a loop at a fixed frequency.
+    """`node.create_rate(hz)`: `sleep()` keeps a loop at a fixed frequency on the node's clock.
 
-    Unlike rclpy's, it needs no executor spinning in another thread: it sleeps on the
-    monotonic clock, so `while ok(): ...; rate.sleep()` works in a plain script.
+    Unlike rclpy's it needs no executor spinning in another thread, so `while ok(): ...;
+    rate.sleep()` works in a plain script. As rclpy's, `sleep()` raises ROSInterruptException
+    once the context is shut down.
     """
 
-    def __init__(self, frequency: float) -> None:
+    def __init__(self, frequency: float, clock: Clock | None = None, *, context: Any = None) -> None:
+        from zros.context import get_default_context
         if frequency <= 0:
             raise ValueError('rate frequency must be > 0')
-        self._period = 1.0 / frequency
-        self._next = time.monotonic() + self._period
+        self._clock = clock if clock is not None else Clock(clock_type=ClockType.STEADY_TIME)
+        self._schedule = _Schedule(self._clock, int(1e9 / frequency), running=True)
+        self._context = context or get_default_context()
         self._destroyed = False
 
     def sleep(self) -> None:
-        now = time.monotonic()
-        if self._next > now:
-            time.sleep(self._next - now)
-            self._next += self._period
-        else:
-            self._next = now + self._period
+        from zros.exceptions import ROSInterruptException
+        if self._destroyed:
+            raise RuntimeError('Rate cannot sleep because it has been destroyed')
+        schedule = self._schedule
+        clock = self._clock
+        with clock._changed:
+            while True:
+                if not self._context.ok():
+                    raise ROSInterruptException()
+                if self._destroyed:
+                    raise RuntimeError('Rate cannot sleep because it has been destroyed')
+                now = schedule.now()
+                remaining = schedule.next_ns - now
+                if remaining <= 0:
+                    break
+                # Simulated time: woken by each /clock update; real time: by the deadline.
+                clock._changed.wait(0.1 if schedule.sim else min(0.1, remaining / 1e9))
+        schedule.advance(now)
 
     def destroy(self) -> None:
         self._destroyed = True
