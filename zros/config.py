@@ -439,8 +439,12 @@ def open_session(settings: SessionSettings, *, mesh: bool = True, connect_wait: 
 
     A peer whose endpoints do not answer opens anyway and Zenoh keeps dialling in the background.
     Zenoh refuses to open a client without its router, so a client is retried here, with the same
-    one-line warning, for `connect_wait` seconds (None: until the router answers)."""
+    one-line warning, for `connect_wait` seconds (None: until the router answers).
+
+    `mesh=False` (see build_config) applies to the loopback hub only, which serves the whole
+    graph; a plain Zenoh router does not pass peers' tokens on, so there readers need the mesh."""
     import zenoh
+    mesh = mesh or not settings.uses_hub
     if settings.uses_hub and _hub_port_free(HUB_BASE_PORT + settings.domain_id):
         try:
             return zenoh.open(build_config(settings, as_hub=True, mesh=mesh)), True
