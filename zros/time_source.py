@@ -10,10 +10,9 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-import msgpack
-
 from zros.entity import NodeEntity
 from zros.graph import EntityKind
+from zros.message import deserialize
 from zros.qos import QoSProfile, ReliabilityPolicy
 from zros.wire import read_header, type_tail
 
@@ -35,6 +34,7 @@ class _ClockSubscription(NodeEntity):
         self._msg_type = ClockMsg
         self._tail = type_tail(ClockMsg)
         self._source = source
+        self._complained = False
         self._zenoh = node.context.session.declare_subscriber(
             topic_key(node.context.domain_id, CLOCK_TOPIC), self._on_sample)
         super().__init__(node, EntityKind.SUBSCRIPTION, CLOCK_TOPIC, ClockMsg, _CLOCK_QOS)
@@ -43,11 +43,14 @@ class _ClockSubscription(NodeEntity):
     def _on_sample(self, sample: Any) -> None:
         attachment = sample.attachment
         header = read_header(attachment.to_bytes()) if attachment is not None else None
-        if header is not None and header[3] != self._tail:
-            return  # not a Clock: the node's other subscriptions report wrong types, not this
         try:
-            stamp = self._msg_type._FROM_WIRE(msgpack.unpackb(sample.payload.to_bytes())).clock
-        except Exception:  # noqa: BLE001 - a corrupt sample must not stop the clock thread
+            if header is not None and header[3] != self._tail:
+                raise ValueError('a publisher sends another type than rosgraph_msgs/msg/Clock')
+            stamp = deserialize(sample.payload.to_bytes(), self._msg_type).clock
+        except Exception as exc:  # noqa: BLE001 - a bad sample must not stop the clock
+            if not self._complained:
+                self._complained = True
+                self._node.get_logger().error(f"ignoring samples on '/clock': {exc} (reported once)")
             return
         self._source._set(stamp.sec * 1_000_000_000 + stamp.nanosec)
 
