@@ -24,25 +24,29 @@ from zros.executors import ExternalShutdownException
 from zros.exceptions import ROSInterruptException
 from zros.node import Node
 
+def say(text):   # one write per line: the timer thread and the main thread both print
+    sys.stdout.write(text + '\\n')
+    sys.stdout.flush()
+
 zros.init(args=sys.argv)
 node = Node('sim_timed')
 clock = node.get_clock()
-node.create_timer(0.5, lambda: print(f'tick {clock.now().nanoseconds}', flush=True))
+node.create_timer(0.5, lambda: say(f'tick {clock.now().nanoseconds}'))
 def spin():
     try:
         zros.spin(node)
     except ExternalShutdownException:
         pass
 threading.Thread(target=spin, daemon=True).start()
-print(f'ready sim={clock.ros_time_is_active}', flush=True)
+say(f'ready sim={clock.ros_time_is_active}')
 try:
     rate = node.create_rate(2.0)
     for _ in range(3):
         rate.sleep()
-        print(f'rate {clock.now().nanoseconds}', flush=True)
+        say(f'rate {clock.now().nanoseconds}')
     start = clock.now().nanoseconds
     clock.sleep_for(Duration(seconds=2.0))
-    print(f'slept {start} {clock.now().nanoseconds}', flush=True)
+    say(f'slept {start} {clock.now().nanoseconds}')
     while zros.ok():
         rate.sleep()
 except (KeyboardInterrupt, ROSInterruptException):
