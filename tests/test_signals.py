@@ -57,19 +57,38 @@ from zros.executors import ExternalShutdownException
 '''
 
 
-def test_sigint_raises_keyboard_interrupt_in_spin(spawn):
+def test_sigint_raises_keyboard_interrupt_and_cleanup_can_still_publish(context, spawn, wait_for):
+    """The program gets KeyboardInterrupt with its nodes intact: a teleop's stop command in its
+    cleanup still goes out."""
+    from zros.node import Node
+    from interfaces.std_msgs.msg import String
+    heard = []
+    Node('last_words_listener', context=context).create_subscription(
+        String, '/last_words', lambda msg: heard.append(msg.data), 10)
+    from zros.executors import SingleThreadedExecutor
     child = spawn(*_ignoring_sigint(sys.executable, '-c', SCRIPT_HEAD + '''
+from interfaces.std_msgs.msg import String
 zros.init()
 node = zros.create_node('plain')
+publisher = node.create_publisher(String, '/last_words', 10)
 print('spinning', flush=True)
 try:
     zros.spin(node)
 except KeyboardInterrupt:
-    print('KeyboardInterrupt; ok() is', zros.ok(), flush=True)
+    publisher.publish(String(data=f'stop (ok() is {zros.ok()})'))
+zros.shutdown()
 '''), name='spin')
     child.wait_for_output('spinning')
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(next(iter(context._nodes)))
+    wait_for(lambda: context.graph and any(e.node_fqn == '/plain' and e.name == '/last_words'
+                                           for e in context.graph.entities()), timeout=10)
+    time.sleep(0.2)
     assert _stops(child) == 0
-    assert 'KeyboardInterrupt; ok() is False' in child.output()
+    deadline = time.monotonic() + 5
+    while not heard and time.monotonic() < deadline:
+        executor.spin_once(timeout_sec=0.1)
+    assert heard == ['stop (ok() is True)'], child.output()
 
 
 def test_sigterm_ends_a_spin_in_another_thread(spawn):

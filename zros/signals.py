@@ -6,12 +6,14 @@ would ignore Ctrl-C and a launch's SIGINT. `zros.init()` therefore installs its 
 both signals whatever the inherited disposition (rclpy does the same; opt out with
 `zros.init(signal_handler_options=SignalHandlerOptions.NO)`):
 
-- in the main thread, SIGINT calls the handler the program had installed before, or raises
-  KeyboardInterrupt when there was none (SIG_DFL and SIG_IGN included); SIGTERM calls the earlier
-  handler if there was one (a program without one is ended `TERM_S` later if still running);
-- a watcher thread shuts every initialized context down, which wakes the executors: `spin()`
-  ends (KeyboardInterrupt in the main thread, ExternalShutdownException elsewhere) and
-  `zros.ok()` turns False.
+- in the main thread, SIGINT raises KeyboardInterrupt (SIG_DFL and SIG_IGN inherited included).
+  The program then shuts zros down itself (`with zros.init()`, `zros.shutdown()`, the exit
+  hook), so its cleanup can still use its nodes: a teleop publishes its final stop command.
+  (rclpy shuts the contexts down at once; zros leaves that to the program for this reason.)
+- SIGTERM, and a SIGINT the program had its own handler for (which is called), shut every
+  initialized context down from a watcher thread, which wakes the executors: `spin()` ends
+  with ExternalShutdownException and `zros.ok()` turns False. A program without a SIGTERM
+  handler of its own is ended `TERM_S` later if it is still running.
 
 The watcher learns of a signal from the pipe Python's C-level handler writes to
 (`signal.set_wakeup_fd`), so it acts even while the main thread is blocked in native code that
@@ -66,11 +68,21 @@ class _Handlers:
         self.cli_grace_s = cli_grace_s      # None: a program's (shut contexts down, then exit)
         self.previous: dict[int, Any] = {}
 
+    def _own(self, signum: int) -> Any:
+        """The handler the program had installed for `signum` before zros, or None."""
+        previous = self.previous.get(signum)
+        return previous if callable(previous) and previous is not signal.default_int_handler else None
+
+    def stops_contexts(self, signum: int) -> bool:
+        """Whether zros shuts the contexts down for `signum`: SIGTERM, and a SIGINT that does not
+        become KeyboardInterrupt (the program's own handler takes it), as rclpy does."""
+        return self.cli_grace_s is None and (signum == signal.SIGTERM or self._own(signum) is not None)
+
     def on_signal(self, signum: int, frame: Any) -> None:
         """Main thread, between two bytecodes."""
-        previous = self.previous.get(signum)
-        own = callable(previous) and previous is not signal.default_int_handler
-        if self.cli_grace_s is None:
+        previous = self._own(signum)
+        own = previous is not None
+        if self.stops_contexts(signum):
             _request_stop()
         # The program is in control once it has KeyboardInterrupt or its own handler has run.
         _watch.main_thread_saw(in_control=own or signum == signal.SIGINT or self.cli_grace_s is not None)
@@ -157,8 +169,9 @@ class _Watcher:
                 self._arm(handlers.cli_grace_s, 'cli')
                 return
             self._settle()
-        _request_stop()
-        threading.Thread(target=_shutdown_contexts, name='zros-signal-shutdown', daemon=True).start()
+        if handlers.stops_contexts(signum):
+            _request_stop()
+            threading.Thread(target=_shutdown_contexts, name='zros-signal-shutdown', daemon=True).start()
         threading.main_thread().join()
         # The interpreter is finalizing: joining threads, running atexit hooks, closing Zenoh.
         with self._lock:
