@@ -1,12 +1,19 @@
 """Executors: the only place user callbacks run.
 
 Zenoh delivers samples on its own threads; those threads only queue the work (an entity with
-something to do) on the executor of the entity's node and return. The executor pops work,
-runs timers when they are due, and calls the user's callbacks: on the spinning thread
-(SingleThreadedExecutor) or on a pool that respects callback groups (MultiThreadedExecutor).
+something to do) on the executor of the entity's node and return. The executor takes work from
+that queue, runs timers when they are due, and calls the user's callbacks: on the spinning
+thread (SingleThreadedExecutor), on a thread pool (MultiThreadedExecutor), or wherever a
+subclass sends the handlers that `wait_for_ready_callbacks` returns (rclpy's extension point).
+
+How one piece of work runs (`_run_item`): it takes its callback group, or waits in the group's
+backlog while another callback holds it (the backlog goes back on the queue when the group is
+left); it runs; a callback that returns a coroutine (`async def`) continues as a Task that keeps
+the group until the coroutine ends (zros.task).
 """
 from __future__ import annotations
 
+import inspect
 import os
 import queue
 import threading
@@ -15,25 +22,30 @@ from concurrent.futures import ThreadPoolExecutor
 from typing import TYPE_CHECKING, Any, Callable
 
 from zros.subscription import Subscription
-from zros.task import Future
+from zros.task import Future, Task
 from zros.timer import timer_lists_version
 
 if TYPE_CHECKING:
     from zros.node import Node
 
-__all__ = ['Executor', 'SingleThreadedExecutor', 'MultiThreadedExecutor',
-           'ExternalShutdownException', 'ShutdownException', 'TimeoutException']
+__all__ = ['Executor', 'SingleThreadedExecutor', 'MultiThreadedExecutor', 'ExternalShutdownException',
+           'ShutdownException', 'TimeoutException', 'ConditionReachedException']
 
 
 class ExternalShutdownException(Exception):
-    """The context was shut down (SIGTERM, `zros.shutdown()` from elsewhere) while spinning."""
+    """The context was shut down (a signal, `zros.shutdown()` from elsewhere) while spinning."""
 
 
-ShutdownException = ExternalShutdownException
+class ShutdownException(Exception):
+    """This executor was shut down while waiting for work."""
 
 
 class TimeoutException(Exception):
-    """Kept for rclpy compatibility; zros's spin_once returns instead of raising."""
+    """`wait_for_ready_callbacks` found no work within its timeout."""
+
+
+class ConditionReachedException(Exception):
+    """`wait_for_ready_callbacks` returned because its condition came true."""
 
 
 # Longest single wait, so a blocked spin notices shutdown and signals promptly.
@@ -43,26 +55,25 @@ _MAX_WAIT = 0.5
 _SPIN_BATCH = 64
 
 
-class _Task:
-    """A plain function to run on the executor (future done-callbacks, create_task)."""
+class _Completion:
+    """Work that is only news: a future completed (spin_once returns on it, as rclpy's does when
+    it takes a client's response)."""
 
-    __slots__ = ('fn', 'args', 'future')
     callback_group = None
+    _node = None
 
-    def __init__(self, fn: Callable, args: tuple, future: Future) -> None:
-        self.fn, self.args, self.future = fn, args, future
+    @staticmethod
+    def _execute() -> None:
+        return None
 
-    def _execute(self) -> None:
-        try:
-            result = self.fn(*self.args)
-        except BaseException as exc:
-            self.future.set_exception(exc)
-            raise
-        self.future.set_result(result)
+
+_COMPLETION = _Completion()
 
 
 class Executor:
-    """Base executor: queue of ready work, timers, nodes. Subclasses decide where work runs."""
+    """Base executor: the queue of ready work, timers and nodes. Subclasses decide where work
+    runs; a user subclass overrides `spin_once` and takes work from `wait_for_ready_callbacks`.
+    """
 
     def __init__(self, *, context: Any = None) -> None:
         from zros.context import get_default_context
@@ -70,13 +81,16 @@ class Executor:
         self._queue: queue.SimpleQueue = queue.SimpleQueue()
         self._nodes: list[Node] = []
         self._nodes_lock = threading.Lock()
-        self._spin_lock = threading.Lock()
+        self._spin_lock = threading.RLock()
         self._spin_thread: int | None = None
         self._is_shutdown = False
         self._nodes_version = 0
         self._batch = 1
         self._timers_key: tuple[int, int] | None = None
         self._timers: list = []
+        self._backlog: dict[int, list[Any]] = {}    # id(group) -> work waiting for that group
+        self._backlog_lock = threading.Lock()
+        self._timer_blocked = False   # a due timer was passed over because its group was busy
         self._context._register_executor(self)
 
     @property
@@ -107,17 +121,23 @@ class Executor:
             return list(self._nodes)
 
     # -- work --------------------------------------------------------------------------
-    def _enqueue(self, entity: Any) -> None:
-        """Called from any thread (mostly Zenoh's) when `entity` has work."""
-        self._queue.put(entity)
+    def _enqueue(self, work: Any) -> None:
+        """Called from any thread (mostly Zenoh's) when `work` is ready to run."""
+        self._queue.put(work)
 
     def wake(self) -> None:
+        """Make the executor look again (at timers, nodes, shutdown); not itself work."""
         self._queue.put(None)
 
-    def create_task(self, callback: Callable, *args: Any) -> Future:
-        future = Future()
-        self._queue.put(_Task(callback, args, future))
-        return future
+    def _note_completion(self) -> None:
+        self._queue.put(_COMPLETION)
+
+    def create_task(self, callback: Callable | Any, *args: Any, **kwargs: Any) -> Task:
+        """Run `callback(*args, **kwargs)` (a function, coroutine function or coroutine) on
+        this executor; returns its Task, a Future."""
+        task = Task(callback, args, kwargs, executor=self)
+        self._queue.put(task)
+        return task
 
     def _next_timer(self) -> tuple[Any, int | None]:
         """(due timer or None, ns until the next real-time timer is due or None). Timers on
@@ -134,7 +154,9 @@ class Executor:
             if remaining <= 0:
                 group = timer.callback_group
                 if group is not None and not group.can_execute(timer):
-                    continue  # its group is busy; the executor is woken when the group frees
+                    self._timer_blocked = True   # the next group left wakes the executor
+                    if not group.can_execute(timer):   # (unless it was left just now)
+                        continue
                 if timer._claim():
                     return timer, 0
             elif not timer._on_sim_time and (soonest is None or remaining < soonest):
@@ -143,7 +165,7 @@ class Executor:
 
     def _wait_for_work(self, timeout_sec: float | None, until: Callable[[], bool] | None = None) -> Any:
         """Next piece of work, or None when the timeout passes, the executor stops or `until()`
-        holds. A bare wake-up (a node added, a future done) only re-checks those, as rclpy's
+        holds. A bare wake-up (a node added, a group freed) only re-checks those, as rclpy's
         guard conditions do: it never ends the wait with nothing done."""
         deadline = None if timeout_sec is None else time.monotonic() + max(0.0, timeout_sec)
         while True:
@@ -176,12 +198,72 @@ class Executor:
         if not self._context.ok():
             raise ExternalShutdownException()
 
+    # -- running work ----------------------------------------------------------------------
+    def _run_item(self, item: Any, batch: int = 1) -> None:
+        """Run one piece of work on this thread, inside its callback group (see the module
+        docstring). Exceptions from the callback propagate."""
+        group = item.callback_group
+        if group is not None and not group.try_enter():
+            self._park(group, item)
+            return
+        pending = None
+        try:
+            pending = item._execute(batch) if batch > 1 and type(item) is Subscription else item._execute()
+        finally:
+            if group is not None and not inspect.iscoroutine(pending):
+                self._leave_group(group)
+        if inspect.iscoroutine(pending):
+            Task(pending, executor=self, node=getattr(item, '_node', None), callback_group=group)()
+
+    def _park(self, group: Any, item: Any) -> None:
+        with self._backlog_lock:
+            self._backlog.setdefault(id(group), []).append(item)
+        if group.can_execute():   # it was left between try_enter and the append
+            self._release_backlog(group)
+
+    def _leave_group(self, group: Any) -> None:
+        group.leave()
+        self._release_backlog(group)
+        if self._timer_blocked:
+            self._timer_blocked = False
+            self.wake()   # a timer of this group may be due by now
+
+    def _release_backlog(self, group: Any) -> None:
+        with self._backlog_lock:
+            parked = self._backlog.pop(id(group), ())
+        for item in parked:
+            self._queue.put(item)
+
     def _dispatch(self, item: Any) -> None:
         raise NotImplementedError
 
+    # -- rclpy's extension point -------------------------------------------------------------
+    def wait_for_ready_callbacks(self, timeout_sec: float | None = None, nodes: list | None = None,
+                                 condition: Callable[[], bool] | None = None) -> tuple[Task, Any, Any]:
+        """(handler, entity, node) for the next piece of work: calling the handler runs it
+        (in its callback group) on the calling thread, so a custom executor may run handlers
+        wherever it likes. Raises TimeoutException after `timeout_sec` (None: wait for work),
+        ShutdownException when this executor is shut down, ExternalShutdownException when the
+        context is, ConditionReachedException when `condition()` came true.
+
+        `nodes`: zros waits on all the executor's nodes; give an executor only the nodes it
+        should wait on."""
+        if nodes is not None:
+            raise NotImplementedError('wait_for_ready_callbacks(nodes=...) is not supported: add only '
+                                      'those nodes to this executor')
+        item = self._wait_for_work(timeout_sec, condition)
+        if item is None:
+            if self._is_shutdown:
+                raise ShutdownException()
+            if condition is not None and condition():
+                raise ConditionReachedException()
+            raise TimeoutException()
+        return Task(self._run_item, (item,), executor=self), item, getattr(item, '_node', None)
+
     # -- spinning ----------------------------------------------------------------------
     def spin_once(self, timeout_sec: float | None = None) -> None:
-        """Run at most one callback, waiting up to `timeout_sec` (None: until one is ready)."""
+        """Run at most one callback, waiting up to `timeout_sec` (None: until one is ready).
+        A completed client or action future counts as one."""
         with self._spinning():
             self._spin_once(timeout_sec)
 
@@ -199,8 +281,21 @@ class Executor:
         self._dispatch(item)
         return True
 
+    def _builtin_spin_once(self) -> bool:
+        """Whether spin_once is zros's own (not a user subclass's), so spin may take shortcuts."""
+        return type(self).spin_once is Executor.spin_once
+
     def spin(self) -> None:
+        """Run callbacks until the executor or its context is shut down."""
         with self._spinning():
+            if not self._builtin_spin_once():
+                while self._context.ok() and not self._is_shutdown:
+                    try:
+                        self.spin_once()
+                    except ShutdownException:
+                        return
+                self._check_context()
+                return
             self._batch = _SPIN_BATCH
             try:
                 while not self._is_shutdown:
@@ -216,7 +311,10 @@ class Executor:
                 remaining = _MAX_WAIT if deadline is None else min(_MAX_WAIT, deadline - time.monotonic())
                 if remaining <= 0:
                     return
-                self._spin_once(remaining, future.done)
+                if self._builtin_spin_once():
+                    self._spin_once(remaining, future.done)
+                else:
+                    self.spin_once(remaining)
 
     def spin_once_until_future_complete(self, future: Future, timeout_sec: float | None = None) -> None:
         self._adopt(future)
@@ -248,21 +346,35 @@ class Executor:
         self.wake()
         for node in self.get_nodes():
             self.remove_node(node)
+        with self._backlog_lock:
+            self._backlog.clear()
         self._context._unregister_executor(self)
         return True
 
+    def __enter__(self) -> 'Executor':
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.shutdown()
+
 
 class _SpinGuard:
+    """One thread spins an executor at a time; the spinning thread may nest (spin() calls
+    spin_once())."""
+
     def __init__(self, executor: Executor) -> None:
         self._executor = executor
 
     def __enter__(self) -> None:
-        if not self._executor._spin_lock.acquire(blocking=False):
+        executor = self._executor
+        if not executor._spin_lock.acquire(blocking=False):
             raise RuntimeError('Executor is already spinning')
-        self._executor._spin_thread = threading.get_ident()
+        self._outer = executor._spin_thread is None
+        executor._spin_thread = threading.get_ident()
 
     def __exit__(self, *exc: object) -> None:
-        self._executor._spin_thread = None
+        if self._outer:
+            self._executor._spin_thread = None
         self._executor._spin_lock.release()
 
 
@@ -270,17 +382,15 @@ class SingleThreadedExecutor(Executor):
     """Runs every callback on the thread that spins, one at a time, in arrival order."""
 
     def _dispatch(self, item: Any) -> None:
-        if self._batch > 1 and type(item) is Subscription:
-            item._execute(self._batch)
-        else:
-            item._execute()
+        self._run_item(item, self._batch)
 
 
 class MultiThreadedExecutor(Executor):
     """Runs callbacks on a thread pool; a MutuallyExclusiveCallbackGroup runs one at a time.
 
-    Work for a busy exclusive group waits in that group's backlog and is queued again when
-    the running callback returns, so no pool thread ever blocks on a group.
+    Work for a busy group waits in that group's backlog and is queued again when the running
+    callback leaves the group, so no pool thread ever blocks on a group. An exception in a
+    callback is raised again on the spinning thread, as rclpy does.
     """
 
     def __init__(self, num_threads: int | None = None, *, context: Any = None) -> None:
@@ -292,8 +402,6 @@ class MultiThreadedExecutor(Executor):
                 num_threads = os.cpu_count() or 2
         self._num_threads = max(1, num_threads)
         self._pool = ThreadPoolExecutor(max_workers=self._num_threads, thread_name_prefix='zros-exec')
-        self._backlog: dict[int, list[Any]] = {}
-        self._backlog_lock = threading.Lock()
         self._errors: queue.SimpleQueue = queue.SimpleQueue()
 
     @property
@@ -302,38 +410,12 @@ class MultiThreadedExecutor(Executor):
 
     def _dispatch(self, item: Any) -> None:
         self._raise_pending_error()
-        group = getattr(item, 'callback_group', None)
-        if group is not None and not group.try_enter():
-            with self._backlog_lock:
-                self._backlog.setdefault(id(group), []).append(item)
-            # The running callback may have finished between try_enter and the append.
-            if group.try_enter():
-                self._pool.submit(self._run, item=None, group=group)
-            return
-        self._pool.submit(self._run, item=item, group=group)
+        self._pool.submit(self._run_safely, item)
 
-    def _run(self, item: Any, group: Any) -> None:
+    def _run_safely(self, item: Any) -> None:
         try:
-            while True:
-                if item is not None:
-                    item._execute()
-                if group is None:
-                    return
-                with self._backlog_lock:
-                    backlog = self._backlog.get(id(group))
-                    item = backlog.pop(0) if backlog and not self._is_shutdown else None
-                if item is None:
-                    group.leave()
-                    # Wake the spinning thread: a timer of this group may be due by now.
-                    self.wake()
-                    # Work may have been parked after we looked; run it here.
-                    with self._backlog_lock:
-                        if self._backlog.get(id(group)) and not self._is_shutdown and group.try_enter():
-                            continue
-                    return
+            self._run_item(item)
         except BaseException as exc:  # surfaced on the spinning thread, as rclpy does
-            if group is not None:
-                group.leave()
             self._errors.put(exc)
             self.wake()
 
@@ -353,7 +435,5 @@ class MultiThreadedExecutor(Executor):
 
     def shutdown(self, timeout_sec: float | None = None) -> bool:
         result = super().shutdown(timeout_sec)
-        with self._backlog_lock:
-            self._backlog.clear()
         self._pool.shutdown(wait=timeout_sec is None or timeout_sec > 0, cancel_futures=True)
         return result

@@ -27,6 +27,7 @@ from zros.qos import (QoSProfile, qos_profile_default, qos_profile_parameter_eve
                       qos_profile_services_default, to_profile)
 from zros.service import Service
 from zros.subscription import Subscription
+from zros.guard_condition import GuardCondition
 from zros.timer import Rate, Timer, timer_lists_changed
 
 __all__ = ['Node']
@@ -63,6 +64,7 @@ class Node:
         self._clock = ROSClock()
         self._default_callback_group = MutuallyExclusiveCallbackGroup()
         self._executor: Any = None
+        self._unseen_completions = 0
         self._entities: list[Any] = []
         self._timers: list[Timer] = []
         self._tokens: dict[int, Any] = {}
@@ -260,6 +262,14 @@ class Node:
         return self._add(Client(self, srv_type, self.resolve_service_name(srv_name), to_profile(qos_profile),
                                 callback_group or self._default_callback_group))
 
+    def create_guard_condition(self, callback: Callable[[], Any] | None,
+                               callback_group: CallbackGroup | None = None) -> GuardCondition:
+        self._check_alive()
+        return self._add(GuardCondition(callback, callback_group or self._default_callback_group, node=self))
+
+    def destroy_guard_condition(self, guard: GuardCondition) -> bool:
+        return self._destroy_entity(guard)
+
     def destroy_service(self, service: Service) -> bool:
         return self._destroy_entity(service)
 
@@ -299,6 +309,10 @@ class Node:
         return [e for e in self._entities if isinstance(e, Client)]
 
     @property
+    def guards(self) -> Iterable[GuardCondition]:
+        return [e for e in self._entities if isinstance(e, GuardCondition)]
+
+    @property
     def timers(self) -> Iterable[Timer]:
         return list(self._timers)
 
@@ -314,6 +328,14 @@ class Node:
         for entity in self._entities:
             if getattr(entity, '_has_work', None) and entity._has_work():
                 executor._enqueue(entity)
+        if self._unseen_completions:
+            self._unseen_completions = 0
+            executor._note_completion()
+
+    def _note_completion(self) -> None:
+        """A future of this node completed while no executor had the node: the next executor
+        that spins it counts that as work (rclpy's client keeps the response for it)."""
+        self._unseen_completions += 1
 
     def _run_on_executor(self, fn: Callable, *args: Any) -> None:
         """Run `fn(*args)` as a task of this node's executor (inline when it has none)."""

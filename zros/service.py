@@ -10,6 +10,7 @@ serving.
 """
 from __future__ import annotations
 
+import inspect
 from collections import deque
 from typing import TYPE_CHECKING, Any, Callable
 
@@ -120,30 +121,32 @@ class Service(QueuedEntity):
                             attachment.to_bytes() if attachment is not None else b''))
         self._arrived()
 
-    # Executor thread: one request per call.
-    def _execute(self) -> None:
+    # Executor thread: one request per call. An async callback's coroutine is returned, for the
+    # executor to run as a task; it answers the query when it ends.
+    def _execute(self) -> Any:
         try:
             query, payload, attachment = self._queue.popleft()
         except IndexError:
             query = None
         self._rearm()
         if query is None:
-            return
-        deferred = None
+            return None
+        outcome = None
         try:
-            deferred = self._answer(query, payload, attachment)
+            outcome = self._answer(query, payload, attachment)
         finally:
-            if deferred is None:
+            if outcome is None:
                 query.drop()
-            else:
-                deferred._bind(query)
+            elif isinstance(outcome, DeferredResponse):
+                outcome._bind(query)
+        return outcome if inspect.iscoroutine(outcome) else None
 
     def _refuse(self, query: Any, reason: str) -> None:
         """Answer a request that never reaches the callback, and count it."""
         self.rejected += 1
         query.reply_err(f"service '{self.srv_name}' refused the request: {reason}".encode())
 
-    def _answer(self, query: Any, payload: bytes, attachment: bytes) -> DeferredResponse | None:
+    def _answer(self, query: Any, payload: bytes, attachment: bytes) -> Any:
         header = read_header(attachment)
         if header is not None and header[3] != self._tail:
             if self._servers(describe_type(header[3])[0]):
@@ -162,10 +165,33 @@ class Service(QueuedEntity):
         try:
             response = self.callback(request, self.srv_type.Response())
         except Exception as exc:  # noqa: BLE001 - report to the client and keep serving
-            self._node.get_logger().error(
-                f"service '{self.srv_name}' callback raised {type(exc).__name__}: {exc}")
-            query.reply_err(f'{type(exc).__name__}: {exc}'.encode())
+            self._callback_failed(query, exc)
             return None
+        if inspect.iscoroutine(response):
+            return self._answer_later(query, response)
+        return self._reply(query, response)
+
+    async def _answer_later(self, query: Any, pending: Any) -> None:
+        """Await an async callback, then answer (the query is held open meanwhile)."""
+        outcome = None
+        try:
+            try:
+                response = await pending
+            except Exception as exc:  # noqa: BLE001 - report to the client and keep serving
+                self._callback_failed(query, exc)
+                return
+            outcome = self._reply(query, response)
+        finally:
+            if outcome is None:
+                query.drop()
+            else:
+                outcome._bind(query)
+
+    def _callback_failed(self, query: Any, exc: Exception) -> None:
+        self._node.get_logger().error(f"service '{self.srv_name}' callback raised {type(exc).__name__}: {exc}")
+        query.reply_err(f'{type(exc).__name__}: {exc}'.encode())
+
+    def _reply(self, query: Any, response: Any) -> DeferredResponse | None:
         if isinstance(response, DeferredResponse):
             return response
         if type(response) is not self.srv_type.Response:

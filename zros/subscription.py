@@ -112,15 +112,19 @@ class Subscription(QueuedEntity):
 
     # Executor thread. spin_once takes one sample per call, as rclpy takes one message per
     # callback; spin() lets a subscription run up to `budget` waiting samples in one go.
-    def _execute(self, budget: int = 1) -> None:
+    def _execute(self, budget: int = 1) -> Any:
         queue = self._queue
+        pending = None
         for _ in range(budget):
             if not queue:
                 break
-            self._deliver(*queue.popleft())
+            pending = self._deliver(*queue.popleft())
+            if pending is not None:
+                break   # an async callback's coroutine: the executor runs it as a task first
         self._rearm()
+        return pending
 
-    def _deliver(self, payload: bytes, attachment: bytes, received: int) -> None:
+    def _deliver(self, payload: bytes, attachment: bytes, received: int) -> Any:
         self.received += 1
         header = read_header(attachment)
         if header is not None:
@@ -143,11 +147,10 @@ class Subscription(QueuedEntity):
                 self._reject(gid, str(exc))
                 return
         if self._with_info:
-            self.callback(msg, {'source_timestamp': source_ns, 'received_timestamp': received,
-                                'publication_sequence_number': seq,
-                                'reception_sequence_number': self.received})
-        else:
-            self.callback(msg)
+            return self.callback(msg, {'source_timestamp': source_ns, 'received_timestamp': received,
+                                       'publication_sequence_number': seq,
+                                       'reception_sequence_number': self.received})
+        return self.callback(msg)
 
     def _reject(self, gid: bytes, reason: str) -> None:
         """Count a refused sample; log the first one of each publisher (senders without a zros

@@ -1,25 +1,42 @@
-"""Futures, as rclpy.task.Future: completed by one thread, awaited or polled by another.
+"""Futures and tasks, as rclpy.task: a Future is completed by one thread and awaited or polled
+by another; a Task runs a function or coroutine on an executor.
+
+`async def` callbacks (timers, subscriptions, services, action execute callbacks, guard
+conditions) become Tasks: `await client.call_async(request)` or `await
+goal_handle.get_result_async()` suspends the task, the executor runs other callbacks
+meanwhile, and the task resumes when the future completes. As in rclpy, a suspended callback
+keeps its callback group, so a MutuallyExclusiveCallbackGroup still runs one of its callbacks
+at a time. A future of zros's clients completes on Zenoh's thread, so awaiting one never waits
+for another callback of the same group (in rclpy that deadlocks).
 
 Done callbacks run on an executor when the future knows one: the executor it was given, or
 the executor of its node at the moment it completes (rclpy code often sends a request before it
-starts spinning). Only a future with neither runs its callbacks in the completing thread.
+starts spinning). A completion counts as work for that executor, so `spin_once()` returns on
+it, and a node that is not being spun when its future completes hands the completion to the
+executor that spins it next. Only a future with neither runs its callbacks in the completing
+thread.
 """
 from __future__ import annotations
 
+import inspect
 import threading
 from typing import Any, Callable
 
-__all__ = ['Future']
+__all__ = ['Future', 'Task']
 
 
 class Future:
+    # Whether completing counts as a piece of work for the executor (a Task's run already does).
+    _marks_work = True
+
     def __init__(self, *, executor: Any = None, node: Any = None) -> None:
         self._state = 'pending'  # pending | done | cancelled
         self._result: Any = None
         self._exception: BaseException | None = None
         self._callbacks: list[Callable[['Future'], None]] = []
+        self._resume: list['Task'] = []          # tasks suspended on `await self`
         self._lock = threading.Lock()
-        self._done_event = threading.Event()
+        self._done_event: threading.Event | None = None
         self._executor = executor
         self._node = node
 
@@ -53,40 +70,143 @@ class Future:
                 return
             self._state, self._result, self._exception = state, result, exception
             callbacks, self._callbacks = self._callbacks, []
-        self._done_event.set()
-        for callback in callbacks:
-            self._schedule(callback)
+            resume, self._resume = self._resume, []
+            event = self._done_event
+        if event is not None:
+            event.set()
+        for task in resume:
+            task._wake()
         executor = self._current_executor()
         if executor is not None:
-            executor.wake()
+            for callback in callbacks:
+                executor.create_task(callback, self)
+            if not callbacks and self._marks_work:
+                executor._note_completion()      # spin_once() returns on it
+        elif self._node is not None:
+            if self._marks_work:
+                self._node._note_completion()    # for whichever executor spins the node next
+            for callback in callbacks:
+                callback(self)
+        else:
+            for callback in callbacks:
+                callback(self)
 
     def _current_executor(self) -> Any:
         if self._executor is not None:
             return self._executor
         return getattr(self._node, '_executor', None)
 
-    def _schedule(self, callback: Callable[['Future'], None]) -> None:
+    def add_done_callback(self, callback: Callable[['Future'], None]) -> None:
+        with self._lock:
+            if self._state == 'pending':
+                self._callbacks.append(callback)
+                return
         executor = self._current_executor()
         if executor is not None:
             executor.create_task(callback, self)
         else:
             callback(self)
 
-    def add_done_callback(self, callback: Callable[['Future'], None]) -> None:
-        with self._lock:
-            if self._state == 'pending':
-                self._callbacks.append(callback)
-                return
-        self._schedule(callback)
-
     def _set_executor(self, executor: Any) -> None:
         self._executor = executor
 
+    def _resume_when_done(self, task: 'Task') -> None:
+        with self._lock:
+            if self._state == 'pending':
+                self._resume.append(task)
+                return
+        task._wake()
+
     def wait(self, timeout: float | None = None) -> bool:
         """Block this thread until done (not part of rclpy; used by blocking helpers)."""
-        return self._done_event.wait(timeout)
+        with self._lock:
+            if self._state != 'pending':
+                return True
+            if self._done_event is None:
+                self._done_event = threading.Event()
+            event = self._done_event
+        return event.wait(timeout)
 
     def __await__(self):
         while not self.done():
-            yield
+            yield self     # the running Task resumes when this future completes
         return self.result()
+
+
+class Task(Future):
+    """Runs a function or a coroutine on an executor (rclpy.task.Task); made by
+    `Executor.create_task` and by the executor for `async def` callbacks.
+
+    Calling the task runs the function, or the coroutine up to its next `await` of a pending
+    future; the executor calls it again when that future completes. A function that returns
+    a coroutine is awaited too (that is how an `async def` callback arrives). A task never
+    runs in two threads at once. `callback_group` is the group the task holds until it ends.
+    """
+
+    def __init__(self, handler: Any, args: tuple = (), kwargs: dict | None = None, *,
+                 executor: Any = None, node: Any = None, callback_group: Any = None) -> None:
+        super().__init__(executor=executor, node=node)
+        self._handler = handler
+        self._args = args
+        self._kwargs = kwargs or {}
+        self._coroutine = handler if inspect.iscoroutine(handler) else None
+        self._held_group = callback_group
+        self._executing = False
+        self._step_lock = threading.Lock()
+
+    callback_group = None   # a task is run outside any group: it already holds its own
+    _marks_work = False
+
+    def executing(self) -> bool:
+        return self._executing
+
+    def __call__(self) -> None:
+        """Run or resume the task; an exception it raises is stored and raised again."""
+        if self.done() or not self._step_lock.acquire(blocking=False):
+            return
+        self._executing = True
+        try:
+            if self._coroutine is None:
+                outcome = self._handler(*self._args, **self._kwargs)
+                self._handler = self._args = self._kwargs = None
+                if not inspect.iscoroutine(outcome):
+                    self._conclude(outcome, None)
+                    return
+                self._coroutine = outcome
+            self._step()
+        except BaseException as exc:
+            self._conclude(None, exc)
+            raise
+        finally:
+            self._executing = False
+            self._step_lock.release()
+
+    _execute = __call__   # as a piece of executor work
+
+    def _step(self) -> None:
+        try:
+            awaited = self._coroutine.send(None)
+        except StopIteration as stop:
+            self._coroutine = None
+            self._conclude(stop.value, None)
+            return
+        if isinstance(awaited, Future) and not awaited.done():
+            awaited._resume_when_done(self)
+        else:
+            self._wake()   # a bare `yield` (or an awaitable of another kind): run again soon
+
+    def _conclude(self, result: Any, exception: BaseException | None) -> None:
+        self._coroutine = None
+        group, self._held_group = self._held_group, None
+        executor = self._executor
+        if exception is None:
+            self.set_result(result)
+        else:
+            self.set_exception(exception)
+        if group is not None and executor is not None:
+            executor._leave_group(group)
+
+    def _wake(self) -> None:
+        executor = self._executor
+        if executor is not None:
+            executor._enqueue(self)

@@ -9,6 +9,7 @@ a get-result request for a running goal is answered when the goal ends, however 
 from __future__ import annotations
 
 import enum
+import inspect
 import threading
 import time
 import uuid
@@ -252,13 +253,12 @@ class ActionServer:
         self._node._run_on_executor(self._handle_accepted, handle)
         return response
 
-    def _handle_accepted(self, handle: ServerGoalHandle) -> None:
+    def _handle_accepted(self, handle: ServerGoalHandle) -> Any:
         try:
             if self._handle_accepted_callback is default_handle_accepted_callback:
                 # Already a task on the executor: run the goal here rather than queue it
                 # behind whatever else is waiting (a status flush grows with retained goals).
-                self._start_execution(handle, None, inline=True)
-                return
+                return self._start_execution(handle, None, inline=True)
             self._handle_accepted_callback(handle)
         except Exception as exc:  # noqa: BLE001 - log with the goal id and abort the goal
             self._node.get_logger().error(
@@ -324,7 +324,7 @@ class ActionServer:
 
     # -- execution ---------------------------------------------------------------------------
     def _start_execution(self, handle: ServerGoalHandle, execute_callback: Callable | None,
-                         inline: bool = False) -> None:
+                         inline: bool = False) -> Any:
         with handle._lock:
             status = handle._status
             if status == GoalStatus.ACCEPTED:
@@ -339,20 +339,37 @@ class ActionServer:
             return  # already finished
         self._publish_status()
         if inline:
-            self._run(handle, execute_callback or self._execute_callback)
+            return self._run(handle, execute_callback or self._execute_callback)
         else:
             self._node._run_on_executor(self._run, handle, execute_callback or self._execute_callback)
 
-    def _run(self, handle: ServerGoalHandle, execute_callback: Callable) -> None:
+    def _run(self, handle: ServerGoalHandle, execute_callback: Callable) -> Any:
+        """Run the execute callback; an `async def` one comes back as a coroutine, which the
+        task running this awaits."""
         try:
             result = execute_callback(handle)
         except Exception as exc:  # noqa: BLE001 - log with the goal id, abort, keep serving
-            self._node.get_logger().error(
-                f"execute callback of action '{self._name}' raised {type(exc).__name__}: {exc} "
-                f'(goal {handle._hex()}); aborting the goal')
-            result = None
-            if handle.is_active:
-                handle._status = GoalStatus.ABORTED
+            result = self._execute_failed(handle, exc)
+        if inspect.iscoroutine(result):
+            return self._run_async(handle, result)
+        self._conclude(handle, result)
+        return None
+
+    async def _run_async(self, handle: ServerGoalHandle, pending: Any) -> None:
+        try:
+            result = await pending
+        except Exception as exc:  # noqa: BLE001 - log with the goal id, abort, keep serving
+            result = self._execute_failed(handle, exc)
+        self._conclude(handle, result)
+
+    def _execute_failed(self, handle: ServerGoalHandle, exc: Exception) -> None:
+        self._node.get_logger().error(
+            f"execute callback of action '{self._name}' raised {type(exc).__name__}: {exc} "
+            f'(goal {handle._hex()}); aborting the goal')
+        if handle.is_active:
+            handle._status = GoalStatus.ABORTED
+
+    def _conclude(self, handle: ServerGoalHandle, result: Any) -> None:
         if handle.is_active:
             self._node.get_logger().warn(
                 f'Goal state not set, assuming aborted. Goal ID: {handle._hex()}')
