@@ -13,7 +13,9 @@ and measures, from just before the supervisor process is spawned:
 - `first` / `all`: when the first / all N node names are visible in the graph, read by this
   script with `zros.graph.fetch_entities` every 50 ms (this script connects only once the
   supervisor holds the hub port, so the launch is the hub, as on a fresh machine);
-- memory of each node after the graph is complete and everything has idled for 2 s:
+- `settled`: then, until the launch uses less than half a CPU over 2 s (every process has
+  linked to every other and holds the whole graph);
+- memory of each node once settled:
   RSS and PSS from /proc/<pid>/smaps_rollup (PSS splits shared pages, such as the Python
   binary and the zenoh library, between the processes that map them), and the supervisor's;
 - `shutdown`: from SIGINT to the supervisor until it and every node have exited, and how
@@ -110,6 +112,33 @@ def _memory_kib(pid: int) -> tuple[int, int]:
     return rss, pss
 
 
+def _cpu_seconds(pids: list[int]) -> float:
+    """User + system CPU time used so far by these processes (those still alive)."""
+    tick = os.sysconf('SC_CLK_TCK')
+    total = 0
+    for pid in pids:
+        try:
+            fields = Path(f'/proc/{pid}/stat').read_text().rsplit(')', 1)[1].split()
+        except (FileNotFoundError, ProcessLookupError):
+            continue
+        total += int(fields[11]) + int(fields[12])
+    return total / tick
+
+
+def _settle(pids: list[int], limit: float) -> float:
+    """Seconds until the launch uses less than half a CPU over 2 s (it has finished starting:
+    every process linked to every other and has the whole graph), at most `limit`."""
+    started = time.monotonic()
+    before = _cpu_seconds(pids)
+    while time.monotonic() - started < limit:
+        time.sleep(2.0)
+        now = _cpu_seconds(pids)
+        if now - before < 1.0:
+            break
+        before = now
+    return time.monotonic() - started
+
+
 def _gone(pid: int) -> bool:
     try:
         status = Path(f'/proc/{pid}/status').read_text()
@@ -162,7 +191,7 @@ def run_once(nodes: int, workdir: Path, *, pairs: bool = False, graph_reads: int
                 if now > TIMEOUT_S + 2 * nodes:
                     raise RuntimeError(f'only {len(seen)} of {nodes} nodes visible after {now:.0f} s')
                 time.sleep(0.05)
-            time.sleep(2.0)
+            settle = _settle([popen.pid, *pids], TIMEOUT_S)
             memory = [_memory_kib(pid) for pid in pids]
             supervisor = _memory_kib(popen.pid)
             reads = _graph_reads(env, expected, graph_reads) if graph_reads else {}
@@ -186,7 +215,7 @@ def run_once(nodes: int, workdir: Path, *, pairs: bool = False, graph_reads: int
     text = out_path.read_text(errors='replace')
     return {
         'nodes': nodes, 'domain': domain, 'started_s': started, 'first_s': first, 'all_s': complete,
-        'shutdown_s': shutdown, 'escalations': text.count('escalating to'), **reads,
+        'settle_s': settle, 'shutdown_s': shutdown, 'escalations': text.count('escalating to'), **reads,
         'rss_kib_mean': statistics.mean(m[0] for m in memory), 'pss_kib_mean': statistics.mean(m[1] for m in memory),
         'pss_kib_total': sum(m[1] for m in memory),
         'supervisor_rss_kib': supervisor[0], 'supervisor_pss_kib': supervisor[1],
@@ -233,6 +262,7 @@ def _load_table(results: list[dict], reads: int) -> None:
         ('node list answers complete', lambda r: f"{r['complete_reads']}/{reads}",
          lambda r: r['complete_reads'] == reads, 'all'),
         ('all nodes in the graph after start', lambda r: f"{r['all_s']:.1f} s", None, ''),
+        ('then settled (< 0.5 CPU) after', lambda r: f"{r['settle_s']:.1f} s", None, ''),
         ('Ctrl-C until everything exited', lambda r: f"{r['shutdown_s']:.2f} s", lambda r: r['shutdown_s'] < 3.0,
          '< 3 s'),
         ('escalations to SIGTERM/SIGKILL', lambda r: str(r['escalations']), lambda r: r['escalations'] == 0, '0'),

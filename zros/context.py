@@ -25,6 +25,8 @@ __all__ = ['Context', 'get_default_context', 'initialized_contexts', 'exit_proce
 # How long a shutdown waits for the callback an executor is running to return before it
 # destroys the nodes under it (a callback that blocks longer sees its entities go).
 _CALLBACK_GRACE_S = 1.0
+# How long a shutdown that follows SIGINT/SIGTERM waits for the Zenoh session to close.
+_SIGNAL_CLOSE_S = 0.5
 
 
 class Context:
@@ -134,12 +136,9 @@ class Context:
             if self._graph_service is not None:
                 self._graph_service.close()
                 self._graph_service = None
-            if self._session is not None:
-                try:
-                    self._session.close()
-                except Exception:  # noqa: BLE001 - the session may already be closing at exit
-                    pass
-                self._session = None
+            session, self._session = self._session, None
+        if session is not None:
+            _close_session(session)
         self._closed.set()
 
     def try_shutdown(self) -> None:
@@ -225,6 +224,26 @@ _exit_hooked: weakref.WeakSet = weakref.WeakSet()
 
 def get_default_context() -> Context:
     return _default_context
+
+
+def _close_session(session: Any) -> None:
+    """Close a Zenoh session. Zenoh closes its links one after the other, so with 100 peers a
+    close takes a second or more; after a signal the process is about to end, and the close is
+    given `_SIGNAL_CLOSE_S` (what is left is ended with the process, which peers see as the
+    links closing). Every entity has been undeclared before, so the graph is already right."""
+    from zros.signals import signal_received
+
+    def close() -> None:
+        try:
+            session.close()
+        except Exception:  # noqa: BLE001 - the session may already be closing at exit
+            pass
+    if not signal_received():
+        close()
+        return
+    closer = threading.Thread(target=close, name='zros-close', daemon=True)
+    closer.start()
+    closer.join(_SIGNAL_CLOSE_S)
 
 
 def initialized_contexts() -> list[Context]:

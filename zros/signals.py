@@ -38,7 +38,7 @@ import time
 from typing import Any
 
 __all__ = ['SignalHandlerOptions', 'install_signal_handlers', 'uninstall_signal_handlers',
-           'get_current_signal_handlers_options', 'exit_on_signals', 'STUCK_S', 'EXIT_S', 'TERM_S']
+           'get_current_signal_handlers_options', 'exit_on_signals', 'signal_received', 'STUCK_S', 'EXIT_S', 'TERM_S']
 
 # How long the main thread may take to notice a signal before the process is ended for it.
 STUCK_S = 2.0
@@ -227,6 +227,11 @@ def _install(options: SignalHandlerOptions, *, cli_grace_s: float | None) -> Non
         handlers.previous[signum] = signal.signal(signum, handlers.on_signal)
     _installed = handlers
     _watch.start()
+
+
+def signal_received() -> bool:
+    """Whether a SIGINT or SIGTERM handled here has started ending the process."""
+    return _watch._handling or _watch._main_saw is not None
 
 
 def install_signal_handlers(options: SignalHandlerOptions = SignalHandlerOptions.ALL) -> None:
