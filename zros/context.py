@@ -17,7 +17,7 @@ from typing import Any, Callable
 
 from zros.arguments import RosArgs, parse_ros_args
 from zros.config import SessionSettings, open_session, settings_from_env
-from zros.errors import NotInitializedError, ZrosError
+from zros.errors import NotInitializedError
 from zros.logging import set_logger_level, severity_from_string
 
 __all__ = ['Context', 'get_default_context', 'initialized_contexts', 'exit_process']

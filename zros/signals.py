@@ -34,7 +34,6 @@ import os
 import signal
 import sys
 import threading
-import time
 from typing import Any
 
 __all__ = ['SignalHandlerOptions', 'install_signal_handlers', 'uninstall_signal_handlers',
