@@ -15,9 +15,10 @@ from zros.launch import LaunchError, LaunchFileError, resolve
 from zros.launch.context import LaunchContext
 from zros.launch.description import declared_arguments, parse_launch_arguments
 from zros.launch.entity import Entity, Scalar, load_launch_entities, load_yaml
-from zros.launch.packages import configs_directory, find_launch_file, package_share_directory
+from zros.ament_index_python.packages import get_package_share_path
+from zros.launch.packages import configs_directory, find_launch_file
 from zros.launch.plan import GeneratedParams, LogMessage, ParamsFile, ProcessSpec, ShutdownEffect, TimerEffect
-from zros.launch.substitutions import Call, SUBSTITUTIONS, SubstitutionError, evaluate_expression, parse, perform
+from zros.launch.template import Call, SUBSTITUTIONS, SubstitutionError, evaluate_expression, parse, perform
 
 REPO = Path(__file__).resolve().parents[1]
 PY = sys.executable
@@ -190,7 +191,7 @@ def test_find_pkg_share_rule():
     assert ctx('$(find-pkg-share configs)') == str(configs_directory())
     assert Path(ctx('$(find-pkg-share zros)/configs/params/talker.yaml')).is_file()
     assert Path(ctx('$(find-pkg-share configs)/params/talker.yaml')).is_file()
-    assert ctx('$(find-pkg-prefix demo_nodes)') == ctx('$(find-pkg-share demo_nodes)')
+    assert ctx('$(find-pkg-prefix demo_nodes)') == str((REPO / 'nodes').resolve())
     with pytest.raises(SubstitutionError, match="package 'no_such_pkg' not found"):
         ctx('$(find-pkg-share no_such_pkg)')
     assert find_launch_file('zros', 'talker_listener.launch.yaml') == \
@@ -198,7 +199,7 @@ def test_find_pkg_share_rule():
     assert find_launch_file('configs', 'params_demo.launch.yaml').is_file()
     with pytest.raises(LaunchError, match="launch file 'nope.yaml' not found in package 'demo_nodes'"):
         find_launch_file('demo_nodes', 'nope.yaml')
-    assert package_share_directory('zros') == configs_directory().parent
+    assert get_package_share_path('zros') == configs_directory().parent
 
 
 def test_eval_is_python_with_math_and_nothing_dangerous():
@@ -274,8 +275,24 @@ def test_find_exec_and_file_content(tmp_path):
 def test_every_registered_substitution_is_tested():
     tested = {'var', 'env', 'optenv', 'dirname', 'filename', 'log_dir', 'launch_log_dir', 'find-pkg-share',
               'find-pkg-prefix', 'eval', 'command', 'anon', 'not', 'and', 'or', 'all', 'any', 'equals',
-              'not-equals', 'if', 'find-exec', 'file-content'}
+              'not-equals', 'if', 'find-exec', 'file-content', 'param', 'path-join'}
     assert set(SUBSTITUTIONS) == tested
+
+
+def test_param_lazy_defaults_and_path_join():
+    ctx = Ctx()
+    ctx.context.ros.params.extend([('rate', 10), ('flag', True), ('rate', 20)])
+    assert ctx('$(param rate)') == '20'                    # what the next node would get
+    assert ctx('$(param flag)') == 'true'
+    assert ctx('$(param missing 5)') == '5'
+    with pytest.raises(SubstitutionError, match="parameter 'missing' was not set with set_parameter"):
+        ctx('$(param missing)')
+    # a default is evaluated only when it is needed
+    assert Ctx(x='set')('$(var x $(var unset))') == 'set'
+    assert ctx('$(if true yes $(var unset))') == 'yes'
+    with pytest.raises(SubstitutionError, match="unknown substitution 'path-join'"):
+        parse('$(path-join a b)')                         # Python-only (PathJoinSubstitution)
+    assert perform((Call('path-join', (('a',), ('b',), ('c.yaml',))),), ctx.context) == 'a/b/c.yaml'
 
 
 # -- tags -------------------------------------------------------------------------------------
@@ -368,7 +385,7 @@ def test_node_parameters_in_order(plan_of, write, tmp_path):
             exec: param_talker
             param:
             - {{name: published_text, value: $(var text)}}
-            - {{name: as_number, value: "42"}}
+            - {{name: quoted, value: "42"}}
             - {{name: forced, value: "42", type: str}}
             - {{name: ratio, value: 0.5}}
             - {{name: list, value: [a, $(var text)]}}
@@ -382,7 +399,7 @@ def test_node_parameters_in_order(plan_of, write, tmp_path):
         '''))
     first, file_source, last = spec.params
     assert first == GeneratedParams({'/**': {'ros__parameters': {
-        'global_one': 1, 'published_text': 'hello', 'as_number': 42, 'forced': '42', 'ratio': 0.5,
+        'global_one': 1, 'published_text': 'hello', 'quoted': '42', 'forced': '42', 'ratio': 0.5,
         'list': ['a', 'hello'], 'limits': {'max': 10, 'deeper': {'enabled': True}}}}})
     assert file_source == ParamsFile(str(params.resolve()))
     assert last.document == {'/**': {'ros__parameters': {'after_file': 'x'}}}

@@ -1,7 +1,8 @@
 """Finding interface files and turning them into classes, on demand.
 
 The search path is `ZROS_INTERFACE_PATH` (os.pathsep-separated directories laid out as
-`<pkg>/{msg,srv,action}/*`) followed by the interfaces shipped in the `interfaces` package.
+`<pkg>/{msg,srv,action}/*`), then the packages on `ZROS_NODE_PATH` and installed ones
+(zros.ament_index_python.packages), then the interfaces shipped in the `interfaces` package.
 A user's directory comes first so a project can carry its own copy of a package.
 Classes are built once per process and cached; lookups are thread-safe.
 
@@ -36,7 +37,9 @@ _cache: dict[str, Any] = {}
 
 
 def search_roots() -> list[Path]:
+    from zros.ament_index_python.packages import interface_roots
     roots = [Path(p) for p in os.environ.get('ZROS_INTERFACE_PATH', '').split(os.pathsep) if p]
+    roots.extend(interface_roots())   # packages on ZROS_NODE_PATH and installed ones (docs/packages.md)
     try:
         import interfaces  # the installed package may live elsewhere than this checkout
         roots.extend(Path(p) for p in interfaces.__path__)

@@ -1,7 +1,7 @@
-"""`zros launch`: run a ROS 2 YAML launch file (like ros2 launch).
+"""`zros launch`: run a launch file, Python (`*.launch.py`) or YAML (like ros2 launch).
 
     zros launch FILE [name:=value ...] [--print] [--show-args] [--log-dir DIR] [--debug]
-    zros launch PKG FILE [name:=value ...]      # FILE looked up in the package (docs/launch.md)
+    zros launch PKG FILE [name:=value ...]      # FILE in the package's share directory or its launch/
 
 Session options (--connect, --listen, --discovery, --domain-id, --zenoh-config; see
 docs/multi-machine.md) set the ZROS_* environment of the supervisor and every process it starts.
@@ -41,8 +41,8 @@ def _add_options(parser: argparse.ArgumentParser) -> None:
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.formatter_class = argparse.RawDescriptionHelpFormatter
     parser.epilog = ('examples:\n  zros launch configs/talker_listener.launch.yaml topic:=news\n'
-                     '  zros launch zros talker_listener.launch.yaml --print\n'
-                     '  zros launch configs/talker_listener.launch.yaml --show-args')
+                     '  zros launch demo_nodes talker_listener.launch.py --print\n'
+                     '  zros launch configs/talker_listener.launch.py --show-args')
     _add_options(parser)
     parser.add_argument('arguments', nargs=argparse.REMAINDER, metavar='[PKG] FILE [name:=value ...]',
                         help='a launch file (or a package and a file in it), then launch arguments')

@@ -26,7 +26,7 @@ VERBS = {
     'image': ('zros.cli.image', 'Save a frame of an image topic as PNG'),
     'tf': ('zros.cli.tf', 'Print the TF frame tree and its rates'),
     'lifecycle': ('zros.cli.lifecycle', 'Inspect and drive the lifecycle of managed nodes'),
-    'launch': ('zros.cli.launch', 'Run a YAML launch file'),
+    'launch': ('zros.cli.launch', 'Run a launch file (Python or YAML)'),
     'router': ('zros.cli.router', 'Run a Zenoh router for multi-machine set-ups'),
     'security': ('zros.cli.security', 'Create TLS keys and certificates (a CA and one per node)'),
     'bag': ('zros.cli.bag', 'Record and play back topics (MCAP files)'),

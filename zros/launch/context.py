@@ -9,11 +9,12 @@ from __future__ import annotations
 
 import copy
 import os
+from collections.abc import Iterator, MutableMapping
 from dataclasses import dataclass, field
 from typing import Any, NamedTuple
 
 from zros.launch.errors import LaunchFileError, Origin
-from zros.launch.substitutions import make_anon_name
+from zros.launch.template import make_anon_name
 
 __all__ = ['LaunchContext', 'RosScope', 'DeclaredArgument']
 
@@ -69,6 +70,33 @@ class LaunchContext:
         self._files: list[tuple[str, Origin | None]] = []
         self._captures: list[list] = [[]]
         self._anon: dict[str, str] = {}
+        self.read_configurations: set[str] = set()   # names substitutions looked up
+
+    # -- what Python launch code sees (launch.LaunchContext) -----------------------------------
+    @property
+    def launch_configurations(self) -> MutableMapping[str, str]:
+        """The launch configurations, readable and writable (as in launch); reads are recorded
+        like `$(var)`'s, so an argument only a Python function reads is still a known one."""
+        return _RecordingConfigurations(self)
+
+    def perform_substitution(self, substitution: Any) -> str:
+        from zros.launch.template import perform, to_template
+        return perform(to_template(substitution), self)
+
+    def note_configuration_read(self, name: str) -> None:
+        self.read_configurations.add(name)
+
+    def snapshot(self) -> 'LaunchContext':
+        """A copy to resolve more actions in later (an event handler function), sharing the
+        anonymous names and the record of configurations read."""
+        copied = copy.copy(self)
+        copied.configurations = dict(self.configurations)
+        copied.environment = dict(self.environment)
+        copied.ros = copy.deepcopy(self.ros)
+        copied._scopes = list(self._scopes)
+        copied._files = list(self._files)
+        copied._captures = [[]]
+        return copied
 
     # -- files (for $(dirname), $(filename) and include cycles) --------------------------------
     @property
@@ -136,3 +164,31 @@ class LaunchContext:
 
     def declared_names(self) -> list[str]:
         return sorted(set(self.declared) | set(self.known_arguments))
+
+
+class _RecordingConfigurations(MutableMapping):
+    """`context.launch_configurations`: the context's configurations, noting each name read."""
+
+    def __init__(self, context: LaunchContext) -> None:
+        self._context = context
+
+    def __getitem__(self, name: str) -> str:
+        self._context.note_configuration_read(name)
+        return self._context.configurations[name]
+
+    def __contains__(self, name: object) -> bool:
+        if isinstance(name, str):
+            self._context.note_configuration_read(name)
+        return name in self._context.configurations
+
+    def __setitem__(self, name: str, value: str) -> None:
+        self._context.configurations[name] = value
+
+    def __delitem__(self, name: str) -> None:
+        del self._context.configurations[name]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._context.configurations)
+
+    def __len__(self) -> int:
+        return len(self._context.configurations)

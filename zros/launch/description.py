@@ -1,4 +1,4 @@
-"""From a launch file to a `Plan`: parse, then resolve every action in order.
+"""From a launch file (Python or YAML) to a `Plan`: load, then resolve every action in order.
 
 `resolve()` is what `zros launch` (and `--print`) run before anything starts: it evaluates
 conditions and substitutions, follows includes, and collects the processes with their final
@@ -7,19 +7,18 @@ command lines. `declared_arguments()` is the static walk behind `--show-args`.
 from __future__ import annotations
 
 import os
-from typing import Any
+from typing import Any, Callable
 
-from zros.launch.actions import Action, registered_tags
-from zros.launch.actions.arg import DeclareArgument
-from zros.launch.actions.include import Include, parse_launch_file
+from zros.launch.action import registered_tags
 from zros.launch.context import DeclaredArgument, LaunchContext
-from zros.launch.errors import LaunchError
-from zros.launch.plan import Plan
+from zros.launch.errors import LaunchError, LaunchFileError, Origin
+from zros.launch.files import load_launch_file
+from zros.launch.plan import LogMessage, Plan
 
-__all__ = ['resolve', 'declared_arguments', 'parse_launch_file', 'BUILTIN_CONFIGURATIONS',
-           'parse_launch_arguments']
+__all__ = ['resolve', 'declared_arguments', 'load_launch_file', 'BUILTIN_CONFIGURATIONS',
+           'parse_launch_arguments', 'Deferred']
 
-#: Launch configurations that mean something without an `arg` tag (as in ROS 2's launch).
+#: Launch configurations that mean something without an argument (as in ROS 2's launch).
 BUILTIN_CONFIGURATIONS = ('sigterm_timeout', 'sigkill_timeout', 'launch-prefix')
 
 
@@ -34,8 +33,8 @@ def parse_launch_arguments(items: list[str]) -> dict[str, str]:
     return values
 
 
-def _walk(actions: list[Action], context: Any) -> None:
-    """Visit actions depth-first in file order; `execute` returns what to visit next."""
+def _walk(actions: list, context: Any) -> None:
+    """Visit actions depth-first in file order; `visit` returns what to visit next."""
     stack = list(reversed(actions))
     while stack:
         action = stack.pop()
@@ -45,17 +44,23 @@ def _walk(actions: list[Action], context: Any) -> None:
 def resolve(path: str, *, launch_arguments: dict[str, str] | None = None,
             environment: dict[str, str] | None = None, log_dir: str = '') -> Plan:
     """Resolve a launch file into a Plan; LaunchFileError (`file:line: tag: key: reason`) for
-    any problem, before anything is started."""
+    any problem, before anything is started.
+
+    A command-line argument must be declared (DeclareLaunchArgument / `arg`) or read by the
+    launch (`LaunchConfiguration` / `$(var)`, as ROS 2 launch files often read undeclared ones
+    with a default); anything else is reported as a typo.
+    """
     registered_tags()
     path = os.path.normpath(str(path))
     launch_arguments = dict(launch_arguments or {})
-    actions = parse_launch_file(path)
+    actions = load_launch_file(path)
     context = LaunchContext(launch_arguments=launch_arguments, environment=environment, log_dir=log_dir)
     context.known_arguments = {arg.name: arg for arg in declared_arguments(path, launch_arguments, actions=actions)}
     context.enter_file(path, None)
     _walk(actions, context)
     context.leave_file()
-    known = set(context.declared) | set(context.known_arguments) | set(BUILTIN_CONFIGURATIONS)
+    known = (set(context.declared) | set(context.known_arguments) | context.read_configurations
+             | set(BUILTIN_CONFIGURATIONS))
     unknown = [name for name in launch_arguments if name not in known]
     if unknown:
         declared = ', '.join(context.declared_names()) or 'none'
@@ -65,35 +70,37 @@ def resolve(path: str, *, launch_arguments: dict[str, str] | None = None,
 
 
 def declared_arguments(path: str, launch_arguments: dict[str, str] | None = None, *,
-                       actions: list[Action] | None = None) -> list[DeclaredArgument]:
-    """Every `arg` of a file and of the files it includes, without running anything.
+                       actions: list | None = None) -> list[DeclaredArgument]:
+    """Every declared argument of a file and of the files it includes, without running anything.
 
     Includes are followed when their path can be evaluated from the defaults seen so far;
-    arguments under an `if`/`unless` are marked `conditional` (ros2 launch shows them with '*').
+    arguments under a condition are marked `conditional` (ros2 launch shows them with '*').
     """
+    from zros.launch.actions.arg import DeclareLaunchArgument
+    from zros.launch.actions.include import IncludeLaunchDescription
     registered_tags()
     found: dict[str, DeclaredArgument] = {}
     context = LaunchContext(launch_arguments=launch_arguments or {})
     seen_files: set[str] = set()
 
-    def walk(items: list[Action], conditional: bool) -> None:
+    def walk(items: list, conditional: bool) -> None:
         for action in items:
             cond = conditional or action.condition is not None
-            if isinstance(action, DeclareArgument):
+            if isinstance(action, DeclareLaunchArgument):
                 found.setdefault(action.name, action.declaration(conditional=cond))
-                if action.name not in context.configurations and action.default is not None:
+                if action.name not in context.configurations and action.default_value is not None:
                     try:
-                        context.configurations[action.name] = action.default.perform(context)
+                        context.configurations[action.name] = action.default_value.perform(context)
                     except LaunchError:
                         pass
-            elif isinstance(action, Include):
+            elif isinstance(action, IncludeLaunchDescription):
                 try:
                     included = action.resolve_path(context)
                     real = os.path.realpath(included)
                     if real in seen_files or not os.path.isfile(included):
                         continue
                     seen_files.add(real)
-                    child_actions = parse_launch_file(included)
+                    child_actions = action.load(included)
                 except LaunchError:
                     continue
                 context.enter_file(included, None)
@@ -107,5 +114,28 @@ def declared_arguments(path: str, launch_arguments: dict[str, str] | None = None
     path = os.path.normpath(str(path))
     seen_files.add(os.path.realpath(path))
     context.enter_file(path, None)
-    walk(parse_launch_file(path) if actions is None else actions, False)
+    walk(load_launch_file(path) if actions is None else actions, False)
     return list(found.values())
+
+
+class Deferred:
+    """An event handler function, resolved when its event happens: `f(event, context)` returns
+    actions, which are resolved in a copy of the context taken where the handler was
+    registered. A failure is reported as an ERROR line of the launch, never a traceback."""
+
+    def __init__(self, function: Callable, context: LaunchContext, origin: Origin) -> None:
+        self.function, self.context, self.origin = function, context, origin
+
+    def __str__(self) -> str:
+        return f"{getattr(self.function, '__name__', 'function')}() at {self.origin.path}:{self.origin.line}"
+
+    def __call__(self, event: Any) -> list:
+        from zros.launch.actions.group import check_actions
+        from zros.launch.actions.opaque import call_user_function
+        context = self.context.snapshot()
+        try:
+            result = call_user_function(self.function, self.origin, event, context)
+            _walk(check_actions(result, self.origin), context)
+        except LaunchFileError as exc:
+            return [LogMessage('ERROR', str(exc), self.origin)]
+        return context.effects

@@ -74,12 +74,8 @@ def load_yaml(path: str | Path, text: str | None = None) -> Any:
     """Parse a YAML file keeping line numbers; LaunchFileError `file:line: invalid YAML: ...`."""
     path = str(path)
     if text is None:
-        try:
-            text = Path(path).read_text(encoding='utf-8')
-        except FileNotFoundError:
-            raise LaunchFileError(None, f"{path}: no such launch file") from None
-        except OSError as exc:
-            raise LaunchFileError(None, f"{path}: cannot read launch file: {exc.strerror}") from None
+        from zros.launch.files import read_text
+        text = read_text(path)
     try:
         return yaml.load(text, Loader=_LineLoader)  # noqa: S506 - a SafeLoader subclass
     except yaml.MarkedYAMLError as exc:
@@ -237,8 +233,8 @@ class Entity:
             return [str(v) for v in value]
         if data_type == list[Entity]:
             if isinstance(value, dict) and not tags:
-                value = YamlList([value])  # one item written without the list
-                value.item_lines = [origin.line]
+                raise LaunchFileError(origin, f"expected a list of mappings, got a mapping: write "
+                                              f"'{name}:' followed by '- ...' items")
             if not isinstance(value, list) or not all(isinstance(v, dict) for v in value):
                 raise wrong('a list of mappings')
             if tags:
@@ -290,10 +286,10 @@ def _entities_from_list(items: list, path: str, *, parent: Entity | None) -> lis
     return out
 
 
-def load_launch_entities(path: str | Path) -> list[Entity]:
+def load_launch_entities(path: str | Path, text: str | None = None) -> list[Entity]:
     """The top-level tags of a launch file (`launch: [...]`)."""
     path = str(path)
-    document = load_yaml(path)
+    document = load_yaml(path, text)
     if not isinstance(document, dict) or 'launch' not in document:
         raise LaunchFileError(None, f"{path}:{getattr(document, 'line', 1) or 1}: "
                                     "a launch file must be a mapping with a 'launch:' list")

@@ -9,7 +9,7 @@ from __future__ import annotations
 import shlex
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import NamedTuple, Union
+from typing import Any, NamedTuple, Union
 
 import yaml
 
@@ -17,7 +17,7 @@ from zros.launch.context import DeclaredArgument
 from zros.launch.errors import Origin
 
 __all__ = ['ParamsFile', 'GeneratedParams', 'NodeInfo', 'ProcessSpec', 'LogMessage', 'TimerEffect',
-           'ShutdownEffect', 'Effect', 'Plan', 'OUTPUT_MODES']
+           'ShutdownEffect', 'EventHandlerEffect', 'Effect', 'Plan', 'OUTPUT_MODES']
 
 OUTPUT_MODES = ('log', 'screen', 'both', 'own_log')
 
@@ -72,6 +72,7 @@ class ProcessSpec:
     on_exit_shutdown: bool = False
     origin: Origin | None = None
     node: NodeInfo | None = None
+    source: Any = field(default=None, compare=False, repr=False)   # the action that made it
 
     def command(self, params_paths: list[str]) -> list[str]:
         """The argv, given where each GeneratedParams entry was written."""
@@ -110,7 +111,32 @@ class ShutdownEffect(NamedTuple):
     origin: Origin | None = None
 
 
-Effect = Union[ProcessSpec, LogMessage, TimerEffect, ShutdownEffect]
+class EventHandlerEffect(NamedTuple):
+    """Effects to carry out when a process starts or exits (OnProcessStart / OnProcessExit).
+
+    `target` is the action whose processes it watches (None: every process). `effects` were
+    resolved with the launch; `deferred`, when set, is a handler function resolved only when
+    the event happens (`deferred(event) -> effects`).
+    """
+
+    event: str                 # 'start' or 'exit'
+    target: Any
+    effects: list
+    deferred: Any = None
+    origin: Origin | None = None
+
+    def matches(self, spec: 'ProcessSpec') -> bool:
+        return self.target is None or spec.source is self.target
+
+    def effects_for(self, process_name: str, pid: int, returncode: int | None, cmd: list) -> list:
+        """What to do for this event (the supervisor calls it when the event happens)."""
+        if self.deferred is None:
+            return self.effects
+        from zros.launch.event_handlers import ProcessEvent
+        return self.deferred(ProcessEvent(self.target, process_name, pid, list(cmd), returncode))
+
+
+Effect = Union[ProcessSpec, LogMessage, TimerEffect, ShutdownEffect, EventHandlerEffect]
 
 
 @dataclass
@@ -166,14 +192,36 @@ class Plan:
                 self._describe_effects(effect.effects, lines, numbers, indent + '  ')
             elif isinstance(effect, ShutdownEffect):
                 lines.append(f'{indent}shutdown' + (f': {effect.reason}' if effect.reason else ''))
+            elif isinstance(effect, EventHandlerEffect):
+                lines.append(f'{indent}on {effect.event} of {self._targets(effect, numbers)}:')
+                if effect.deferred is not None:
+                    lines.append(f'{indent}  (actions from {effect.deferred}, resolved then)')
+                self._describe_effects(effect.effects, lines, numbers, indent + '  ')
+
+    def _targets(self, handler: EventHandlerEffect, numbers: dict) -> str:
+        if handler.target is None:
+            return 'any process'
+        names = [numbers.get(id(spec), spec.label) for spec in self._all_processes(self.effects)
+                 if handler.matches(spec)]
+        return ', '.join(f'[{name}]' for name in names) or 'a process that is never started'
+
+    def _all_processes(self, effects: list) -> list[ProcessSpec]:
+        found = []
+        for effect in effects:
+            if isinstance(effect, ProcessSpec):
+                found.append(effect)
+            elif isinstance(effect, (TimerEffect, EventHandlerEffect)):
+                found += self._all_processes(effect.effects)
+        return found
 
     def _describe_process(self, spec: ProcessSpec, lines: list[str], name: str, indent: str) -> None:
         where = f'  ({spec.origin.path}:{spec.origin.line})' if spec.origin else ''
         lines.append(f'{indent}process [{name}]{where}')
         sub = indent + '    '
         if spec.node is not None:
-            lines.append(f'{sub}node: {spec.node.display_name()}  (package {spec.node.package}, '
-                         f'executable {spec.node.executable})')
+            where = (f'package {spec.node.package}, executable {spec.node.executable}' if spec.node.package
+                     else f'executable {spec.node.executable} from PATH')
+            lines.append(f'{sub}node: {spec.node.display_name()}  ({where})')
         paths = spec.generated_params_paths(Path(self.log_dir) / 'params', name)
         cmd = spec.shell_text if spec.shell_text is not None else shlex.join(spec.command(paths))
         lines.append(f'{sub}cmd: {cmd}' + ('   (run by /bin/sh)' if spec.shell_text is not None else ''))

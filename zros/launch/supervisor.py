@@ -31,7 +31,8 @@ from pathlib import Path
 from typing import Any, Callable, TextIO
 
 from zros.launch.errors import LaunchError
-from zros.launch.plan import GeneratedParams, LogMessage, Plan, ProcessSpec, ShutdownEffect, TimerEffect
+from zros.launch.plan import (EventHandlerEffect, GeneratedParams, LogMessage, Plan, ProcessSpec, ShutdownEffect,
+                              TimerEffect)
 
 __all__ = ['Supervisor', 'LaunchLog', 'make_log_dir', 'default_log_base']
 
@@ -200,6 +201,7 @@ class Supervisor:
         self._preexec = None
         self._wakeup_read = self._wakeup_write = -1
         self._context = None
+        self._handlers: list[EventHandlerEffect] = []
 
     # -- life cycle ----------------------------------------------------------------------------
     def run(self) -> int:
@@ -283,6 +285,8 @@ class Supervisor:
 
     # -- effects -------------------------------------------------------------------------------
     def _run_effects(self, effects: list) -> None:
+        # Handlers first: an OnProcessStart written after its node still sees the node start.
+        self._handlers += [effect for effect in effects if isinstance(effect, EventHandlerEffect)]
         for effect in effects:
             if self._shutting_down:
                 return
@@ -297,6 +301,11 @@ class Supervisor:
             elif isinstance(effect, ShutdownEffect):
                 self.shutdown(effect.reason or 'shutdown requested by the launch file')
                 return
+
+    def _dispatch(self, event: str, process: _Process, code: int | None = None) -> None:
+        """Carry out the OnProcessStart / OnProcessExit handlers that watch this process."""
+        for handler in [h for h in self._handlers if h.event == event and h.matches(process.spec)]:
+            self._run_effects(handler.effects_for(process.name, process.popen.pid, code, process.command))
 
     def _schedule(self, delay: float, kind: str, callback: Callable[[], None]) -> None:
         heapq.heappush(self._timers, (time.monotonic() + delay, next(self._timer_seq), kind, callback))
@@ -354,6 +363,8 @@ class Supervisor:
         self.log.info(process.name, f'process started with pid [{popen.pid}]')
         if self._shutting_down:   # a shutdown came in while this one was being started
             self._signal(process, signal.SIGINT)
+        else:
+            self._dispatch('start', process)
 
     def _read(self, process: _Process, stream: Any) -> None:
         fd = stream.fileno()
@@ -419,6 +430,7 @@ class Supervisor:
         else:
             cmd = spec.shell_text if spec.shell_text is not None else ' '.join(process.command)
             self.log.error(process.name, f"process has died [pid {pid}, exit code {code}, cmd '{cmd}'].")
+        self._dispatch('exit', process, code)
         if spec.on_exit_shutdown:
             self.shutdown(f'process[{process.name}] exited and has on_exit: shutdown')
             return

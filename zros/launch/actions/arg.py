@@ -1,47 +1,54 @@
-"""`arg` (declare a launch argument) and `let` (set a launch configuration)."""
+"""Launch configurations: `DeclareLaunchArgument` (`arg`), `SetLaunchConfiguration` (`let`),
+`ResetLaunchConfigurations` (`reset`)."""
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Iterable
 
-from zros.launch.actions import Action, ActionKwargs, Parser, launch_tag
+from zros.launch.action import Action, ActionKwargs, Parser, launch_tag
 from zros.launch.context import DeclaredArgument
 from zros.launch.entity import Entity, Scalar
-from zros.launch.substitutions import Text, describe
+from zros.launch.errors import LaunchFileError
+from zros.launch.template import Text, describe
 
-__all__ = ['DeclareArgument', 'SetConfiguration']
+__all__ = ['DeclareLaunchArgument', 'SetLaunchConfiguration', 'ResetLaunchConfigurations']
 
 
 class ArgKwargs(ActionKwargs, total=False):
     name: str
-    default: Text | None
+    default_value: Text | None
     description: str
     choices: tuple[str, ...]
 
 
 @launch_tag('arg')
-class DeclareArgument(Action):
-    """`arg: {name, default, description, choice: [{value}]}`.
+class DeclareLaunchArgument(Action):
+    """`DeclareLaunchArgument(name, default_value=None, description='', choices=None)`;
+    YAML `arg: {name, default, description, choice: [{value}]}`.
 
     Without a default the argument is required: the command line (`name:=value`) or the
-    including file must give it. A value outside `choice` is an error.
+    including file must give it. A value outside `choices` is an error.
     """
 
-    def __init__(self, *, name: str, default: Text | None = None, description: str = '',
-                 choices: tuple[str, ...] = (), **kwargs: Any) -> None:
+    def __init__(self, name: str, *, default_value: Any = None, description: str | None = None,
+                 choices: Iterable[str] | None = None, **kwargs: Any) -> None:
         super().__init__(**kwargs)
+        if not isinstance(name, str) or not name or '$(' in name:
+            raise LaunchFileError(self.origin.with_key('name'),
+                                  'an argument name must be plain text, without substitutions')
         self.name = name
-        self.default = default
-        self.description = description
-        self.choices = choices
+        self.default_value = self._optional_text(default_value, 'default_value')
+        self.description = description or ''
+        self.choices = tuple(str(c) for c in choices) if choices is not None else ()
+
+    @property
+    def default(self) -> Text | None:
+        return self.default_value
 
     @classmethod
     def parse(cls, entity: Entity, parser: Parser) -> tuple[type[Action], ArgKwargs]:
         _, kwargs = super().parse(entity, parser)
-        name = entity.get_attr('name')
-        if not name or '$(' in name:
-            raise entity.error('name', 'an argument name must be plain text, without substitutions')
-        kwargs['name'] = name
-        kwargs['default'] = parser.text(entity, 'default', optional=True, data_type=Scalar)
+        kwargs['name'] = entity.get_attr('name')
+        kwargs['default_value'] = parser.text(entity, 'default', optional=True, data_type=Scalar)
         kwargs['description'] = entity.get_attr('description', optional=True, data_type=Scalar) or ''
         choices = entity.get_attr('choice', data_type=list[Entity], optional=True)
         if choices is not None:
@@ -53,18 +60,18 @@ class DeclareArgument(Action):
         return cls, kwargs
 
     def declaration(self, *, conditional: bool = False) -> DeclaredArgument:
-        default = describe(self.default.template) if self.default is not None else None
+        default = describe(self.default_value.template) if self.default_value is not None else None
         return DeclaredArgument(self.name, default, self.description, self.choices, self.origin, conditional)
 
     def execute(self, context: Any) -> None:
         context.declared.setdefault(self.name, self.declaration())
         if self.name not in context.configurations:
-            if self.default is None:
+            if self.default_value is None:
                 given = ', '.join(f'{k}:={v}' for k, v in context.launch_arguments.items()) or 'none'
                 raise self.origin.with_key('name').error(
                     f"required launch argument '{self.name}' was not given: pass {self.name}:=VALUE "
                     f"(declared arguments: {', '.join(context.declared_names())}; given: {given})")
-            context.configurations[self.name] = self.default.perform(context)
+            context.configurations[self.name] = self.default_value.perform(context)
         value = context.configurations[self.name]
         if self.choices and value not in self.choices:
             raise self.origin.with_key('choice').error(
@@ -72,25 +79,67 @@ class DeclareArgument(Action):
 
 
 class LetKwargs(ActionKwargs, total=False):
-    name: str
+    name: Text
     value: Text
 
 
 @launch_tag('let')
-class SetConfiguration(Action):
-    """`let: {name, value}`: set a launch configuration (read with `$(var name)`)."""
+class SetLaunchConfiguration(Action):
+    """`SetLaunchConfiguration(name, value)`; YAML `let: {name, value}`: set a launch
+    configuration (read with `LaunchConfiguration(name)` / `$(var name)`)."""
 
-    def __init__(self, *, name: str, value: Text, **kwargs: Any) -> None:
+    def __init__(self, name: Any, value: Any, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        self.name = name
-        self.value = value
+        self.name = self._text(name, 'name')
+        self.value = self._text(value, 'value')
 
     @classmethod
     def parse(cls, entity: Entity, parser: Parser) -> tuple[type[Action], LetKwargs]:
         _, kwargs = super().parse(entity, parser)
-        kwargs['name'] = entity.get_attr('name')
+        kwargs['name'] = parser.text(entity, 'name')
         kwargs['value'] = parser.text(entity, 'value', data_type=Scalar)
         return cls, kwargs
 
     def execute(self, context: Any) -> None:
-        context.configurations[self.name] = self.value.perform(context)
+        context.configurations[self.name.perform(context)] = self.value.perform(context)
+
+
+def parse_keep(entity: Entity, parser: Parser) -> list[tuple[Text, Text]] | None:
+    """`keep: [{name, value}]` of `group` and `reset`."""
+    items = entity.get_attr('keep', data_type=list[Entity], optional=True)
+    if items is None:
+        return None
+    keep = []
+    for item in items:
+        keep.append((parser.text(item, 'name'), parser.text(item, 'value', data_type=Scalar)))
+        item.assert_complete()
+    return keep
+
+
+def configuration_pairs(action: Action, values: Any, key: str) -> list[tuple[Text, Text]]:
+    """`launch_configurations={name: value}` (Python) or `keep` pairs (YAML) as Text pairs."""
+    if values is None:
+        return []
+    items = values.items() if isinstance(values, dict) else values
+    return [(action._text(name, key), action._text(value, key)) for name, value in items]
+
+
+@launch_tag('reset')
+class ResetLaunchConfigurations(Action):
+    """`ResetLaunchConfigurations(launch_configurations=None)`; YAML `reset: {keep: [...]}`:
+    clear every launch configuration (and the ROS scope: namespace, set_parameter, set_remap),
+    then set the given ones, evaluated before the clearing. Not scoped."""
+
+    def __init__(self, launch_configurations: Any = None, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self.launch_configurations = configuration_pairs(self, launch_configurations, 'launch_configurations')
+
+    @classmethod
+    def parse(cls, entity: Entity, parser: Parser) -> tuple[type[Action], ActionKwargs]:
+        _, kwargs = super().parse(entity, parser)
+        kwargs['launch_configurations'] = parse_keep(entity, parser)
+        return cls, kwargs
+
+    def execute(self, context: Any) -> None:
+        values = {name.perform(context): value.perform(context) for name, value in self.launch_configurations}
+        context.reset_configurations(values)

@@ -1,15 +1,16 @@
-"""`set_env`, `unset_env`, `append_env`: the environment of the processes started later
-(in the same scope), and of `$(env)`."""
+"""`SetEnvironmentVariable` (`set_env`), `UnsetEnvironmentVariable` (`unset_env`),
+`AppendEnvironmentVariable` (`append_env`): the environment of the processes started later
+(in the same scope), and of `EnvironmentVariable` / `$(env)`."""
 from __future__ import annotations
 
 import os
 from typing import Any
 
-from zros.launch.actions import Action, ActionKwargs, Parser, launch_tag
+from zros.launch.action import Action, ActionKwargs, Parser, launch_tag
 from zros.launch.entity import Entity, Scalar
-from zros.launch.substitutions import Text, Typed
+from zros.launch.template import Text, Typed
 
-__all__ = ['SetEnvironment', 'UnsetEnvironment', 'AppendEnvironment']
+__all__ = ['SetEnvironmentVariable', 'UnsetEnvironmentVariable', 'AppendEnvironmentVariable']
 
 
 class EnvKwargs(ActionKwargs, total=False):
@@ -20,12 +21,12 @@ class EnvKwargs(ActionKwargs, total=False):
 
 
 @launch_tag('set_env')
-class SetEnvironment(Action):
-    """`set_env: {name, value}`."""
+class SetEnvironmentVariable(Action):
+    """`SetEnvironmentVariable(name, value)`; YAML `set_env: {name, value}`."""
 
-    def __init__(self, *, name: Text, value: Text, **kwargs: Any) -> None:
+    def __init__(self, name: Any, value: Any, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        self.name, self.value = name, value
+        self.name, self.value = self._text(name, 'name'), self._text(value, 'value')
 
     @classmethod
     def parse(cls, entity: Entity, parser: Parser) -> tuple[type[Action], EnvKwargs]:
@@ -39,12 +40,12 @@ class SetEnvironment(Action):
 
 
 @launch_tag('unset_env')
-class UnsetEnvironment(Action):
-    """`unset_env: {name}`."""
+class UnsetEnvironmentVariable(Action):
+    """`UnsetEnvironmentVariable(name)`; YAML `unset_env: {name}`."""
 
-    def __init__(self, *, name: Text, **kwargs: Any) -> None:
+    def __init__(self, name: Any, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        self.name = name
+        self.name = self._text(name, 'name')
 
     @classmethod
     def parse(cls, entity: Entity, parser: Parser) -> tuple[type[Action], EnvKwargs]:
@@ -57,13 +58,16 @@ class UnsetEnvironment(Action):
 
 
 @launch_tag('append_env')
-class AppendEnvironment(Action):
-    """`append_env: {name, value, prepend: false, separator: os.pathsep}`."""
+class AppendEnvironmentVariable(Action):
+    """`AppendEnvironmentVariable(name, value, prepend=False, separator=os.pathsep)`;
+    YAML `append_env: {name, value, prepend, separator}`."""
 
-    def __init__(self, *, name: Text, value: Text, prepend: Typed | None = None,
-                 separator: Text | None = None, **kwargs: Any) -> None:
+    def __init__(self, name: Any, value: Any, *, prepend: Any = None, separator: Any = None,
+                 **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        self.name, self.value, self.prepend, self.separator = name, value, prepend, separator
+        self.name, self.value = self._text(name, 'name'), self._text(value, 'value')
+        self.prepend = self._typed(prepend, bool, 'prepend')
+        self.separator = self._optional_text(separator, 'separator')
 
     @classmethod
     def parse(cls, entity: Entity, parser: Parser) -> tuple[type[Action], EnvKwargs]:

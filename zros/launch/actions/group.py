@@ -1,40 +1,60 @@
-"""`group` (scoped children) and `push_ros_namespace` / `push-ros-namespace`."""
+"""`GroupAction` (`group`, scoped children) and launch_ros's `PushRosNamespace`
+(`push_ros_namespace` / `push-ros-namespace`)."""
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Iterable
 
 from zros.errors import InvalidNameError
-from zros.launch.actions import Action, ActionKwargs, Parser, PopScope, PushScope, launch_tag
-from zros.launch.entity import Entity, Scalar
-from zros.launch.errors import LaunchFileError
-from zros.launch.substitutions import Text, Typed
+from zros.launch.action import Action, ActionKwargs, Parser, PopScope, PushScope, launch_tag
+from zros.launch.actions.arg import configuration_pairs, parse_keep
+from zros.launch.entity import Entity
+from zros.launch.errors import LaunchFileError, Origin
+from zros.launch.template import Text, Typed
 from zros.names import validate_namespace
 
-__all__ = ['Group', 'PushRosNamespace', 'join_namespace']
+__all__ = ['GroupAction', 'PushRosNamespace', 'join_namespace', 'check_actions']
+
+
+def check_actions(actions: Any, origin: Origin) -> list[Action]:
+    """A list of actions given to a group, timer, event handler...: each must be an Action
+    (a LaunchDescription counts), so a stray value fails where it was written."""
+    from zros.launch.launch_description import LaunchDescription
+    if actions is None:
+        return []
+    if isinstance(actions, (Action, LaunchDescription)):
+        actions = [actions]
+    checked = []
+    for item in actions:
+        if not isinstance(item, (Action, LaunchDescription)):
+            raise LaunchFileError(origin, f'expected launch actions, got {type(item).__name__}')
+        checked.append(item)
+    return checked
 
 
 class GroupKwargs(ActionKwargs, total=False):
+    actions: list[Action]
     scoped: Typed | None
     forwarding: Typed | None
-    keep: list[tuple[str, Text]]
-    children: list[Action]
+    launch_configurations: list[tuple[Text, Text]] | None
 
 
 @launch_tag('group')
-class Group(Action):
-    """`group: {scoped: true, forwarding: true, keep: [{name, value}], children: [...]}` or a
-    bare list of children.
+class GroupAction(Action):
+    """`GroupAction(actions, scoped=True, forwarding=True, launch_configurations=None)`;
+    YAML `group: {scoped, forwarding, keep: [{name, value}], children: [...]}` or a bare list.
 
-    Scoped (the default): configuration, environment, namespace, `set_parameter` and
-    `set_remap` changes made inside end with the group. `forwarding: false` starts the group
-    with no configurations but those in `keep`.
+    Scoped (the default): configuration, environment, namespace, `SetParameter` and `SetRemap`
+    changes made inside end with the group. `launch_configurations` are set for the group;
+    with `forwarding=False` the group starts with those only.
     """
 
-    def __init__(self, *, children: list[Action], scoped: Typed | None = None,
-                 forwarding: Typed | None = None, keep: list | None = None, **kwargs: Any) -> None:
+    def __init__(self, actions: Iterable[Action], *, scoped: Any = None, forwarding: Any = None,
+                 launch_configurations: Any = None, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        self.children = children
-        self.scoped, self.forwarding, self.keep = scoped, forwarding, keep or []
+        self.actions = check_actions(actions, self.origin.with_key('actions'))
+        self.scoped = self._typed(scoped, bool, 'scoped')
+        self.forwarding = self._typed(forwarding, bool, 'forwarding')
+        self.launch_configurations = configuration_pairs(self, launch_configurations, 'launch_configurations')
 
     @classmethod
     def parse(cls, entity: Entity, parser: Parser) -> tuple[type[Action], GroupKwargs]:
@@ -42,24 +62,23 @@ class Group(Action):
         if entity.is_mapping:
             kwargs['scoped'] = parser.typed(entity, 'scoped', bool)
             kwargs['forwarding'] = parser.typed(entity, 'forwarding', bool)
-            keep = []
-            for item in entity.get_attr('keep', data_type=list[Entity], optional=True) or []:
-                keep.append((item.get_attr('name'), parser.text(item, 'value', data_type=Scalar)))
-                item.assert_complete()
-            kwargs['keep'] = keep
-        kwargs['children'] = parser.parse_actions(entity.children)
+            kwargs['launch_configurations'] = parse_keep(entity, parser)
+        kwargs['actions'] = parser.parse_actions(entity.children)
         return cls, kwargs
 
     def sub_actions(self) -> list[Action]:
-        return self.children
+        return self.actions
 
     def execute(self, context: Any) -> list[Action]:
         scoped = self.scoped.perform(context) if self.scoped is not None else True
         forwarding = self.forwarding.perform(context) if self.forwarding is not None else True
         if not scoped:
-            return list(self.children)
-        return [PushScope(origin=self.origin, forwarding=forwarding, keep=self.keep),
-                *self.children, PopScope(origin=self.origin)]
+            from zros.launch.actions.arg import SetLaunchConfiguration
+            sets = [SetLaunchConfiguration(name, value, origin=self.origin)
+                    for name, value in self.launch_configurations]
+            return [*sets, *self.actions]
+        return [PushScope(origin=self.origin, forwarding=forwarding, configurations=self.launch_configurations),
+                *self.actions, PopScope(origin=self.origin)]
 
 
 def join_namespace(base: str, namespace: str) -> str:
@@ -78,11 +97,12 @@ class PushNamespaceKwargs(ActionKwargs, total=False):
 
 @launch_tag('push_ros_namespace', 'push-ros-namespace')
 class PushRosNamespace(Action):
-    """`push_ros_namespace: {namespace}`: later nodes in the scope go under this namespace."""
+    """`PushRosNamespace(namespace)`; YAML `push_ros_namespace: {namespace}`: later nodes in
+    the scope go under this namespace."""
 
-    def __init__(self, *, namespace: Text, **kwargs: Any) -> None:
+    def __init__(self, namespace: Any, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        self.namespace = namespace
+        self.namespace = self._text(namespace, 'namespace')
 
     @classmethod
     def parse(cls, entity: Entity, parser: Parser) -> tuple[type[Action], PushNamespaceKwargs]:

@@ -1,10 +1,12 @@
-"""`executable` and `node`: the tags that become processes.
+"""`ExecuteProcess` (`executable`) and launch_ros's `Node` (`node`): the actions that become
+processes.
 
-`node` is `executable` plus what launch_ros adds: the command is
+`Node` is `ExecuteProcess` plus what launch_ros adds: the command is
 `python -m zros run PKG EXEC [args] --ros-args -r __node:=NAME -r __ns:=/NS -r from:=to
---params-file ... [ros_args]`, so a node runs exactly as it would under `zros run`.
-Everything is checked while the launch is resolved (package, executable, names, parameter
-files), so one bad node stops the launch before any process starts.
+--params-file ... [ros_args]`, so a node runs exactly as it would under `zros run` (a node
+without a package runs an executable from PATH the same way). Everything is checked while the
+launch is resolved (package, executable, names, parameter files), so one bad node stops the
+launch before any process starts.
 """
 from __future__ import annotations
 
@@ -16,35 +18,18 @@ from pathlib import Path
 from typing import Any, NamedTuple
 
 from zros.errors import InvalidNameError
-from zros.launch.actions import Action, ActionKwargs, Parser, launch_tag
+from zros.launch.action import Action, ActionKwargs, Parser, launch_tag
 from zros.launch.actions.group import join_namespace
-from zros.launch.actions.ros import ParamValue
 from zros.launch.entity import Entity, Scalar
 from zros.launch.errors import LaunchFileError, Origin
+from zros.launch.parameters import ParamEntry, param_entries, yaml_param_entries
 from zros.launch.plan import OUTPUT_MODES, GeneratedParams, NodeInfo, ParamsFile, ProcessSpec
-from zros.launch.substitutions import Text, Typed, perform, parse
+from zros.launch.template import Text, Typed, is_static, parse, perform
 
-__all__ = ['ExecuteProcess', 'Node', 'DEFAULT_SIGTERM_TIMEOUT', 'DEFAULT_SIGKILL_TIMEOUT']
+__all__ = ['ExecuteProcess', 'Node', 'CommandLine', 'DEFAULT_SIGTERM_TIMEOUT', 'DEFAULT_SIGKILL_TIMEOUT']
 
 DEFAULT_SIGTERM_TIMEOUT = 5.0
 DEFAULT_SIGKILL_TIMEOUT = 5.0
-
-
-class ExecuteKwargs(ActionKwargs, total=False):
-    cmd: Text
-    label: Text | None
-    cwd: Text | None
-    prefix: Text | None
-    output: Text | None
-    respawn: Typed | None
-    respawn_delay: Typed | None
-    respawn_max_retries: Typed | None
-    sigterm_timeout: Typed | None
-    sigkill_timeout: Typed | None
-    shell: Typed | None
-    emulate_tty: Typed | None
-    on_exit_shutdown: bool
-    env: list[tuple[Text, Text]]
 
 
 def _split(text: str, origin: Origin) -> list[str]:
@@ -54,68 +39,157 @@ def _split(text: str, origin: Origin) -> list[str]:
         raise LaunchFileError(origin, f'cannot split {text!r} into arguments: {exc}') from None
 
 
+class CommandLine(NamedTuple):
+    """Arguments as written: YAML gives one string split like a shell would after substitution
+    (`split=True`); Python gives a list whose items are one argument each."""
+
+    parts: tuple[Text, ...]
+    split: bool
+    origin: Origin
+
+    @classmethod
+    def of(cls, value: Any, origin: Origin) -> 'CommandLine':
+        """Python: a list of SomeSubstitutionsType (one argument each); a bare string is split."""
+        if isinstance(value, CommandLine):
+            return value
+        if isinstance(value, (str, Text)):
+            return cls((Text.of(value, origin),), True, origin)
+        try:
+            items = list(value)
+        except TypeError:
+            raise LaunchFileError(origin, f'expected a list of arguments, got {type(value).__name__}') from None
+        return cls(tuple(Text.of(item, origin) for item in items), False, origin)
+
+    @classmethod
+    def yaml(cls, text: Text | None) -> 'CommandLine | None':
+        return None if text is None else cls((text,), True, text.origin)
+
+    def perform(self, context: Any) -> list[str]:
+        out: list[str] = []
+        for part in self.parts:
+            text = part.perform(context)
+            if self.split:
+                out += _split(text, part.origin)
+            else:
+                out.append(text)
+        return out
+
+    def joined(self, context: Any) -> str:
+        """The command line as one string (for `shell=True`)."""
+        return ' '.join(part.perform(context) for part in self.parts)
+
+
+def _environment_pairs(owner: Action, values: Any, key: str) -> list[tuple[Text, Text]]:
+    if values is None:
+        return []
+    items = values.items() if isinstance(values, dict) else values
+    return [(owner._text(name, key), owner._text(value, key)) for name, value in items]
+
+
+class ExecuteKwargs(ActionKwargs, total=False):
+    cmd: CommandLine
+    name: Text | None
+    cwd: Text | None
+    prefix: CommandLine | None
+    output: Text | None
+    respawn: Typed | None
+    respawn_delay: Typed | None
+    respawn_max_retries: Typed | None
+    sigterm_timeout: Typed | None
+    sigkill_timeout: Typed | None
+    shell: Typed | None
+    emulate_tty: Typed | None
+    on_exit: Any
+    additional_env: list[tuple[Text, Text]]
+
+
 @launch_tag('executable')
 class ExecuteProcess(Action):
-    """`executable: {cmd, cwd, name, launch-prefix, output, respawn, respawn_delay,
-    respawn_max_retries, sigterm_timeout, sigkill_timeout, shell, emulate_tty, on_exit, env}`.
+    """`ExecuteProcess(cmd=[...], name, cwd, env, additional_env, shell, output, respawn,
+    respawn_delay, respawn_max_retries, sigterm_timeout, sigkill_timeout, prefix, emulate_tty,
+    on_exit)`; YAML `executable: {cmd, name, cwd, launch-prefix, shell, output, respawn, ...,
+    on_exit: shutdown, env: [{name, value}]}`.
 
-    `cmd` is split like a shell would (quotes group words) after substitution; with
-    `shell: true` it is run by /bin/sh as written.
+    Python's `cmd` is a list with one argument per item; YAML's is one string, split like a
+    shell would after substitution. With `shell=True` the command line is run by /bin/sh.
+    `on_exit` takes actions (or a function of the exit event and context returning actions),
+    run when the process exits, as `RegisterEventHandler(OnProcessExit(...))` would.
     """
 
-    # attributes `parse_process` reads; `node` does not take `cmd` or `shell`
-    _COMMON = ('cwd', 'launch-prefix', 'output', 'respawn', 'respawn_delay', 'respawn_max_retries',
-               'sigterm_timeout', 'sigkill_timeout', 'emulate_tty', 'on_exit', 'env')
-
-    def __init__(self, *, cmd: Text | None = None, label: Text | None = None, cwd: Text | None = None,
-                 prefix: Text | None = None, output: Text | None = None, respawn: Typed | None = None,
-                 respawn_delay: Typed | None = None, respawn_max_retries: Typed | None = None,
-                 sigterm_timeout: Typed | None = None, sigkill_timeout: Typed | None = None,
-                 shell: Typed | None = None, emulate_tty: Typed | None = None, on_exit_shutdown: bool = False,
-                 env: list[tuple[Text, Text]] | None = None, **kwargs: Any) -> None:
+    def __init__(self, *, cmd: Any = None, name: Any = None, cwd: Any = None, env: Any = None,
+                 additional_env: Any = None, shell: Any = None, prefix: Any = None, output: Any = None,
+                 respawn: Any = None, respawn_delay: Any = None, respawn_max_retries: Any = None,
+                 sigterm_timeout: Any = None, sigkill_timeout: Any = None, emulate_tty: Any = None,
+                 on_exit: Any = None, log_cmd: Any = None, cached_output: Any = None, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        self.cmd, self.label, self.cwd, self.prefix, self.output = cmd, label, cwd, prefix, output
-        self.respawn, self.respawn_delay, self.respawn_max_retries = respawn, respawn_delay, respawn_max_retries
-        self.sigterm_timeout, self.sigkill_timeout = sigterm_timeout, sigkill_timeout
-        self.shell, self.emulate_tty = shell, emulate_tty
-        self.on_exit_shutdown = on_exit_shutdown
-        self.env = env or []
+        self.cmd = CommandLine.of(cmd, self.origin.with_key('cmd')) if cmd is not None else None
+        self.label = self._optional_text(name, 'name')
+        self.cwd = self._optional_text(cwd, 'cwd')
+        self.env = _environment_pairs(self, env, 'env') if env is not None else None
+        self.additional_env = _environment_pairs(self, additional_env, 'additional_env')
+        self.shell = self._typed(shell, bool, 'shell')
+        self.prefix = prefix if isinstance(prefix, CommandLine) or prefix is None else CommandLine(
+            (self._text(prefix, 'prefix'),), True, self.origin.with_key('prefix'))
+        self.output = self._optional_text(output, 'output')
+        if self.output is not None and is_static(self.output.template) \
+                and ''.join(self.output.template) not in OUTPUT_MODES:
+            raise LaunchFileError(self.output.origin, f"expected one of {', '.join(OUTPUT_MODES)}, "
+                                                      f"got '{''.join(self.output.template)}'")
+        self.respawn = self._typed(respawn, bool, 'respawn')
+        self.respawn_delay = self._non_negative(self._typed(respawn_delay, float, 'respawn_delay'))
+        self.respawn_max_retries = self._typed(respawn_max_retries, int, 'respawn_max_retries')
+        self.sigterm_timeout = self._non_negative(self._typed(sigterm_timeout, float, 'sigterm_timeout'))
+        self.sigkill_timeout = self._non_negative(self._typed(sigkill_timeout, float, 'sigkill_timeout'))
+        self.emulate_tty = self._typed(emulate_tty, bool, 'emulate_tty')
+        self.log_cmd = self._typed(log_cmd, bool, 'log_cmd')
+        self.cached_output = self._typed(cached_output, bool, 'cached_output')
+        self.on_exit_shutdown, self.on_exit = self._on_exit(on_exit)
+
+    def _on_exit(self, on_exit: Any) -> tuple[bool, Any]:
+        """`on_exit`: a lone Shutdown is the supervisor's own `on_exit: shutdown`; anything
+        else becomes an OnProcessExit handler for this process."""
+        from zros.launch.actions.shutdown import Shutdown
+        if on_exit is None:
+            return False, None
+        actions = [on_exit] if isinstance(on_exit, Action) else on_exit
+        if isinstance(actions, list) and len(actions) == 1 and type(actions[0]) is Shutdown \
+                and actions[0].condition is None and actions[0].reason is None:
+            return True, None
+        return False, actions
 
     # -- parsing -----------------------------------------------------------------------------
     @classmethod
     def parse(cls, entity: Entity, parser: Parser) -> tuple[type[Action], ExecuteKwargs]:
         _, kwargs = cls.parse_process(entity, parser)
-        kwargs['cmd'] = parser.text(entity, 'cmd')
-        kwargs['label'] = parser.text(entity, 'name', optional=True)
+        kwargs['cmd'] = CommandLine.yaml(parser.text(entity, 'cmd'))
+        kwargs['name'] = parser.text(entity, 'name', optional=True)
         kwargs['shell'] = parser.typed(entity, 'shell', bool)
         return cls, kwargs
 
     @classmethod
     def parse_process(cls, entity: Entity, parser: Parser) -> tuple[type[Action], ExecuteKwargs]:
         """The attributes `executable` and `node` share."""
+        from zros.launch.actions.shutdown import Shutdown
         _, kwargs = super().parse(entity, parser)
         kwargs['cwd'] = parser.text(entity, 'cwd', optional=True)
-        kwargs['prefix'] = parser.text(entity, 'launch-prefix', optional=True)
-        output = parser.text(entity, 'output', optional=True)
-        if output is not None and len(output.template) == 1 and isinstance(output.template[0], str) \
-                and output.template[0] not in OUTPUT_MODES:
-            raise entity.error('output', f"expected one of {', '.join(OUTPUT_MODES)}, got '{output.template[0]}'")
-        kwargs['output'] = output
+        kwargs['prefix'] = CommandLine.yaml(parser.text(entity, 'launch-prefix', optional=True))
+        kwargs['output'] = parser.text(entity, 'output', optional=True)
         kwargs['respawn'] = parser.typed(entity, 'respawn', bool)
-        kwargs['respawn_delay'] = cls._non_negative(parser.typed(entity, 'respawn_delay', float))
+        kwargs['respawn_delay'] = parser.typed(entity, 'respawn_delay', float)
         kwargs['respawn_max_retries'] = parser.typed(entity, 'respawn_max_retries', int)
-        kwargs['sigterm_timeout'] = cls._non_negative(parser.typed(entity, 'sigterm_timeout', float))
-        kwargs['sigkill_timeout'] = cls._non_negative(parser.typed(entity, 'sigkill_timeout', float))
+        kwargs['sigterm_timeout'] = parser.typed(entity, 'sigterm_timeout', float)
+        kwargs['sigkill_timeout'] = parser.typed(entity, 'sigkill_timeout', float)
         kwargs['emulate_tty'] = parser.typed(entity, 'emulate_tty', bool)
         on_exit = entity.get_attr('on_exit', optional=True)
-        if on_exit is not None and on_exit != 'shutdown':
-            raise entity.error('on_exit', f"the only supported action is 'shutdown', got '{on_exit}'")
-        kwargs['on_exit_shutdown'] = on_exit == 'shutdown'
+        if on_exit is not None:
+            if on_exit != 'shutdown':
+                raise entity.error('on_exit', f"the only supported action is 'shutdown', got '{on_exit}'")
+            kwargs['on_exit'] = [Shutdown(origin=entity.origin_of('on_exit'))]
         env = []
         for item in entity.get_attr('env', data_type=list[Entity], optional=True) or []:
             env.append((parser.text(item, 'name'), parser.text(item, 'value', data_type=Scalar)))
             item.assert_complete()
-        kwargs['env'] = env
+        kwargs['additional_env'] = env
         return cls, kwargs
 
     @staticmethod
@@ -144,23 +218,31 @@ class ExecuteProcess(Action):
         except ValueError:
             raise LaunchFileError(self.origin, f"launch configuration '{name}' must be a number, got '{text}'") from None
 
+    def _environment_changes(self, context: Any) -> dict[str, str | None]:
+        changes = dict(context.environment_changes())
+        if self.env is not None:   # `env=`: the process gets exactly this environment
+            wanted = {name.perform(context): value.perform(context) for name, value in self.env}
+            changes = {name: None for name in os.environ if name not in wanted}
+            changes.update(wanted)
+        for name, value in self.additional_env:
+            changes[name.perform(context)] = value.perform(context)
+        return changes
+
     def process_options(self, context: Any) -> dict[str, Any]:
-        """ProcessSpec fields common to both tags, resolved."""
+        """ProcessSpec fields common to both actions, resolved."""
         output = os.environ.get('OVERRIDE_LAUNCH_PROCESS_OUTPUT') or (
             self.output.perform(context) if self.output is not None else 'log')
         if output not in OUTPUT_MODES:
             origin = self.output.origin if self.output is not None else self.origin
             raise LaunchFileError(origin, f"expected one of {', '.join(OUTPUT_MODES)}, got '{output}'")
-        env_changes = dict(context.environment_changes())
-        for name, value in self.env:
-            env_changes[name.perform(context)] = value.perform(context)
         cwd = self.cwd.perform(context) if self.cwd is not None else None
         if cwd is not None and not os.path.isdir(cwd):
             raise LaunchFileError(self.cwd.origin, f"no such directory '{cwd}'")
-        if self.emulate_tty is not None:
-            self.emulate_tty.perform(context)  # accepted for compatibility; output is always line-buffered
+        for accepted in (self.emulate_tty, self.log_cmd, self.cached_output):
+            if accepted is not None:   # accepted for compatibility; output is always line-buffered
+                accepted.perform(context)
         return dict(
-            env=tuple(env_changes.items()),
+            env=tuple(self._environment_changes(context).items()),
             cwd=cwd,
             output=output,
             respawn=self.respawn.perform(context) if self.respawn is not None else False,
@@ -174,47 +256,61 @@ class ExecuteProcess(Action):
                                          context),
             on_exit_shutdown=self.on_exit_shutdown,
             origin=self.origin,
+            source=self,
         )
 
     def prefix_args(self, context: Any) -> list[str]:
-        """`launch-prefix` (or the `launch-prefix` configuration, as in launch)."""
+        """`prefix` / `launch-prefix` (or the `launch-prefix` configuration, as in launch)."""
         if self.prefix is not None:
-            return _split(self.prefix.perform(context), self.prefix.origin)
+            return self.prefix.perform(context)
         configured = context.configurations.get('launch-prefix', '')
         return _split(configured, self.origin) if configured else []
 
-    def execute(self, context: Any) -> None:
-        text = self.cmd.perform(context)
+    def after_start(self) -> list[Action]:
+        """The OnProcessExit handler that `on_exit` asks for, if any."""
+        if self.on_exit is None:
+            return []
+        from zros.launch.actions.events import RegisterEventHandler
+        from zros.launch.event_handlers import OnProcessExit
+        handler = OnProcessExit(target_action=self, on_exit=self.on_exit, origin=self.origin.with_key('on_exit'))
+        return [RegisterEventHandler(handler, origin=self.origin)]
+
+    def execute(self, context: Any) -> list[Action]:
+        if self.cmd is None:
+            raise LaunchFileError(self.origin, "ExecuteProcess needs 'cmd'")
         shell = self.shell.perform(context) if self.shell is not None else False
         options = self.process_options(context)
         prefix = self.prefix_args(context)
         if shell:
+            text = self.cmd.joined(context)
             if not text.strip():
                 raise LaunchFileError(self.cmd.origin, 'empty command')
             head = (*prefix, '/bin/sh', '-c', text)
             first = text.split()[:1] or ['sh']
             shell_text = shlex.join(prefix) + ' ' + text if prefix else text
         else:
-            argv = _split(text, self.cmd.origin)
+            argv = self.cmd.perform(context)
             if not argv:
                 raise LaunchFileError(self.cmd.origin, 'empty command')
-            self._check_program(argv[0], options, context)
+            check_program(argv[0], options, context, self.cmd.origin)
             head = (*prefix, *argv)
             first, shell_text = argv, None
         label = self.label.perform(context) if self.label is not None else os.path.basename(first[0])
         context.emit(ProcessSpec(label=_label(label), cmd_head=tuple(head), shell_text=shell_text, **options))
+        return self.after_start()
 
-    def _check_program(self, program: str, options: dict, context: Any) -> None:
-        env = dict(context.environment)
-        env.update({k: v for k, v in options['env'] if v is not None})
-        if os.sep in program:
-            path = Path(options['cwd'] or '.') / program if not os.path.isabs(program) else Path(program)
-            ok = path.is_file() and os.access(path, os.X_OK)
-        else:
-            ok = shutil.which(program, path=env.get('PATH')) is not None
-        if not ok:
-            raise LaunchFileError(self.cmd.origin, f"executable '{program}' not found"
-                                  + ('' if os.sep in program else ' on PATH'))
+
+def check_program(program: str, options: dict, context: Any, origin: Origin) -> None:
+    """The program must exist (on PATH, or as a path), so a typo stops the launch up front."""
+    env = dict(context.environment)
+    env.update({k: v for k, v in options['env'] if v is not None})
+    if os.sep in program:
+        path = Path(options['cwd'] or '.') / program if not os.path.isabs(program) else Path(program)
+        ok = path.is_file() and os.access(path, os.X_OK)
+    else:
+        ok = shutil.which(program, path=env.get('PATH')) is not None
+    if not ok:
+        raise LaunchFileError(origin, f"executable '{program}' not found" + ('' if os.sep in program else ' on PATH'))
 
 
 def _label(text: str) -> str:
@@ -224,43 +320,8 @@ def _label(text: str) -> str:
 
 
 # -- node -------------------------------------------------------------------------------------
-class ParamEntry(NamedTuple):
-    """One `param:` item: `name`+`value`, `name`+nested `param`, or `from` (+ `allow_substs`)."""
-
-    name: Text | None
-    value: ParamValue | None
-    nested: tuple['ParamEntry', ...]
-    path: Text | None
-    allow_substs: Typed | None
-    origin: Origin
-
-
-def _parse_param_entries(entity: Entity, parser: Parser) -> tuple[ParamEntry, ...]:
-    entries = []
-    for item in entity.get_attr('param', data_type=list[Entity], optional=True) or []:
-        if item.has('from'):
-            if item.has('name'):
-                raise item.error('name', "'name' and 'from' cannot be used together")
-            entries.append(ParamEntry(None, None, (), parser.text(item, 'from'),
-                                      parser.typed(item, 'allow_substs', bool), item.origin))
-        else:
-            if not item.has('name'):
-                raise item.error(None, "a parameter needs 'name' (with 'value' or nested 'param') or 'from'")
-            name = parser.text(item, 'name')
-            if item.has('value') and item.has('param'):
-                raise item.error('param', "'value' and nested 'param' cannot be used together")
-            if item.has('param'):
-                entries.append(ParamEntry(name, None, _parse_param_entries(item, parser), None, None, item.origin))
-            elif item.has('value'):
-                entries.append(ParamEntry(name, ParamValue.from_entity(item, parser), (), None, None, item.origin))
-            else:
-                raise item.error(None, f"parameter '{name}' needs a 'value' or nested 'param' entries")
-        item.assert_complete()
-    return tuple(entries)
-
-
 def _set_dotted(tree: dict, name: str, value: Any, origin: Origin) -> None:
-    parts = [p for p in name.split('.')]
+    parts = name.split('.')
     if not all(parts):
         raise LaunchFileError(origin, f"invalid parameter name '{name}'")
     for part in parts[:-1]:
@@ -271,54 +332,79 @@ def _set_dotted(tree: dict, name: str, value: Any, origin: Origin) -> None:
     tree[parts[-1]] = value
 
 
+def remap_pairs(owner: Action, remappings: Any) -> list[tuple[Text, Text]]:
+    """Python `remappings=[(from, to), ...]` as Text pairs."""
+    pairs = []
+    for rule in remappings or []:
+        try:
+            source, target = rule
+        except (TypeError, ValueError):
+            raise LaunchFileError(owner.origin.with_key('remappings'),
+                                  f'expected (from, to) pairs, got {rule!r:.60}') from None
+        pairs.append((owner._text(source, 'remappings'), owner._text(target, 'remappings')))
+    return pairs
+
+
 class NodeKwargs(ExecuteKwargs, total=False):
-    package: Text
+    package: Text | None
     executable: Text
-    node_name: Text | None
+    exec_name: Text | None
     namespace: Text | None
-    args: Text | None
-    ros_args: Text | None
-    params: tuple[ParamEntry, ...]
-    remaps: list[tuple[Text, Text]]
+    arguments: CommandLine | None
+    ros_arguments: CommandLine | None
+    parameters: tuple[ParamEntry, ...]
+    remappings: list[tuple[Text, Text]]
 
 
 @launch_tag('node')
 class Node(ExecuteProcess):
-    """`node: {pkg, exec, name, namespace, exec_name, args, ros_args, param, remap}` plus every
-    `executable` attribute except `cmd` and `shell`."""
+    """`Node(package, executable, name, namespace, exec_name, parameters, remappings,
+    arguments, ros_arguments, ...)` plus every ExecuteProcess keyword but `cmd` and `shell`;
+    YAML `node: {pkg, exec, name, namespace, exec_name, args, ros_args, param, remap, ...}`.
 
-    def __init__(self, *, package: Text, executable: Text, node_name: Text | None = None,
-                 namespace: Text | None = None, args: Text | None = None, ros_args: Text | None = None,
-                 params: tuple[ParamEntry, ...] = (), remaps: list | None = None, **kwargs: Any) -> None:
+    Without a package, `executable` is a program on PATH, run with the same `--ros-args`.
+    """
+
+    def __init__(self, *, executable: Any, package: Any = None, name: Any = None, namespace: Any = None,
+                 exec_name: Any = None, parameters: Any = None, remappings: Any = None, arguments: Any = None,
+                 ros_arguments: Any = None, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        self.package, self.executable = package, executable
-        self.node_name, self.namespace = node_name, namespace
-        self.args, self.ros_args = args, ros_args
-        self.params, self.remaps = params, remaps or []
+        self.package = self._optional_text(package, 'package')
+        self.executable = self._text(executable, 'executable')
+        self.node_name = self._optional_text(name, 'name')
+        self.namespace = self._optional_text(namespace, 'namespace')
+        if exec_name is not None:
+            self.label = self._text(exec_name, 'exec_name')
+        self.arguments = CommandLine.of(arguments, self.origin.with_key('arguments')) if arguments is not None else None
+        self.ros_arguments = (CommandLine.of(ros_arguments, self.origin.with_key('ros_arguments'))
+                              if ros_arguments is not None else None)
+        self.parameters = parameters if isinstance(parameters, tuple) and all(
+            isinstance(p, ParamEntry) for p in parameters) else param_entries(parameters, self.origin.with_key('parameters'))
+        self.remappings = remappings if isinstance(remappings, list) and all(
+            isinstance(r, tuple) and isinstance(r[0], Text) for r in remappings) else remap_pairs(self, remappings)
 
     @classmethod
     def parse(cls, entity: Entity, parser: Parser) -> tuple[type[Action], NodeKwargs]:
         _, kwargs = cls.parse_process(entity, parser)
-        kwargs['package'] = parser.text(entity, 'pkg')
+        kwargs['package'] = parser.text(entity, 'pkg', optional=True)
         kwargs['executable'] = parser.text(entity, 'exec')
-        kwargs['label'] = parser.text(entity, 'exec_name', optional=True)
-        kwargs['node_name'] = parser.text(entity, 'name', optional=True)
+        kwargs['exec_name'] = parser.text(entity, 'exec_name', optional=True)
+        kwargs['name'] = parser.text(entity, 'name', optional=True)
         kwargs['namespace'] = parser.text(entity, 'namespace', optional=True)
-        kwargs['args'] = parser.text(entity, 'args', optional=True, data_type=Scalar)
-        kwargs['ros_args'] = parser.text(entity, 'ros_args', optional=True)
-        kwargs['params'] = _parse_param_entries(entity, parser)
+        kwargs['arguments'] = CommandLine.yaml(parser.text(entity, 'args', optional=True, data_type=Scalar))
+        kwargs['ros_arguments'] = CommandLine.yaml(parser.text(entity, 'ros_args', optional=True))
+        kwargs['parameters'] = yaml_param_entries(entity, parser)
         remaps = []
         for item in entity.get_attr('remap', data_type=list[Entity], optional=True) or []:
             remaps.append((parser.text(item, 'from'), parser.text(item, 'to')))
             item.assert_complete()
-        kwargs['remaps'] = remaps
+        kwargs['remappings'] = remaps
         return cls, kwargs
 
-    def execute(self, context: Any) -> None:
+    # -- resolution ----------------------------------------------------------------------------
+    def resolve_names(self, context: Any) -> tuple[str | None, str]:
+        """The node name (None: the node's own) and its absolute namespace, validated."""
         from zros.names import validate_namespace, validate_node_name
-        package = self.package.perform(context)
-        executable = self.executable.perform(context)
-        _check_node_executable(package, executable, self.package.origin, self.executable.origin)
         name = None
         if self.node_name is not None:
             name = self.node_name.perform(context)
@@ -327,43 +413,59 @@ class Node(ExecuteProcess):
             except InvalidNameError as exc:
                 raise LaunchFileError(self.node_name.origin, str(exc)) from None
         base = context.ros.namespace or '/'
-        if self.namespace is not None:
-            namespace = join_namespace(base, self.namespace.perform(context))
-        else:
-            namespace = base
+        namespace = join_namespace(base, self.namespace.perform(context)) if self.namespace is not None else base
         try:
             validate_namespace(namespace)
         except InvalidNameError as exc:
             origin = self.namespace.origin if self.namespace is not None else self.origin
             raise LaunchFileError(origin, str(exc)) from None
+        return name, namespace
 
+    def ros_arguments_for(self, context: Any, name: str | None, namespace: str) -> list[str]:
+        """`-r __node:=`, `-r __ns:=`, then the scope's and this node's remappings."""
         ros: list[str] = []
         if name is not None:
             ros += ['-r', f'__node:={name}']
         if namespace != '/':
             ros += ['-r', f'__ns:={namespace}']
         for source, target in [*context.ros.remaps,
-                               *((s.perform(context), t.perform(context)) for s, t in self.remaps)]:
+                               *((s.perform(context), t.perform(context)) for s, t in self.remappings)]:
             if not source or not target:
                 raise LaunchFileError(self.origin.with_key('remap'), f"remapping '{source}:={target}' "
                                       "needs both 'from' and 'to'")
             ros += ['-r', f'{source}:={target}']
+        return ros
+
+    def execute(self, context: Any) -> list[Action]:
+        executable = self.executable.perform(context)
+        options = self.process_options(context)
+        if self.package is not None:
+            package = self.package.perform(context)
+            _check_node_executable(package, executable, self.package.origin, self.executable.origin)
+            program = [sys.executable, '-m', 'zros', 'run', package, executable]
+        else:
+            package = ''
+            check_program(executable, options, context, self.executable.origin)
+            program = [executable]
+        name, namespace = self.resolve_names(context)
+        ros = self.ros_arguments_for(context, name, namespace)
         fqn = f"{'' if namespace == '/' else namespace}/{name or executable}"
-        params = self._param_sources(context, fqn)
-        user_args = _split(self.args.perform(context), self.args.origin) if self.args is not None else []
-        tail = _split(self.ros_args.perform(context), self.ros_args.origin) if self.ros_args is not None else []
-        head = [*self.prefix_args(context), sys.executable, '-m', 'zros', 'run', package, executable, *user_args]
+        params = self.param_sources(context, fqn)
+        user_args = self.arguments.perform(context) if self.arguments is not None else []
+        tail = self.ros_arguments.perform(context) if self.ros_arguments is not None else []
+        head = [*self.prefix_args(context), *program, *user_args]
         if ros or params or tail:
             head += ['--ros-args', *ros]
-        label = self.label.perform(context) if self.label is not None else executable
+        label = self.label.perform(context) if self.label is not None else os.path.basename(executable)
         context.emit(ProcessSpec(label=_label(label), cmd_head=tuple(head), params=tuple(params),
                                  cmd_tail=tuple(tail), node=NodeInfo(package, executable, name, namespace),
-                                 **self.process_options(context)))
+                                 **options))
+        return self.after_start()
 
     # -- parameters ----------------------------------------------------------------------------
-    def _param_sources(self, context: Any, fqn: str) -> list:
-        """Parameter sources in order: the scope's `set_parameter`s, then this node's entries;
-        consecutive inline values share one generated file, `from:` files stay in place."""
+    def param_sources(self, context: Any, fqn: str) -> list:
+        """Parameter sources in order: the scope's `SetParameter`s, then this node's entries;
+        consecutive inline values share one generated file, files stay in place."""
         sources: list = []
         inline: dict = {}
 
@@ -375,7 +477,7 @@ class Node(ExecuteProcess):
 
         for name, value in context.ros.params:
             _set_dotted(inline, name, value, self.origin)
-        for entry in self.params:
+        for entry in self.parameters:
             if entry.path is not None:
                 flush()
                 sources.append(self._params_file(entry, context, fqn))
@@ -392,6 +494,7 @@ class Node(ExecuteProcess):
             self._inline(child, name + '.', tree, context)
 
     def _params_file(self, entry: ParamEntry, context: Any, fqn: str) -> ParamsFile | GeneratedParams:
+        from zros.launch.files import read_text
         from zros.parameter import ParameterFileError, load_parameter_file
         import yaml
         raw = entry.path.perform(context)
@@ -402,11 +505,11 @@ class Node(ExecuteProcess):
         if not path.is_file():
             raise LaunchFileError(entry.path.origin, f"no such parameter file '{raw}'")
         try:
+            text = read_text(str(path), 'parameter file')
             load_parameter_file(str(path), fqn)
-        except ParameterFileError as exc:
+        except (ParameterFileError, LaunchFileError) as exc:
             raise LaunchFileError(entry.path.origin, str(exc)) from None
         if entry.allow_substs is not None and entry.allow_substs.perform(context):
-            text = path.read_text(encoding='utf-8')
             try:
                 substituted = perform(parse(text), context)
                 document = yaml.safe_load(substituted)

@@ -1,68 +1,15 @@
-"""ROS scope tags: `set_parameter`, `set_remap`, `set_use_sim_time`, and the parameter value
-rule shared with `node`'s `param` entries."""
+"""launch_ros's scope actions: `SetParameter` (`set_parameter`), `SetRemap` (`set_remap`),
+`SetUseSimTime` (`set_use_sim_time`): what every later node in the scope gets."""
 from __future__ import annotations
 
-from typing import Any, NamedTuple
+from typing import Any
 
-from zros.launch.actions import Action, ActionKwargs, Parser, launch_tag
+from zros.launch.action import Action, ActionKwargs, Parser, launch_tag
 from zros.launch.entity import Entity
-from zros.launch.errors import LaunchFileError, Origin
-from zros.launch.substitutions import Text, Typed
+from zros.launch.parameters import ParamValue
+from zros.launch.template import Text, Typed
 
-__all__ = ['ParamValue', 'SetParameter', 'SetRemap', 'SetUseSimTime', 'PARAM_TYPES']
-
-PARAM_TYPES = ('str', 'int', 'float', 'bool')
-
-
-class ParamValue(NamedTuple):
-    """A parameter value as written: a YAML scalar or list kept as is, or a string with
-    substitutions that is typed by YAML after evaluation (`'1'` -> 1, as `-p name:=1`), unless
-    `type: str` (or int, float, bool) says otherwise."""
-
-    value: Any
-    type: str | None
-    origin: Origin
-
-    @classmethod
-    def from_entity(cls, entity: Entity, parser: Parser, key: str = 'value') -> 'ParamValue':
-        raw = entity.get_attr(key, data_type=Any)
-        origin = entity.origin_of(key)
-        type_name = entity.get_attr('type', optional=True)
-        if type_name is not None and type_name not in PARAM_TYPES:
-            raise entity.error('type', f"expected one of {', '.join(PARAM_TYPES)}, got '{type_name}'")
-        if isinstance(raw, str):
-            return cls(Text.parse(raw, origin), type_name, origin)
-        if isinstance(raw, list):
-            items = []
-            for item in raw:
-                if isinstance(item, (dict, list)) or item is None:
-                    raise LaunchFileError(origin, 'a list parameter holds only strings, numbers or bools')
-                items.append(Text.parse(item, origin) if isinstance(item, str) else item)
-            return cls(items, type_name, origin)
-        if isinstance(raw, dict):
-            raise LaunchFileError(origin, "a parameter value cannot be a mapping: use nested 'param:' entries")
-        if raw is None:
-            raise LaunchFileError(origin, 'a parameter needs a value')
-        return cls(raw, type_name, origin)
-
-    def perform(self, context: Any) -> Any:
-        from zros.parameter import parse_parameter_value
-        if isinstance(self.value, Text):
-            text = self.value.perform(context)
-            if self.type is None:
-                return parse_parameter_value(text)
-            return self._coerce(text)
-        if isinstance(self.value, list):
-            return [item.perform(context) if isinstance(item, Text) else item for item in self.value]
-        return self._coerce(self.value) if self.type is not None else self.value
-
-    def _coerce(self, value: Any) -> Any:
-        if self.type == 'str':
-            if isinstance(value, bool):
-                return 'true' if value else 'false'
-            return str(value)
-        data_type = {'int': int, 'float': float, 'bool': bool}[self.type]
-        return Typed(data_type, None, self.origin).convert(value)
+__all__ = ['SetParameter', 'SetRemap', 'SetUseSimTime']
 
 
 class SetParameterKwargs(ActionKwargs, total=False):
@@ -72,18 +19,19 @@ class SetParameterKwargs(ActionKwargs, total=False):
 
 @launch_tag('set_parameter')
 class SetParameter(Action):
-    """`set_parameter: {name, value}`: a parameter for every later node in the scope (a node's
-    own `param` entries override it)."""
+    """`SetParameter(name, value)`; YAML `set_parameter: {name, value, type}`: a parameter for
+    every later node in the scope (a node's own parameters override it)."""
 
-    def __init__(self, *, name: Text, value: ParamValue, **kwargs: Any) -> None:
+    def __init__(self, name: Any, value: Any, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        self.name, self.value = name, value
+        self.name = self._text(name, 'name')
+        self.value = value if isinstance(value, ParamValue) else ParamValue.of(value, self.origin.with_key('value'))
 
     @classmethod
     def parse(cls, entity: Entity, parser: Parser) -> tuple[type[Action], SetParameterKwargs]:
         _, kwargs = super().parse(entity, parser)
         kwargs['name'] = parser.text(entity, 'name')
-        kwargs['value'] = ParamValue.from_entity(entity, parser)
+        kwargs['value'] = ParamValue.from_entity(entity)
         return cls, kwargs
 
     def execute(self, context: Any) -> None:
@@ -91,28 +39,28 @@ class SetParameter(Action):
 
 
 class SetRemapKwargs(ActionKwargs, total=False):
-    source: Text
-    target: Text
+    src: Text
+    dst: Text
 
 
 @launch_tag('set_remap')
 class SetRemap(Action):
-    """`set_remap: {from, to}`: a remapping for every later node in the scope (applied before
-    the node's own `remap` entries, so it wins, as in launch_ros)."""
+    """`SetRemap(src, dst)`; YAML `set_remap: {from, to}`: a remapping for every later node in
+    the scope (applied before the node's own remappings, so it wins, as in launch_ros)."""
 
-    def __init__(self, *, source: Text, target: Text, **kwargs: Any) -> None:
+    def __init__(self, src: Any, dst: Any, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        self.source, self.target = source, target
+        self.src, self.dst = self._text(src, 'src'), self._text(dst, 'dst')
 
     @classmethod
     def parse(cls, entity: Entity, parser: Parser) -> tuple[type[Action], SetRemapKwargs]:
         _, kwargs = super().parse(entity, parser)
-        kwargs['source'] = parser.text(entity, 'from')
-        kwargs['target'] = parser.text(entity, 'to')
+        kwargs['src'] = parser.text(entity, 'from')
+        kwargs['dst'] = parser.text(entity, 'to')
         return cls, kwargs
 
     def execute(self, context: Any) -> None:
-        context.ros.remaps.append((self.source.perform(context), self.target.perform(context)))
+        context.ros.remaps.append((self.src.perform(context), self.dst.perform(context)))
 
 
 class SetUseSimTimeKwargs(ActionKwargs, total=False):
@@ -121,11 +69,12 @@ class SetUseSimTimeKwargs(ActionKwargs, total=False):
 
 @launch_tag('set_use_sim_time')
 class SetUseSimTime(Action):
-    """`set_use_sim_time: {value: true}`: `use_sim_time` for every later node in the scope."""
+    """`SetUseSimTime(True)`; YAML `set_use_sim_time: {value: true}`: `use_sim_time` for every
+    later node in the scope."""
 
-    def __init__(self, *, value: Typed, **kwargs: Any) -> None:
+    def __init__(self, value: Any, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        self.value = value
+        self.value = self._typed(value, bool, 'value')
 
     @classmethod
     def parse(cls, entity: Entity, parser: Parser) -> tuple[type[Action], SetUseSimTimeKwargs]:

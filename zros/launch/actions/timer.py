@@ -1,63 +1,57 @@
-"""`timer`: run children `period` seconds after the launch reaches it."""
+"""`TimerAction` (`timer`): run actions `period` seconds after the launch reaches it."""
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Iterable
 
-from zros.launch.actions import Action, ActionKwargs, Parser, PopScope, PushScope, launch_tag
+from zros.launch.action import Action, ActionKwargs, EndCapture, Parser, PopScope, PushScope, launch_tag
+from zros.launch.actions.group import check_actions
 from zros.launch.entity import Entity
 from zros.launch.errors import LaunchFileError
 from zros.launch.plan import TimerEffect
-from zros.launch.substitutions import Typed
+from zros.launch.template import Typed
 
-__all__ = ['Timer']
+__all__ = ['TimerAction']
 
 
 class TimerKwargs(ActionKwargs, total=False):
     period: Typed
     cancel_on_shutdown: Typed | None
-    children: list[Action]
+    actions: list[Action]
 
 
 @launch_tag('timer')
-class Timer(Action):
-    """`timer: {period, children: [...]}`.
+class TimerAction(Action):
+    """`TimerAction(period=..., actions=[...])`; YAML `timer: {period, children: [...]}`.
 
-    The children are resolved with everything else before the launch starts (so their errors
+    The actions are resolved with everything else before the launch starts (so their errors
     stop the launch before any process runs) and carried out when the timer fires. Their
     configuration changes are scoped to the timer. A timer that has not fired when the launch
     shuts down is cancelled.
     """
 
-    def __init__(self, *, period: Typed, children: list[Action], cancel_on_shutdown: Typed | None = None,
+    def __init__(self, *, period: Any, actions: Iterable[Action], cancel_on_shutdown: Any = None,
                  **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        self.period, self.children, self.cancel_on_shutdown = period, children, cancel_on_shutdown
+        self.period = self._typed(period, float, 'period')
+        self.actions = check_actions(actions, self.origin.with_key('actions'))
+        self.cancel_on_shutdown = self._typed(cancel_on_shutdown, bool, 'cancel_on_shutdown')
 
     @classmethod
     def parse(cls, entity: Entity, parser: Parser) -> tuple[type[Action], TimerKwargs]:
         _, kwargs = super().parse(entity, parser)
         kwargs['period'] = parser.typed(entity, 'period', float, optional=False)
         kwargs['cancel_on_shutdown'] = parser.typed(entity, 'cancel_on_shutdown', bool)
-        kwargs['children'] = parser.parse_actions(entity.children)
+        kwargs['actions'] = parser.parse_actions(entity.children)
         return cls, kwargs
 
     def sub_actions(self) -> list[Action]:
-        return self.children
+        return self.actions
 
     def execute(self, context: Any) -> list[Action]:
         period = self.period.perform(context)
         if period < 0:
             raise LaunchFileError(self.period.origin, f'expected a non-negative period, got {period:g}')
         context.begin_capture()
-        return [PushScope(origin=self.origin), *self.children, PopScope(origin=self.origin),
-                _EndTimer(origin=self.origin, period=period)]
+        return [PushScope(origin=self.origin), *self.actions, PopScope(origin=self.origin),
+                EndCapture(origin=self.origin, wrap=lambda effects: TimerEffect(period, effects, self.origin))]
 
-
-class _EndTimer(Action):
-    def __init__(self, *, period: float, **kwargs: Any) -> None:
-        super().__init__(**kwargs)
-        self.period = period
-
-    def execute(self, context: Any) -> None:
-        effects = context.end_capture()
-        context.emit(TimerEffect(self.period, effects, self.origin))

@@ -1,0 +1,416 @@
+"""Python launch files (`*.launch.py`): the same model as YAML, checked through `resolve()` and
+through real `zros launch` runs with real node processes in a private domain.
+
+A probe package (on ZROS_NODE_PATH) has one node, `report`, that prints what it was started
+with (fully qualified name, parameters, where `chatter` resolves to, its arguments) and exits,
+so a test can see what the launch gave it.
+"""
+from __future__ import annotations
+
+import json
+import re
+import sys
+import textwrap
+import time
+from dataclasses import replace
+from pathlib import Path
+
+import pytest
+
+from conftest import assert_clean_failure, run_cli
+from test_launch_parse import write  # noqa: F401 - the fixture
+from zros.launch import LaunchError, resolve
+from zros.launch.plan import EventHandlerEffect, GeneratedParams, LogMessage, ProcessSpec, ShutdownEffect, TimerEffect
+
+REPO = Path(__file__).resolve().parents[1]
+
+REPORT_NODE = '''
+import json
+import os
+import sys
+
+import zros
+from zros.node import Node
+
+
+def main():
+    zros.init()
+    node = Node('report', automatically_declare_parameters_from_overrides=True)
+    args = sys.argv[1:sys.argv.index('--ros-args')] if '--ros-args' in sys.argv else sys.argv[1:]
+    params = {name: p.value for name, p in node.get_parameters_by_prefix('').items()}
+    print('REPORT ' + json.dumps({'fqn': node.get_fully_qualified_name(), 'params': params,
+                                  'chatter': node.resolve_topic_name('chatter'), 'args': args,
+                                  'env': os.environ.get('PROBE_ENV')}, sort_keys=True), flush=True)
+    node.destroy_node()
+    zros.shutdown()
+'''
+
+
+@pytest.fixture
+def probe(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """A package `probe` (node `report`, `param/report.yaml`) on ZROS_NODE_PATH; returns its folder."""
+    package = tmp_path / 'pkgs' / 'probe'
+    (package / 'param').mkdir(parents=True)
+    (package / 'report.py').write_text(REPORT_NODE)
+    (package / 'param' / 'report.yaml').write_text('/**:\n  ros__parameters:\n    from_file: 7\n    rate: 1\n')
+    monkeypatch.setenv('ZROS_NODE_PATH', str(tmp_path / 'pkgs'))
+    return package
+
+
+def reports(output: str) -> dict[str, dict]:
+    """The probe reports in a launch's output, by fully qualified node name."""
+    found = {}
+    for line in output.splitlines():
+        if 'REPORT ' in line:
+            data = json.loads(line.split('REPORT ', 1)[1])
+            found[data['fqn']] = data
+    return found
+
+
+def launch(*args: str, timeout: float = 60.0):
+    return run_cli('launch', *map(str, args), timeout=timeout)
+
+
+def normalized_plan(text: str) -> str:
+    """`--print` output without what differs between twins: file names and lines."""
+    return re.sub(r'\S+\.launch\.(py|yaml)(:\d+)?', 'FILE', text)
+
+
+# -- one model, two front ends -----------------------------------------------------------------
+@pytest.mark.parametrize('name', sorted(p.name[:-len('.launch.yaml')] for p in (REPO / 'configs').glob('*.launch.yaml')))
+def test_every_shipped_yaml_launch_file_has_a_python_twin_with_the_same_plan(name: str, tmp_path: Path):
+    yaml_plan = resolve(str(REPO / 'configs' / f'{name}.launch.yaml'), log_dir=str(tmp_path))
+    python_plan = resolve(str(REPO / 'configs' / f'{name}.launch.py'), log_dir=str(tmp_path))
+    assert normalized_plan(python_plan.describe()) == normalized_plan(yaml_plan.describe())
+    assert [replace(e, origin=None) for e in python_plan.effects] == [replace(e, origin=None) for e in yaml_plan.effects]
+
+
+def test_print_and_show_args_of_a_python_file_through_the_cli(tmp_path: Path):
+    printed = launch(REPO / 'configs' / 'talker_listener.launch.py', 'topic:=news', '--print', '--log-dir', tmp_path)
+    assert printed.returncode == 0, printed
+    assert '-r chatter:=news' in printed.stdout and 'process [listener-2]' in printed.stdout
+    shown = launch(REPO / 'configs' / 'talker_listener.launch.py', '--show-args')
+    assert "'topic':" in shown.stdout and "(default: 'chatter')" in shown.stdout, shown
+
+
+# -- every construct, in real runs ---------------------------------------------------------------
+NODES_LAUNCH = '''
+import os
+import sys
+
+from zros.ament_index_python.packages import get_package_share_directory
+from zros.launch import LaunchDescription
+from zros.launch.actions import (DeclareLaunchArgument, EmitEvent, ExecuteProcess, GroupAction,
+                                 IncludeLaunchDescription, LogInfo, OpaqueFunction, RegisterEventHandler,
+                                 SetEnvironmentVariable, TimerAction)
+from zros.launch.conditions import IfCondition, LaunchConfigurationEquals, UnlessCondition
+from zros.launch.event_handlers import OnProcessExit, OnProcessStart
+from zros.launch.events import Shutdown
+from zros.launch.launch_description_sources import PythonLaunchDescriptionSource, YAMLLaunchDescriptionSource
+from zros.launch.substitutions import (Command, EnvironmentVariable, LaunchConfiguration, PathJoinSubstitution,
+                                       PythonExpression, TextSubstitution)
+from zros.launch_ros.actions import Node, PushRosNamespace, SetParameter, SetRemap
+from zros.launch_ros.parameter_descriptions import ParameterValue
+from zros.launch_ros.substitutions import FindPackageShare
+
+
+def say_mode(context, prefix):
+    return [LogInfo(msg=prefix + LaunchConfiguration('mode').perform(context))]
+
+
+def generate_launch_description():
+    mode = LaunchConfiguration('mode')
+    report = Node(
+        package='probe', executable='report', name='reporter', namespace='inner', output='screen',
+        arguments=['--flag', 'two words'],
+        parameters=[PathJoinSubstitution([FindPackageShare('probe'), 'param', 'report.yaml']),
+                    {'rate': PythonExpression([LaunchConfiguration('base'), ' * 2']),
+                     'text': ParameterValue(Command(['echo ', TextSubstitution(text='42')]), value_type=str),
+                     'mode_text': mode,
+                     'home': EnvironmentVariable('PROBE_ENV', default_value='unset'),
+                     'nested': {'deep': True}}],
+        remappings=[('chatter', 'talk')])
+    sleeper = ExecuteProcess(cmd=[sys.executable, '-c', 'import time; time.sleep(60)'], name='sleeper')
+    return LaunchDescription([
+        DeclareLaunchArgument('mode', default_value='fast', choices=['fast', 'slow']),
+        DeclareLaunchArgument('base', default_value='5'),
+        SetEnvironmentVariable('PROBE_ENV', 'from-launch'),
+        GroupAction([
+            PushRosNamespace('robot'),
+            SetRemap('/unused', '/other'),
+            SetParameter('use_sim_time', False),
+            TimerAction(period=0.3, actions=[report]),
+        ]),
+        Node(package='probe', executable='report', name='never', condition=UnlessCondition('true')),
+        Node(package='probe', executable='report', name='slow_only', condition=LaunchConfigurationEquals('mode', 'slow')),
+        LogInfo(msg='fast mode', condition=IfCondition(PythonExpression(["'", mode, "' == 'fast'"]))),
+        OpaqueFunction(function=say_mode, args=['opaque saw mode=']),
+        IncludeLaunchDescription(YAMLLaunchDescriptionSource(os.path.join(os.path.dirname(__file__), 'mid.launch.yaml')),
+                                 launch_arguments={'who': mode}.items()),
+        sleeper,
+        RegisterEventHandler(OnProcessStart(target_action=sleeper, on_start=[LogInfo(msg='sleeper started')])),
+        RegisterEventHandler(OnProcessExit(
+            target_action=report,
+            on_exit=lambda event, context: [LogInfo(msg=f'report exited with {event.returncode}'),
+                                            EmitEvent(event=Shutdown(reason='the report is in'))])),
+    ])
+'''
+
+MID_YAML = '''
+launch:
+- arg: {name: who}
+- log: {message: 'yaml include got $(var who)'}
+- include:
+    file: leaf.launch.py
+    arg: [{name: depth, value: '2'}]
+'''
+
+LEAF_PY = '''
+from zros.launch import LaunchDescription
+from zros.launch.actions import DeclareLaunchArgument, LogInfo
+from zros.launch.substitutions import LaunchConfiguration, ThisLaunchFileDir
+
+
+def generate_launch_description():
+    return LaunchDescription([
+        DeclareLaunchArgument('depth'),
+        LogInfo(msg=['python leaf at depth ', LaunchConfiguration('depth')]),
+    ])
+'''
+
+
+def test_a_python_launch_runs_every_construct(probe: Path, write, tmp_path: Path):
+    main = write('main.launch.py', NODES_LAUNCH)
+    write('mid.launch.yaml', MID_YAML)
+    write('leaf.launch.py', LEAF_PY)
+    started = time.monotonic()
+    result = launch(main, '--log-dir', tmp_path / 'log', 'base:=21')
+    assert result.returncode == 0, result
+    assert time.monotonic() - started < 40, result
+    out = result.stdout
+    report = reports(out)['/robot/inner/reporter']
+    assert report['params'] == {'from_file': 7, 'rate': 42, 'text': '42', 'mode_text': 'fast', 'home': 'from-launch',
+                                'nested.deep': True, 'use_sim_time': False}
+    assert report['chatter'] == '/robot/inner/talk'
+    assert report['args'] == ['--flag', 'two words']
+    assert report['env'] == 'from-launch'
+    assert set(reports(out)) == {'/robot/inner/reporter'}            # the conditions held the others back
+    for line in ('[INFO] [launch.user]: fast mode', '[INFO] [launch.user]: opaque saw mode=fast',
+                 '[INFO] [launch.user]: yaml include got fast', '[INFO] [launch.user]: python leaf at depth 2',
+                 '[INFO] [launch.user]: sleeper started', '[INFO] [launch.user]: report exited with 0',
+                 'shutting down: the report is in'):
+        assert line in out, (line, result)
+    assert out.index('sleeper started') < out.index('report exited with 0') < out.index('shutting down')
+    assert re.search(r"\[INFO\] \[sleeper-\d+\]: sending signal 'SIGINT'", out), result
+
+
+def test_respawn_and_process_exit_handlers(write, tmp_path: Path):
+    path = write('respawn.launch.py', '''
+        import sys
+        from zros.launch import LaunchDescription
+        from zros.launch.actions import ExecuteProcess, LogInfo, RegisterEventHandler
+        from zros.launch.event_handlers import OnProcessExit
+
+
+        def generate_launch_description():
+            flaky = ExecuteProcess(cmd=[sys.executable, '-c', 'print("flaky ran"); raise SystemExit(3)'],
+                                   name='flaky', output='screen', respawn=True, respawn_max_retries=1)
+            return LaunchDescription([
+                flaky,
+                RegisterEventHandler(OnProcessExit(target_action=flaky, on_exit=[LogInfo(msg='flaky exited')])),
+            ])
+        ''')
+    result = launch(path, '--log-dir', tmp_path / 'log')
+    assert result.returncode == 0, result
+    assert result.stdout.count('[flaky-1] flaky ran') == 2, result
+    assert result.stdout.count('[launch.user]: flaky exited') == 2, result
+    assert result.stdout.count('exit code 3') == 2, result
+
+
+def test_package_launch_file_on_the_node_path(probe: Path, tmp_path: Path):
+    """`zros launch PKG FILE` finds `launch/FILE` in a package on ZROS_NODE_PATH."""
+    (probe / 'launch').mkdir()
+    (probe / 'launch' / 'report.launch.py').write_text(textwrap.dedent('''
+        from zros.launch import LaunchDescription
+        from zros.launch_ros.actions import Node
+
+        def generate_launch_description():
+            return LaunchDescription([Node(package='probe', executable='report', output='screen')])
+        '''))
+    result = launch('probe', 'report.launch.py', '--log-dir', tmp_path / 'log')
+    assert result.returncode == 0, result
+    assert '/report' in reports(result.stdout), result
+
+
+def test_shipped_package_launch_file_uses_its_share_directory(tmp_path: Path):
+    plan = resolve(str(REPO / 'nodes' / 'demo_nodes' / 'launch' / 'talker_listener.launch.py'),
+                   launch_arguments={'text': 'hi'}, log_dir=str(tmp_path))
+    talker = [e for e in plan.effects if isinstance(e, ProcessSpec)][0]
+    assert talker.params[0].path == str(REPO / 'nodes' / 'demo_nodes' / 'param' / 'talker.yaml')
+    assert talker.params[1] == GeneratedParams({'/**': {'ros__parameters': {'published_text': 'hi'}}})
+
+
+# -- the plan, in process ---------------------------------------------------------------------
+def plan_of(write, tmp_path: Path, text: str, **arguments: str):
+    path = write('t.launch.py', text)
+    return resolve(str(path), launch_arguments=arguments, log_dir=str(tmp_path / 'log'))
+
+
+HEADER = '''
+import sys
+from typing import List
+from zros.launch import LaunchDescription
+from zros.launch.actions import *
+from zros.launch.conditions import *
+from zros.launch.event_handlers import *
+from zros.launch.events import Shutdown as ShutdownEvent
+from zros.launch.substitutions import *
+from zros.launch_ros.actions import *
+from zros.launch_ros.descriptions import ComposableNode
+from zros.launch_ros.parameter_descriptions import *
+from zros.launch_ros.substitutions import *
+'''
+
+
+def test_node_options_and_parameter_rules(write, tmp_path: Path):
+    plan = plan_of(write, tmp_path, HEADER + '''
+def generate_launch_description():
+    return LaunchDescription([
+        SetEnvironmentVariable('A', '1'),
+        Node(package='demo_nodes', executable='talker', name='t', namespace='/ns', exec_name='speaker',
+             respawn=True, respawn_delay=2.5, sigterm_timeout='3', additional_env={'B': '2'},
+             ros_arguments=['--log-level', 'debug'], prefix='nice -n 5',
+             parameters=[{'plain': '1', 'typed': TextSubstitution(text='1'), 'forced': ParameterValue('1', value_type=int),
+                          'listed': [1, 2.5], 'strings': ['a', 'b'], 'flag': True,
+                          'typed_list': ParameterValue(TextSubstitution(text='[1, 2]'), value_type=List[int])}]),
+        ExecuteProcess(cmd=['echo', 'a b'], name='shell_free'),
+        ExecuteProcess(cmd=['echo hi && true'], shell=True, name='in_shell'),
+    ])
+''')
+    node, echo, shell = [e for e in plan.effects if isinstance(e, ProcessSpec)]
+    assert node.label == 'speaker'
+    assert node.cmd_head[:2] == ('nice', '-n') and node.cmd_tail == ('--log-level', 'debug')
+    assert node.respawn and node.respawn_delay == 2.5 and node.sigterm_timeout == 3.0
+    assert dict(node.env) == {'A': '1', 'B': '2'}
+    assert node.params[0].document['/**']['ros__parameters'] == {
+        'plain': '1', 'typed': 1, 'forced': 1, 'listed': [1.0, 2.5], 'strings': ['a', 'b'], 'flag': True,
+        'typed_list': [1, 2]}
+    assert echo.cmd_head == ('echo', 'a b')                      # one argument per item
+    assert shell.cmd_head[-3:] == ('/bin/sh', '-c', 'echo hi && true')
+
+
+def test_timer_event_handlers_and_shutdown_in_the_plan(write, tmp_path: Path):
+    plan = plan_of(write, tmp_path, HEADER + '''
+def generate_launch_description():
+    worker = ExecuteProcess(cmd=['true'], name='worker')
+    return LaunchDescription([
+        worker,
+        RegisterEventHandler(OnProcessExit(target_action=worker, on_exit=[EmitEvent(event=ShutdownEvent(reason='done'))])),
+        RegisterEventHandler(OnProcessStart(target_action=worker, on_start=lambda event, context: None)),
+        TimerAction(period=1.5, actions=[LogInfo(msg='later')]),
+        ExecuteProcess(cmd=['true'], name='stopper', on_exit=Shutdown()),
+    ])
+''')
+    worker, on_exit, on_start, timer, stopper = plan.effects
+    assert isinstance(on_exit, EventHandlerEffect) and on_exit.event == 'exit' and on_exit.matches(worker)
+    assert on_exit.effects == [ShutdownEffect('done', on_exit.effects[0].origin)]
+    assert on_start.deferred is not None and on_start.effects_for('worker-1', 1, None, ['true']) == []
+    assert timer == TimerEffect(1.5, [LogMessage('INFO', 'later', timer.effects[0].origin)], timer.origin)
+    assert stopper.on_exit_shutdown
+    printed = plan.describe()
+    assert 'on exit of [worker-1]:\n  shutdown: done' in printed
+    assert 'after 1.5 s:\n  log [INFO]: later' in printed
+
+
+def test_undeclared_arguments_read_by_the_launch_are_accepted(write, tmp_path: Path):
+    """ROS 2 launch files (turtlebot3_world.launch.py) read `x_pose` with a default and no
+    DeclareLaunchArgument; `x_pose:=1.0` must reach them. A name nothing reads is a typo."""
+    text = HEADER + '''
+def generate_launch_description():
+    x = LaunchConfiguration('x_pose', default='-2.0')
+    return LaunchDescription([OpaqueFunction(function=lambda context: [LogInfo(msg=context.launch_configurations.get('y', '-'))]),
+                              LogInfo(msg=['x=', x])])
+'''
+    plan = plan_of(write, tmp_path, text, x_pose='1.0', y='3')
+    assert [e.message for e in plan.effects] == ['3', 'x=1.0']
+    with pytest.raises(LaunchError, match="unknown launch argument 'x_poze'"):
+        plan_of(write, tmp_path, text, x_poze='1.0')
+
+
+def test_composable_nodes_run_as_processes(write, tmp_path: Path):
+    plan = plan_of(write, tmp_path, HEADER + '''
+def generate_launch_description():
+    return LaunchDescription([ComposableNodeContainer(
+        name='container', namespace='', package='rclcpp_components', executable='component_container',
+        composable_node_descriptions=[
+            ComposableNode(package='demo_nodes', plugin='demo_nodes::Talker', name='talker',
+                           remappings=[('chatter', 'news')], parameters=[{'x': 1}]),
+            ComposableNode(package='demo_nodes', plugin='demo_nodes::Listener', name='listener',
+                           condition=IfCondition('false')),
+        ])])
+''')
+    note, talker = plan.effects
+    assert note.message == ("zros has no component containers: composable node 'talker' of container "
+                            "'/container' runs as its own process")
+    assert talker.node.executable == 'talker' and '-r' in talker.cmd_head and 'chatter:=news' in talker.cmd_head
+
+
+# -- errors: one line, file and line, at load time ---------------------------------------------------
+@pytest.mark.parametrize('body, fragments', [
+    ('from zros.launch.actions import ExecuteLocal\n',
+     [':1: zros.launch.actions has no ExecuteLocal; supported: AppendEnvironmentVariable,', 'TimerAction']),
+    ('from launch import LaunchDescription\n',
+     [":1: no module named 'launch': in zros it is 'zros.launch' (from zros.launch import ...)"]),
+    ('import zros.launch_ros.actions\n\ndef generate_launch_description():\n'
+     '    return zros.launch_ros.actions.SetParametersFromFile("x")\n',
+     [':4: zros.launch_ros.actions has no SetParametersFromFile; supported:', 'Node']),
+    ('from zros.launch.event_handlers import OnShutdown\n',
+     [':1: zros.launch.event_handlers has no OnShutdown; supported: OnProcessExit, OnProcessStart']),
+    ('from zros.launch import LaunchDescription\nfrom zros.launch_ros.actions import Node\n\n'
+     'def generate_launch_description():\n'
+     '    return LaunchDescription([Node(package="demo_nodes", executable="talker", colour="red")])\n',
+     [":5: Node: colour: Node takes no argument 'colour'"]),
+    ('from zros.launch import LaunchDescription\nfrom zros.launch_ros.actions import Node\n\n'
+     'def generate_launch_description():\n    return LaunchDescription([Node(package="demo_nodes")])\n',
+     [":5: TypeError: Node.__init__() missing 1 required keyword-only argument: 'executable'"]),
+    ('def generate_launch_description():\n    return 1 / 0\n', [':2: ZeroDivisionError: division by zero']),
+    ('def generate_launch_description(:\n', [':1: invalid Python:']),
+    ('x = 1\n', [': no generate_launch_description() function']),
+    ('def generate_launch_description():\n    return [1]\n', ['returned list, not a LaunchDescription']),
+    ('from zros.launch import LaunchDescription\nfrom zros.launch_ros.actions import Node\n\n'
+     'def generate_launch_description():\n    return LaunchDescription([Node(package="demo_nodes", executable="talkr")])\n',
+     [":5: Node: executable: no executable 'talkr' in package 'demo_nodes'"]),
+    ('from zros.launch import LaunchDescription\nfrom zros.launch.actions import LogInfo\n'
+     'from zros.launch.conditions import IfCondition\n\ndef generate_launch_description():\n'
+     '    return LaunchDescription([LogInfo(msg="x", condition=IfCondition("maybe"))])\n',
+     [":6: IfCondition: 'maybe' is not a boolean"]),
+    ('from zros.launch import LaunchDescription\nfrom zros.launch.actions import LogInfo\n'
+     'from zros.launch.substitutions import LaunchConfiguration\n\ndef generate_launch_description():\n'
+     '    return LaunchDescription([LogInfo(msg=LaunchConfiguration("nope"))])\n',
+     [":6: LogInfo: msg: launch configuration 'nope' is not set"]),
+    ('from zros.launch import LaunchDescription\nfrom zros.launch.actions import OpaqueFunction\n\n'
+     'def boom(context):\n    raise RuntimeError("bad idea")\n\ndef generate_launch_description():\n'
+     '    return LaunchDescription([OpaqueFunction(function=boom)])\n',
+     [':5: OpaqueFunction: boom() raised RuntimeError: bad idea']),
+    ('from zros.launch import LaunchDescription\n\ndef generate_launch_description():\n'
+     '    return LaunchDescription(["not an action"])\n',
+     [':4: LaunchDescription: expected a launch action, got str']),
+])
+def test_bad_python_launch_files_fail_in_one_line(write, tmp_path: Path, body: str, fragments: list[str]):
+    path = write('bad.launch.py', body)
+    result = launch(path, '--print', '--log-dir', tmp_path / 'log')
+    line = assert_clean_failure(result, str(path))
+    for fragment in fragments:
+        assert fragment in line, (fragment, line)
+
+
+def test_binary_and_xml_launch_files_fail_in_one_line(tmp_path: Path):
+    binary = tmp_path / 'blob.launch.py'
+    binary.write_bytes(bytes(range(256)) * 4)
+    assert_clean_failure(launch(binary), f'{binary}: not a launch file: binary data, not UTF-8 text')
+    yaml_binary = tmp_path / 'blob.launch.yaml'
+    yaml_binary.write_bytes(b'\x00\xff\xfe' * 100)
+    assert_clean_failure(launch(yaml_binary), 'not a launch file: binary data')
+    xml = tmp_path / 'a.launch.xml'
+    xml.write_text('<launch/>')
+    assert_clean_failure(launch(xml), 'XML launch files are not supported by zros')

@@ -1,0 +1,210 @@
+"""The launch action: one class per construct, built by either front end.
+
+The model is launch's. A Python launch file constructs actions directly with ROS 2's keyword
+arguments (`Node(package=..., parameters=[...])`); the YAML front end reads a tag and calls the
+same constructor with the same keywords, through `parse(entity, parser)`, a pure classmethod
+that validates the tag's attributes and returns `(cls, kwargs)` (the parser then checks that no
+unknown key is left). Constructors turn whatever they are given (strings, Substitutions, YAML
+`Text`) into `Text` / `Typed` values that remember where they were written.
+
+`execute(context)` runs during resolution and returns the sub-actions to visit next (a group
+returns its children between scope markers), so no action recurses itself. Every action takes a
+`condition` (`if:` / `unless:` in YAML).
+"""
+from __future__ import annotations
+
+import importlib
+from typing import Any, ClassVar, TypedDict
+
+from zros.launch.conditions import Condition, IfCondition, UnlessCondition
+from zros.launch.entity import Entity, Scalar
+from zros.launch.errors import LaunchFileError, Origin
+from zros.launch.origin import origin_here
+from zros.launch.template import Text, Typed
+
+__all__ = ['Action', 'ActionKwargs', 'Parser', 'launch_tag', 'registered_tags',
+           'PushScope', 'PopScope', 'EnterFile', 'LeaveFile', 'EndCapture']
+
+_TAGS: dict[str, type['Action']] = {}
+
+
+def launch_tag(*names: str):
+    """Class decorator: `@launch_tag('push_ros_namespace', 'push-ros-namespace')`."""
+    def register(cls: type['Action']) -> type['Action']:
+        cls.tag = names[0]
+        for name in names:
+            if name in _TAGS and _TAGS[name] is not cls:
+                raise RuntimeError(f"launch tag '{name}' registered twice")
+            _TAGS[name] = cls
+        return cls
+    return register
+
+
+def registered_tags() -> dict[str, type['Action']]:
+    importlib.import_module('zros.launch.actions')  # its modules register the tags
+    return dict(_TAGS)
+
+
+class ActionKwargs(TypedDict, total=False):
+    origin: Origin
+    condition: Condition | None
+
+
+class Action:
+    """Base of every launch action.
+
+    Args:
+        condition: run the action only when this holds.
+        origin: where the action was written; YAML passes the entity's, Python leaves it
+            None and the caller's file and line are used.
+    """
+
+    tag: ClassVar[str] = ''
+
+    def __init__(self, *, condition: Condition | None = None, origin: Origin | None = None, **unknown: Any) -> None:
+        self.origin = origin or origin_here(type(self).__name__)
+        if unknown:
+            name = next(iter(unknown))
+            raise LaunchFileError(self.origin.with_key(name), f'{type(self).__name__} takes no argument {name!r}')
+        if condition is not None and not isinstance(condition, Condition):
+            raise LaunchFileError(self.origin.with_key('condition'),
+                                  f'expected a Condition (IfCondition, UnlessCondition, ...), '
+                                  f'got {type(condition).__name__}')
+        self.condition = condition
+
+    def __repr__(self) -> str:
+        return f'<{type(self).__name__} {self.origin}>'
+
+    # -- Python values -> deferred values, located at this action's key ------------------------
+    def _text(self, value: Any, key: str) -> Text:
+        return Text.of(value, self.origin.with_key(key))
+
+    def _optional_text(self, value: Any, key: str) -> Text | None:
+        return None if value is None else self._text(value, key)
+
+    def _typed(self, value: Any, data_type: type, key: str) -> Typed | None:
+        return None if value is None else Typed.of(value, data_type, self.origin.with_key(key))
+
+    # -- YAML ------------------------------------------------------------------------------------
+    @classmethod
+    def parse(cls, entity: Entity, parser: 'Parser') -> tuple[type['Action'], ActionKwargs]:
+        """The `if`/`unless` part every tag shares; subclasses extend the kwargs."""
+        kwargs: ActionKwargs = {'origin': entity.origin}
+        if_text = parser.text(entity, 'if', optional=True, data_type=Scalar)
+        unless_text = parser.text(entity, 'unless', optional=True, data_type=Scalar)
+        if if_text is not None and unless_text is not None:
+            raise entity.error('unless', "'if' and 'unless' cannot be used together")
+        if if_text is not None:
+            kwargs['condition'] = IfCondition(if_text, origin=if_text.origin)
+        elif unless_text is not None:
+            kwargs['condition'] = UnlessCondition(unless_text, origin=unless_text.origin)
+        return cls, kwargs
+
+    # -- resolution ------------------------------------------------------------------------------
+    def visit(self, context: Any) -> list['Action']:
+        """Check the condition, then execute."""
+        if self.condition is not None and not self.condition.evaluate(context):
+            return []
+        return list(self.execute(context) or [])
+
+    def execute(self, context: Any) -> list['Action'] | None:
+        return None
+
+    def sub_actions(self) -> list['Action']:
+        """Child actions known without resolving anything (for `--show-args`)."""
+        return []
+
+    def describe_sub_entities(self) -> list['Action']:
+        """launch's name for `sub_actions()`."""
+        return self.sub_actions()
+
+
+class Parser:
+    """Turns YAML entities into actions; carries the file being parsed."""
+
+    def __init__(self, path: str) -> None:
+        self.path = path
+
+    def parse_action(self, entity: Entity) -> Action:
+        tags = registered_tags()
+        cls = tags.get(entity.type_name)
+        if cls is None:
+            known = ', '.join(sorted(tags))
+            raise entity.error(None, f"unknown tag (known tags: {known})")
+        action_cls, kwargs = cls.parse(entity, self)
+        entity.assert_complete()
+        return action_cls(**kwargs)
+
+    def parse_actions(self, entities: list[Entity]) -> list[Action]:
+        return [self.parse_action(entity) for entity in entities]
+
+    # -- typed attribute helpers ---------------------------------------------------------------
+    @staticmethod
+    def text(entity: Entity, key: str, *, optional: bool = False, data_type: Any = str) -> Text | None:
+        """A string attribute with substitutions, parsed (syntax errors name the key)."""
+        value = entity.get_attr(key, data_type=data_type, optional=optional)
+        if value is None:
+            return None
+        origin = entity.origin_of(key)
+        return Text.parse(value, origin)
+
+    @staticmethod
+    def typed(entity: Entity, key: str, data_type: type, *, optional: bool = True) -> Typed | None:
+        """A bool/int/float attribute, given as a YAML value or a string with substitutions."""
+        value = entity.get_attr(key, data_type=Any, optional=optional)
+        if value is None:
+            return None
+        return Typed.from_yaml(value, data_type, entity.origin_of(key))
+
+
+# -- markers that actions return around their children --------------------------------------
+class PushScope(Action):
+    """Start of a scoped group: save configurations, environment and the ROS scope, then set
+    the group's configurations (with `forwarding=False`, only those)."""
+
+    def __init__(self, *, origin: Origin, forwarding: bool = True,
+                 configurations: list[tuple[Text, Text]] | None = None) -> None:
+        super().__init__(origin=origin)
+        self.forwarding = forwarding
+        self.configurations = configurations or []
+
+    def execute(self, context: Any) -> None:
+        values = {name.perform(context): value.perform(context) for name, value in self.configurations}
+        context.push_scope()
+        if not self.forwarding:
+            context.reset_configurations(values)
+        else:
+            context.configurations.update(values)
+
+
+class PopScope(Action):
+    def execute(self, context: Any) -> None:
+        context.pop_scope()
+
+
+class EnterFile(Action):
+    """Start of an included file: `$(dirname)` / `$(filename)` now refer to it."""
+
+    def __init__(self, *, origin: Origin, path: str) -> None:
+        super().__init__(origin=origin)
+        self.path = path
+
+    def execute(self, context: Any) -> None:
+        context.enter_file(self.path, self.origin)
+
+
+class LeaveFile(Action):
+    def execute(self, context: Any) -> None:
+        context.leave_file()
+
+
+class EndCapture(Action):
+    """Closes the effect capture begun by the action before it (`context.begin_capture()`) and
+    emits the captured effects wrapped: a timer's, an event handler's."""
+
+    def __init__(self, *, origin: Origin, wrap: Any) -> None:
+        super().__init__(origin=origin)
+        self.wrap = wrap
+
+    def execute(self, context: Any) -> None:
+        context.emit(self.wrap(context.end_capture()))

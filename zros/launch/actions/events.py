@@ -1,0 +1,45 @@
+"""`RegisterEventHandler`: run actions when a process starts or exits."""
+from __future__ import annotations
+
+from typing import Any
+
+from zros.launch.action import Action, EndCapture, PopScope, PushScope
+from zros.launch.errors import LaunchFileError
+from zros.launch.event_handlers import OnProcessExit, OnProcessStart
+from zros.launch.plan import EventHandlerEffect
+
+__all__ = ['RegisterEventHandler']
+
+
+class RegisterEventHandler(Action):
+    """`RegisterEventHandler(OnProcessExit(target_action=..., on_exit=[...]))` (or OnProcessStart).
+
+    A list of actions is resolved now, in a scope of its own (like a timer's), and carried out
+    when the event happens; a handler function runs then, in a copy of the context as it is
+    here. Python only: ROS 2's YAML format has no tag for it.
+    """
+
+    def __init__(self, event_handler: Any, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        if not isinstance(event_handler, (OnProcessStart, OnProcessExit)):
+            raise LaunchFileError(self.origin.with_key('event_handler'),
+                                  f'zros.launch.event_handlers has no {type(event_handler).__name__}; '
+                                  'supported: OnProcessExit, OnProcessStart')
+        self.event_handler = event_handler
+
+    def sub_actions(self) -> list[Action]:
+        return self.event_handler.actions
+
+    def execute(self, context: Any) -> list[Action]:
+        handler = self.event_handler
+        if handler.function is not None:
+            from zros.launch.description import Deferred
+            deferred = Deferred(handler.function, context.snapshot(), handler.origin)
+            context.emit(EventHandlerEffect(handler.event, handler.target_action, [], deferred, handler.origin))
+            return []
+        context.begin_capture()
+
+        def wrap(effects: list) -> EventHandlerEffect:
+            return EventHandlerEffect(handler.event, handler.target_action, effects, None, handler.origin)
+        return [PushScope(origin=self.origin), *handler.actions, PopScope(origin=self.origin),
+                EndCapture(origin=self.origin, wrap=wrap)]

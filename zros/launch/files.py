@@ -1,0 +1,139 @@
+"""Reading a launch file, Python or YAML, into actions.
+
+The two front ends meet here: a `.py` file is imported and its `generate_launch_description()`
+called, a `.yaml` / `.yml` file is parsed tag by tag; both give a list of the same action
+objects. Whatever goes wrong while reading is one `LaunchFileError` line that names the file and
+line: a Python exception in the launch file, an import of a ROS module under its ROS name, a
+class zros does not have (with the list of those it has), a binary or non-UTF-8 file.
+"""
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import os
+import re
+import traceback
+from typing import Any
+
+from zros.launch.errors import LaunchError, LaunchFileError
+
+__all__ = ['load_launch_file', 'read_text', 'launch_file_kind', 'ROS_MODULES']
+
+#: ROS Python libraries a launch file imports, all provided as `zros.<name>`.
+ROS_MODULES = ('launch', 'launch_ros', 'ament_index_python', 'launch_yaml', 'launch_xml')
+
+_CANNOT_IMPORT = re.compile(r"cannot import name '(\w+)' from '([\w.]+)'")
+
+
+def launch_file_kind(path: str) -> str:
+    """'python', 'yaml', or 'xml' from the file name."""
+    lower = path.lower()
+    if lower.endswith('.py'):
+        return 'python'
+    if lower.endswith('.xml'):
+        return 'xml'
+    return 'yaml'
+
+
+def read_text(path: str, what: str = 'launch file') -> str:
+    """A text file's content; LaunchFileError (one line) when it is missing, unreadable or binary."""
+    try:
+        data = open(path, 'rb').read()
+    except FileNotFoundError:
+        raise LaunchFileError(None, f'{path}: no such {what}') from None
+    except IsADirectoryError:
+        raise LaunchFileError(None, f'{path}: is a directory, not a {what}') from None
+    except OSError as exc:
+        raise LaunchFileError(None, f'{path}: cannot read {what}: {exc.strerror}') from None
+    try:
+        text = data.decode('utf-8')
+    except UnicodeDecodeError:
+        text = None
+    if text is None or '\x00' in text:
+        raise LaunchFileError(None, f'{path}: not a {what}: binary data, not UTF-8 text')
+    return text
+
+
+def load_launch_file(path: str, kind: str | None = None) -> list:
+    """The actions of a launch file (nothing is resolved or started)."""
+    kind = kind or launch_file_kind(path)
+    if kind == 'xml':
+        raise LaunchFileError(None, f'{path}: XML launch files are not supported by zros; '
+                                    'use the Python (.launch.py) or YAML (.launch.yaml) format')
+    text = read_text(path)
+    if kind == 'python':
+        return _load_python(path, text).entities
+    from zros.launch.action import Parser
+    from zros.launch.entity import load_launch_entities
+    return Parser(path).parse_actions(load_launch_entities(path, text))
+
+
+# -- Python launch files ------------------------------------------------------------------------
+def _load_python(path: str, text: str) -> Any:
+    from zros.launch.launch_description import LaunchDescription
+    name = 'zros_launch_file_' + hashlib.sha1(os.path.abspath(path).encode()).hexdigest()[:12]
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    try:
+        code = compile(text, path, 'exec')
+        exec(code, module.__dict__)  # noqa: S102 - running the user's launch file is the point
+        generate = getattr(module, 'generate_launch_description', None)
+        if not callable(generate):
+            raise LaunchFileError(None, f'{path}: no generate_launch_description() function '
+                                        '(a Python launch file defines one that returns a LaunchDescription)')
+        description = generate()
+    except LaunchError:
+        raise
+    except SyntaxError as exc:
+        raise LaunchFileError(None, f'{path}:{exc.lineno or 1}: invalid Python: {exc.msg}') from None
+    except Exception as exc:  # noqa: BLE001 - anything the user's file raises becomes one line
+        raise _python_error(path, exc) from None
+    if not isinstance(description, LaunchDescription):
+        raise LaunchFileError(None, f'{path}: generate_launch_description() returned '
+                                    f'{type(description).__name__}, not a LaunchDescription')
+    return description
+
+
+def _line_in(path: str, exc: BaseException) -> int:
+    """The line of `path` nearest to where `exc` was raised (1 if the file is not on the stack)."""
+    line = 1
+    real = os.path.realpath(path)
+    for frame in traceback.extract_tb(exc.__traceback__):
+        if os.path.realpath(frame.filename) == real:
+            line = frame.lineno or line
+    return line
+
+
+def _python_error(path: str, exc: Exception) -> LaunchFileError:
+    where = f'{path}:{_line_in(path, exc)}'
+    if isinstance(exc, ModuleNotFoundError) and exc.name:
+        root = exc.name.split('.')[0]
+        if root in ROS_MODULES:
+            return LaunchFileError(None, f"{where}: no module named '{exc.name}': in zros it is "
+                                         f"'zros.{exc.name}' (from zros.{exc.name} import ...)")
+    if isinstance(exc, ImportError):
+        match = _CANNOT_IMPORT.search(str(exc))
+        if match and match.group(2).startswith('zros.'):
+            return LaunchFileError(None, f'{where}: {unsupported(match.group(2), match.group(1))}')
+    if isinstance(exc, AttributeError) and str(exc).startswith('zros.') and ' has no ' in str(exc):
+        return LaunchFileError(None, f'{where}: {exc}')
+    message = str(exc).strip().splitlines()[0] if str(exc).strip() else ''
+    return LaunchFileError(None, f'{where}: {type(exc).__name__}' + (f': {message}' if message else ''))
+
+
+def unsupported(module_name: str, name: str) -> str:
+    """'zros.launch.actions has no ExecuteLocal; supported: ...' for a public launch module."""
+    import sys
+    module = sys.modules.get(module_name)
+    names = sorted(n for n in getattr(module, '__all__', ()) if not n.startswith('_'))
+    return f"{module_name} has no {name}; supported: {', '.join(names) or 'nothing'}"
+
+
+def module_getattr(module_name: str):
+    """A module `__getattr__` whose error says what the module has (`launch.actions.X` style
+    access of a class zros does not provide)."""
+    def __getattr__(name: str) -> Any:
+        if name.startswith('__'):
+            raise AttributeError(name)
+        raise AttributeError(unsupported(module_name, name))
+    return __getattr__
