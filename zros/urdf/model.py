@@ -427,8 +427,8 @@ def resolve_package_uri(uri: str) -> Path:
     """`package://pkg/dir/file` or `file:///abs/path` -> a path on disk (not checked to exist)."""
     if uri.startswith('package://'):
         package, _, rest = uri[len('package://'):].partition('/')
-        from zros.launch.packages import package_share_directory
-        return package_share_directory(package) / rest
+        from zros.ament_index_python.packages import get_package_share_path
+        return get_package_share_path(package) / rest
     if uri.startswith('file://'):
         return Path(uri[len('file://'):])
     return Path(uri)

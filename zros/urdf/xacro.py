@@ -27,8 +27,8 @@ class XacroError(ZrosError):
 
 
 def _find_package(package: str) -> str:
-    from zros.launch.packages import package_share_directory
-    return str(package_share_directory(package))
+    from zros.ament_index_python.packages import get_package_share_directory
+    return get_package_share_directory(package)
 
 
 def _use_zros_packages() -> None:
