@@ -42,8 +42,10 @@ class InvalidParameterValueException(ParameterException):
 
 class InvalidParameterTypeException(ParameterException):
     def __init__(self, desired_parameter: object, expected_type: str) -> None:
+        kind = getattr(desired_parameter, 'type_', None)
         ZrosError.__init__(self, f"Trying to set parameter '{getattr(desired_parameter, 'name', desired_parameter)}' "
-                                 f'to a value of type {getattr(desired_parameter, "type_", "?")}, expected {expected_type}')
+                                 f"to '{getattr(desired_parameter, 'value', '?')}' of type "
+                                 f"'{getattr(kind, 'name', kind)}', expecting type '{expected_type}'")
 
 
 class ParameterImmutableException(ParameterException):

@@ -216,16 +216,28 @@ def load_parameter_file(path: str, node_fqn: str, *, use_wildcard: bool = True) 
     if not isinstance(document, dict):
         raise ParameterFileError(f"{path}: expected a mapping of node names at the top level")
     values: dict[str, Any] = {}
-    for node_key, body in document.items():
-        if not isinstance(body, dict) or 'ros__parameters' not in body:
-            raise ParameterFileError(f"{path}: node entry '{node_key}' has no 'ros__parameters' key")
-        params = body['ros__parameters']
+    for node_key, params in _node_entries(path, '', document):
         if params is None:
             continue
         if not isinstance(params, dict):
             raise ParameterFileError(f"{path}: 'ros__parameters' of '{node_key}' must be a mapping")
-        if not use_wildcard and str(node_key) in ('/**', '**'):
+        if not use_wildcard and node_key in ('/**', '**'):
             continue
-        if _node_pattern_matches(str(node_key), node_fqn):
+        if _node_pattern_matches(node_key, node_fqn):
             _flatten('', params, values)
     return values
+
+
+def _node_entries(path: str, prefix: str, mapping: dict) -> list[tuple[str, Any]]:
+    """(node pattern, ros__parameters) pairs; namespaces may nest (`/ns: node: ros__parameters:`),
+    as rcl's parameter files allow."""
+    entries = []
+    for key, body in mapping.items():
+        name = f"{prefix.rstrip('/')}/{str(key).strip('/')}" if prefix else str(key)
+        nested = {k: v for k, v in body.items() if k != 'ros__parameters'} if isinstance(body, dict) else None
+        if not body or nested is None or any(not isinstance(v, dict) for v in nested.values()):
+            raise ParameterFileError(f"{path}: node entry '{name}' has no 'ros__parameters' key")
+        if 'ros__parameters' in body:
+            entries.append((name, body['ros__parameters']))
+        entries += _node_entries(path, name, nested)
+    return entries

@@ -34,6 +34,16 @@ def _result(successful: bool, reason: str = ''):
     return SetParametersResult(successful=successful, reason=reason)
 
 
+def _parameter(name: str, value: Any) -> Parameter:
+    """A Parameter from a declared default or an override (a value, or a Parameter)."""
+    if isinstance(value, Parameter):
+        value = value.value
+    try:
+        return Parameter(name, value=value)
+    except TypeError as exc:
+        raise InvalidParameterValueException(name, value, str(exc)) from None
+
+
 class ParameterStore:
     def __init__(self, node: 'Node', *, overrides: dict[str, Any], allow_undeclared: bool) -> None:
         self._node = node
@@ -73,23 +83,20 @@ class ParameterStore:
                 declared_type, value = value, None
             else:
                 declared_type = None
+            param = _parameter(name, value)
+            if declared_type is None and not descriptor.dynamic_typing and param.type_ != T.NOT_SET:
+                declared_type = param.type_   # as rclpy: the default's type is the parameter's type
             if not ignore_override and name in self.overrides:
-                value = self.overrides[name]
-            if isinstance(value, Parameter):
-                value = value.value
-            try:
-                param = Parameter(name, value=value)
-            except TypeError as exc:
-                raise InvalidParameterValueException(name, value, str(exc)) from None
+                param = _parameter(name, self.overrides[name])
             if declared_type is not None and param.type_ != T.NOT_SET and param.type_ != declared_type:
                 if not (declared_type == T.DOUBLE and param.type_ == T.INTEGER):
                     raise InvalidParameterTypeException(param, declared_type.name)
-                param = Parameter(name, T.DOUBLE, float(value))
+                param = Parameter(name, T.DOUBLE, float(param.value))
             if not descriptor.dynamic_typing:
                 descriptor.type = int(declared_type if declared_type is not None else param.type_)
             result = self.set_atomically([param], descriptors={name: descriptor}, declaring=True)
             if not result.successful:
-                raise InvalidParameterValueException(name, value, result.reason)
+                raise InvalidParameterValueException(name, param.value, result.reason)
             return self._values[name]
 
     def undeclare(self, name: str) -> None:
