@@ -15,21 +15,11 @@ from pathlib import Path
 
 import pytest
 
+from zros.testing import wait_until
+
 REPO = Path(__file__).resolve().parents[1]
 PY = sys.executable
 HUB_BASE_PORT = 7447
-
-
-def wait_until(predicate, timeout: float, *, message='condition', interval: float = 0.02):
-    """Poll `predicate` until it returns something truthy (returned), or fail after `timeout`."""
-    deadline = time.monotonic() + timeout
-    while True:
-        value = predicate()
-        if value:
-            return value
-        if time.monotonic() >= deadline:
-            pytest.fail(f'timed out after {timeout} s waiting for ' + (message() if callable(message) else message))
-        time.sleep(interval)
 
 
 def _gone(pid: int) -> bool:

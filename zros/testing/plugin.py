@@ -1,0 +1,55 @@
+"""The pytest plugin of zros.testing (registered as the `zros` pytest11 entry point): the
+fixtures `zros_domain`, `zros_context`, `zros_node`, `zros_processes` (see zros.testing)."""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Callable, Iterator
+
+import pytest
+
+from zros.testing.domains import NETWORK_SETTINGS, DomainLock, isolated_environment
+from zros.testing.processes import ProcessGroup
+
+__all__ = ['zros_domain', 'zros_context', 'zros_node', 'zros_processes']
+
+
+@pytest.fixture
+def zros_domain(monkeypatch: pytest.MonkeyPatch) -> Iterator[int]:
+    """A private domain id for this test, exported as ZROS_DOMAIN_ID (for its processes too)."""
+    lock = DomainLock()
+    isolated_environment(monkeypatch, lock.domain, NETWORK_SETTINGS)
+    yield lock.domain
+    lock.close()
+
+
+@pytest.fixture
+def zros_context(zros_domain: int) -> Iterator[Any]:
+    """zros initialized in the test's domain for this process (`zros.init()`); shut down after."""
+    import zros
+    context = zros.init([], signal_handler_options=False)   # pytest keeps its own Ctrl-C handling
+    yield context
+    zros.shutdown()
+
+
+@pytest.fixture
+def zros_node(zros_context: Any) -> Iterator[Callable[..., Any]]:
+    """`zros_node('name', **Node options)` -> a Node in the test's context, destroyed after."""
+    from zros.node import Node
+    nodes: list = []
+
+    def make(name: str, **kwargs: Any) -> Any:
+        node = Node(name, context=zros_context, **kwargs)
+        nodes.append(node)
+        return node
+    yield make
+    for node in reversed(nodes):
+        node.destroy_node()
+
+
+@pytest.fixture
+def zros_processes(zros_domain: int, tmp_path: Path) -> Iterator[ProcessGroup]:
+    """Processes in the test's domain (`.run(pkg, exe)`, `.launch(file)`, `.command(*argv)`),
+    stopped with their process groups after the test; their logs are in tmp_path."""
+    group = ProcessGroup(tmp_path)
+    yield group
+    group.close()
