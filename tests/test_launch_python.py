@@ -108,7 +108,7 @@ from zros.launch.event_handlers import OnProcessExit, OnProcessStart
 from zros.launch.events import Shutdown
 from zros.launch.launch_description_sources import PythonLaunchDescriptionSource, YAMLLaunchDescriptionSource
 from zros.launch.substitutions import (Command, EnvironmentVariable, LaunchConfiguration, PathJoinSubstitution,
-                                       PythonExpression, TextSubstitution)
+                                       PythonExpression, TextSubstitution, ThisLaunchFileDir)
 from zros.launch_ros.actions import Node, PushRosNamespace, SetParameter, SetRemap
 from zros.launch_ros.parameter_descriptions import ParameterValue
 from zros.launch_ros.substitutions import FindPackageShare
@@ -138,7 +138,7 @@ def generate_launch_description():
         GroupAction([
             PushRosNamespace('robot'),
             SetRemap('/unused', '/other'),
-            SetParameter('use_sim_time', False),
+            SetParameter('scope_level', 3),
             TimerAction(period=0.3, actions=[report]),
         ]),
         Node(package='probe', executable='report', name='never', condition=UnlessCondition('true')),
@@ -147,6 +147,8 @@ def generate_launch_description():
         OpaqueFunction(function=say_mode, args=['opaque saw mode=']),
         IncludeLaunchDescription(YAMLLaunchDescriptionSource(os.path.join(os.path.dirname(__file__), 'mid.launch.yaml')),
                                  launch_arguments={'who': mode}.items()),
+        IncludeLaunchDescription(PythonLaunchDescriptionSource([ThisLaunchFileDir(), '/leaf.launch.py']),
+                                 launch_arguments=[('depth', '1')]),
         sleeper,
         RegisterEventHandler(OnProcessStart(target_action=sleeper, on_start=[LogInfo(msg='sleeper started')])),
         RegisterEventHandler(OnProcessExit(
@@ -190,13 +192,14 @@ def test_a_python_launch_runs_every_construct(probe: Path, write, tmp_path: Path
     out = result.stdout
     report = reports(out)['/robot/inner/reporter']
     assert report['params'] == {'from_file': 7, 'rate': 42, 'text': '42', 'mode_text': 'fast', 'home': 'from-launch',
-                                'nested.deep': True, 'use_sim_time': False}
+                                'nested.deep': True, 'scope_level': 3, 'use_sim_time': False}
     assert report['chatter'] == '/robot/inner/talk'
     assert report['args'] == ['--flag', 'two words']
     assert report['env'] == 'from-launch'
     assert set(reports(out)) == {'/robot/inner/reporter'}            # the conditions held the others back
     for line in ('[INFO] [launch.user]: fast mode', '[INFO] [launch.user]: opaque saw mode=fast',
                  '[INFO] [launch.user]: yaml include got fast', '[INFO] [launch.user]: python leaf at depth 2',
+                 '[INFO] [launch.user]: python leaf at depth 1',
                  '[INFO] [launch.user]: sleeper started', '[INFO] [launch.user]: report exited with 0',
                  'shutting down: the report is in'):
         assert line in out, (line, result)
@@ -204,12 +207,13 @@ def test_a_python_launch_runs_every_construct(probe: Path, write, tmp_path: Path
     assert re.search(r"\[INFO\] \[sleeper-\d+\]: sending signal 'SIGINT'", out), result
 
 
-def test_respawn_and_process_exit_handlers(write, tmp_path: Path):
+def test_respawn_and_process_exit_handlers(probe: Path, write, tmp_path: Path):
     path = write('respawn.launch.py', '''
         import sys
         from zros.launch import LaunchDescription
         from zros.launch.actions import ExecuteProcess, LogInfo, RegisterEventHandler
         from zros.launch.event_handlers import OnProcessExit
+        from zros.launch_ros.actions import Node
 
 
         def generate_launch_description():
@@ -218,10 +222,12 @@ def test_respawn_and_process_exit_handlers(write, tmp_path: Path):
             return LaunchDescription([
                 flaky,
                 RegisterEventHandler(OnProcessExit(target_action=flaky, on_exit=[LogInfo(msg='flaky exited')])),
+                Node(package='probe', executable='report', output='screen', respawn=True, respawn_max_retries=1),
             ])
         ''')
     result = launch(path, '--log-dir', tmp_path / 'log')
     assert result.returncode == 0, result
+    assert result.stdout.count('[report-2] REPORT ') == 2, result
     assert result.stdout.count('[flaky-1] flaky ran') == 2, result
     assert result.stdout.count('[launch.user]: flaky exited') == 2, result
     assert result.stdout.count('exit code 3') == 2, result

@@ -2,7 +2,8 @@
     zros launch demo_nodes talker_listener.launch.py
     zros launch demo_nodes talker_listener.launch.py text:='Hi there' --print
 The talker takes its parameters from this package's param/talker.yaml (found through the
-package's share directory, as a ROS 2 package installs it), the text from a launch argument.
+package's share directory, as a ROS 2 package installs it), the text from a launch argument,
+kept a string whatever it looks like (ParameterValue with value_type=str: `text:=42` is '42').
 """
 import os
 
@@ -11,6 +12,7 @@ from zros.launch import LaunchDescription
 from zros.launch.actions import DeclareLaunchArgument
 from zros.launch.substitutions import LaunchConfiguration
 from zros.launch_ros.actions import Node
+from zros.launch_ros.parameter_descriptions import ParameterValue
 
 
 def generate_launch_description():
@@ -18,6 +20,6 @@ def generate_launch_description():
     return LaunchDescription([
         DeclareLaunchArgument('text', default_value='Hello World', description='What the talker publishes'),
         Node(package='demo_nodes', executable='param_talker', name='talker', output='screen',
-             parameters=[params, {'published_text': LaunchConfiguration('text')}]),
+             parameters=[params, {'published_text': ParameterValue(LaunchConfiguration('text'), value_type=str)}]),
         Node(package='demo_nodes', executable='listener', output='screen'),
     ])

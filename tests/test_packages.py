@@ -1,0 +1,148 @@
+"""Your own package with no build step: `zros pkg create` output installed in a fresh venv,
+its node, custom message, launch file and generated test run; `zros pkg list / executables /
+prefix`, `zros interface package` and the package index."""
+from __future__ import annotations
+
+import subprocess
+import sys
+import sysconfig
+from pathlib import Path
+
+import pytest
+
+from conftest import REPO, assert_clean_failure, run_cli
+from zros.ament_index_python.packages import (PackageNotFoundError, get_package_prefix, get_package_share_directory,
+                                              get_packages_with_prefixes)
+
+NUM_CHECK = '''
+import zros
+from zros.node import Node
+from zros.testing import spin_until
+
+from interfaces.demo_pkg.msg import Num
+
+with zros.init([]):
+    node = Node('num_check')
+    received = []
+    node.create_subscription(Num, 'numbers', received.append, 10)
+    publisher = node.create_publisher(Num, 'numbers', 10)
+
+    def publish_until_received():
+        publisher.publish(Num(num=41, label='custom'))
+        return received
+    spin_until(node, publish_until_received, 10.0, message='a Num')
+    print('RECEIVED', type(received[0]).__name__, received[0].num, received[0].label)
+'''
+
+
+def _run(argv: list, *, cwd: Path, timeout: float = 120.0) -> subprocess.CompletedProcess:
+    result = subprocess.run([str(a) for a in argv], cwd=cwd, capture_output=True, text=True, timeout=timeout,
+                            stdin=subprocess.DEVNULL)
+    assert result.returncode == 0, f'{argv}: exit {result.returncode}\n{result.stdout}\n{result.stderr}'
+    return result
+
+
+@pytest.fixture
+def fresh_venv(tmp_path: Path) -> Path:
+    """A new venv that sees this checkout's zros and its dependencies (through a .pth file, so
+    nothing is downloaded) and nothing else; returns its python."""
+    venv = tmp_path / 'venv'
+    _run([sys.executable, '-m', 'venv', venv], cwd=tmp_path)
+    python = venv / 'bin' / 'python'
+    purelib = subprocess.run([python, '-c', 'import sysconfig; print(sysconfig.get_paths()["purelib"])'],
+                             capture_output=True, text=True, check=True).stdout.strip()
+    (Path(purelib) / 'zros_under_test.pth').write_text(f"{REPO}\n{sysconfig.get_paths()['purelib']}\n")
+    return python
+
+
+def test_pkg_create_output_installs_and_runs_in_a_fresh_venv(domain: int, tmp_path: Path, fresh_venv: Path):
+    created = run_cli('pkg', 'create', 'demo_pkg', '--node-name', 'demo_node', '--dependencies', 'geometry_msgs',
+                      '--destination-directory', tmp_path)
+    assert created.returncode == 0, created
+    assert 'package name: demo_pkg' in created.stdout and "dependencies: ['std_msgs', 'geometry_msgs']" in created.stdout
+    source = tmp_path / 'demo_pkg'
+    (source / 'demo_pkg' / 'msg' / 'Num.msg').write_text('int64 num\nstring label\n')
+    # A regular (not editable) install: what is used comes from site-packages, not from source.
+    _run([fresh_venv, '-m', 'pip', 'install', '-q', '--no-deps', source], cwd=tmp_path, timeout=300)
+    elsewhere = tmp_path / 'elsewhere'
+    elsewhere.mkdir()
+    zros = [fresh_venv, '-m', 'zros']
+    assert _run([*zros, 'pkg', 'executables', 'demo_pkg'], cwd=elsewhere).stdout == 'demo_pkg demo_node\n'
+    assert _run([*zros, 'interface', 'package', 'demo_pkg'], cwd=elsewhere).stdout == 'demo_pkg/msg/Num\n'
+    share = _run([*zros, 'pkg', 'prefix', '--share', 'demo_pkg'], cwd=elsewhere).stdout.strip()
+    assert share.endswith('site-packages/demo_pkg') and (Path(share) / 'msg' / 'Num.msg').is_file()
+    plan = _run([*zros, 'launch', 'demo_pkg', 'demo_pkg.launch.py', '--print', '--log-dir', tmp_path / 'log'],
+                cwd=elsewhere).stdout
+    assert f'launch file: {share}/launch/demo_pkg.launch.py' in plan and 'zros run demo_pkg demo_node' in plan
+    (elsewhere / 'num_check.py').write_text(NUM_CHECK)
+    assert 'RECEIVED Num 41 custom' in _run([fresh_venv, 'num_check.py'], cwd=elsewhere).stdout
+    node = subprocess.Popen([*map(str, zros), 'run', 'demo_pkg', 'demo_node'], cwd=elsewhere, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True, start_new_session=True)
+    try:
+        echoed = run_cli('topic', 'echo', '/chatter', 'std_msgs/msg/String', '--once', '--timeout', '20', timeout=30)
+        assert "data: 'Hello from demo_pkg: " in echoed.stdout or 'data: Hello from demo_pkg: ' in echoed.stdout, echoed
+    finally:
+        node.send_signal(2)
+        node.wait(timeout=10)
+    # The package's own test, with zros.testing's fixtures (its isolated domain, not ours).
+    tested = _run([fresh_venv, '-m', 'pytest', '-q', '-p', 'no:cacheprovider'], cwd=source, timeout=180)
+    assert '2 passed' in tested.stdout, tested.stdout
+
+
+def test_pkg_create_refuses_bad_names_and_existing_folders(tmp_path: Path):
+    assert_clean_failure(run_cli('pkg', 'create', 'My-Pkg', '--destination-directory', tmp_path),
+                         "package name 'My-Pkg' must start with a lowercase letter")
+    assert run_cli('pkg', 'create', 'lonely', '--destination-directory', tmp_path).returncode == 0
+    assert (tmp_path / 'lonely' / 'lonely' / 'launch' / 'lonely.launch.py').is_file()
+    assert (tmp_path / 'lonely' / 'tests' / 'test_package.py').is_file()
+    assert_clean_failure(run_cli('pkg', 'create', 'lonely', '--destination-directory', tmp_path),
+                         'Aborted: a folder named lonely already exists')
+
+
+def test_pkg_verbs_find_a_package_on_the_node_path(tmp_path: Path, monkeypatch: pytest.MonkeyPatch):
+    package = tmp_path / 'ws' / 'my_robot'
+    (package / 'msg').mkdir(parents=True)
+    (package / 'launch').mkdir()
+    (package / 'drive.py').write_text('def main():\n    print("driving")\n')
+    (package / 'msg' / 'Wheel.msg').write_text('float64 speed\n')
+    monkeypatch.setenv('ZROS_NODE_PATH', str(tmp_path / 'ws'))
+    assert 'my_robot' in run_cli('pkg', 'list').stdout.split()
+    assert run_cli('pkg', 'executables', 'my_robot').stdout == 'my_robot drive\n'
+    assert 'demo_nodes talker\n' in run_cli('pkg', 'executables').stdout
+    assert run_cli('pkg', 'executables', 'my_robot', '--full-path').stdout == f'{package / "drive.py"}\n'
+    assert run_cli('pkg', 'prefix', 'my_robot').stdout == f'{tmp_path / "ws"}\n'
+    assert run_cli('pkg', 'prefix', 'my_robot', '--share').stdout == f'{package}\n'
+    assert run_cli('interface', 'package', 'my_robot').stdout == 'my_robot/msg/Wheel\n'
+    assert run_cli('run', 'my_robot', 'drive').stdout == 'driving\n'
+    assert_clean_failure(run_cli('pkg', 'prefix', 'nope'), 'Package not found')
+    assert_clean_failure(run_cli('pkg', 'executables', 'nope'), "Package 'nope' not found")
+
+
+def test_the_index_finds_shipped_and_message_packages():
+    assert get_package_share_directory('demo_nodes') == str(REPO / 'nodes' / 'demo_nodes')
+    assert get_package_share_directory('std_msgs') == str(REPO / 'interfaces' / 'std_msgs')
+    assert get_package_share_directory('configs') == str(REPO / 'configs')
+    assert get_package_prefix('demo_nodes') == str(REPO / 'nodes')
+    assert get_packages_with_prefixes()['zros'] == str(REPO.parent)
+    with pytest.raises(PackageNotFoundError, match="package 'no_such' not found"):
+        get_package_share_directory('no_such')
+    with pytest.raises(KeyError):   # as ament_index_python's
+        get_package_share_directory('no_such')
+
+
+def test_the_node_path_overlays_shipped_packages(tmp_path: Path, monkeypatch: pytest.MonkeyPatch):
+    (tmp_path / 'demo_nodes' / 'launch').mkdir(parents=True)
+    monkeypatch.setenv('ZROS_NODE_PATH', str(tmp_path))
+    assert get_package_share_directory('demo_nodes') == str(tmp_path / 'demo_nodes')
+
+
+def test_nodes_folder_is_grafted_into_the_package_data():
+    """A shipped package's data of any type (maps, meshes, rviz files...) must install with zros."""
+    manifest = (REPO / 'MANIFEST.in').read_text().split('\n')
+    assert 'graft nodes' in manifest and 'graft configs' in manifest
+
+
+@pytest.mark.parametrize('verb', [['pkg'], ['pkg', 'create', '-h']])
+def test_pkg_help(verb: list[str]):
+    result = run_cli(*verb)
+    assert result.returncode == 0 and 'Traceback' not in result.stdout + result.stderr, result
