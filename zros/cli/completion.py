@@ -28,6 +28,7 @@ _LIVE = {
     ('interface', 'package'): ('packages',),
     ('bag', 'play'): ('dirs',), ('bag', 'info'): ('dirs',), ('bag', 'record'): ('topics', 'topics', 'topics'),
     ('launch', ''): ('files',), ('completion', ''): ('shells',),
+    ('pkg', 'executables'): ('pkgs',), ('pkg', 'prefix'): ('pkgs',),
 }
 
 _SOURCES = {
@@ -40,6 +41,7 @@ _SOURCES = {
     'actions_types': "zros interface list -a 2>/dev/null | sed -n 's/^ \\+//p'",
     'interfaces': "zros interface list 2>/dev/null | sed -n 's/^ \\+//p'",
     'packages': 'zros interface packages 2>/dev/null',
+    'pkgs': 'zros pkg list 2>/dev/null',
     'shells': 'echo bash zsh',
 }
 
