@@ -11,7 +11,8 @@ What is checked, cheaply (nothing is started):
 A failure names the document and line, e.g. `docs/multi-machine.md:19: configs/teleop.launch.yaml
 does not exist`. Not checked: commands with placeholders (`<pkg>`, `[OPTIONS]`, `...`, `a|b`,
 `TOPIC`), error messages quoted in the text (`zros run: ...`), code blocks marked ```text
-(program output), and launch files that are the reader's own (`zros launch robot.launch.yaml`).
+(program output), and launch files and packages that are the reader's own (`zros launch
+robot.launch.yaml`, `zros run my_pkg my_node`: a package named `my_...`).
 An inline `zros bag info` or `zros bag record/play` names verbs: they must exist, arguments
 may be left out.
 """
@@ -35,6 +36,11 @@ _INLINE_CODE = re.compile(r'`([^`]+)`')
 _PLACEHOLDER = re.compile(r'[<>\[\]|{}]|\.\.\.|…|\bNAME\b|\bDIR\b|\bFILE\b|\bWS\b')
 _ENV_ASSIGNMENT = re.compile(r'^[A-Z_][A-Z0-9_]*=\S*$')
 _UPPER_PLACEHOLDER = re.compile(r'^[A-Z][A-Z_]+$')   # PKG, TOPIC, EXECUTABLE
+
+
+def _readers_own(package: str) -> bool:
+    """`my_pkg`, `my_robot`: the package a tutorial has the reader create."""
+    return package.startswith('my_')
 
 
 class Mention(NamedTuple):
@@ -72,6 +78,8 @@ def path_mentions() -> Iterator[tuple[Mention, Path]]:
                     yield Mention(where, target), (doc.parent / target)
             for match in _PATH.finditer(line):
                 text = match.group(1).rstrip('.')
+                if any(_UPPER_PLACEHOLDER.match(part) for part in Path(text).with_suffix('').parts):
+                    continue   # nodes/PKG/EXE.py names a pattern
                 if Path(text).suffix or match.group(0).endswith('/'):   # a file, not a key expression
                     yield Mention(where, text), REPO / text
 
@@ -135,6 +143,8 @@ def _check_run(argv: list[str]) -> str | None:
         return None
     if len(rest) < 2:
         return 'zros run needs a package and an executable'
+    if _readers_own(rest[0]):
+        return None
     if rest[1] not in list_executables(rest[0]):
         return f"no executable '{rest[1]}' in package '{rest[0]}'"
     return None
@@ -159,6 +169,8 @@ def _launch_target(argv: list[str]) -> bool:
     if not positional:
         return False
     first = positional[0]
+    if _readers_own(first):
+        return False
     return (REPO / first).is_file() or (not Path(first).suffix and len(positional) >= 2)
 
 
