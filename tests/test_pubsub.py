@@ -263,6 +263,40 @@ def test_queue_depth_keeps_newest_and_counts_drops(make_context, wait_for, attac
     assert sub.dropped == 95
 
 
+def test_losses_are_counted_across_the_samples_the_depth_rule_pushed_out(make_context, wait_for):
+    """Samples pushed out by KEEP_LAST are queued undecoded and read only by the executor: a
+    network loss among them still counts in `lost` (the depth rule's drops do not), for plain
+    and MessageInfo callbacks, and a stretch too long to keep notes of counts no false loss."""
+    from collections import deque
+    pub_ctx, sub_ctx = make_context(), make_context()
+    node = Node('slow', context=sub_ctx)
+    plain, with_info = [], []
+    subs = [node.create_subscription(Int32, '/lossy', lambda m: plain.append(m.data), 5),
+            node.create_subscription(Int32, '/lossy', lambda m, info: with_info.append(m.data), 5)]
+    long_gap = node.create_subscription(Int32, '/lossy', lambda m: None, 5)
+    long_gap._evicted = deque(maxlen=3)  # notes of only 3 pushed-out samples are kept
+    publisher = Node('fast', context=pub_ctx).create_publisher(Int32, '/lossy', 10)
+    assert publisher.wait_for_subscribers(3, 5.0)
+    put, sent = publisher._put, [0]
+
+    def lossy(payload, **kwargs):  # the network loses the 30th and the 80th sample
+        sent[0] += 1
+        if sent[0] not in (30, 80):
+            put(payload, **kwargs)
+    publisher._put = lossy
+    for i in range(100):
+        publisher.publish(Int32(data=i))
+    wait_for(lambda: all(s.dropped == 93 for s in subs + [long_gap]), timeout=5,
+             message=lambda: f'93 drops each, have {[s.dropped for s in subs + [long_gap]]}')
+    assert [s.lost for s in subs] == [0, 0]  # nothing is read before the executor runs
+    executor = SingleThreadedExecutor(context=sub_ctx)
+    executor.add_node(node)
+    wait_for(lambda: (executor.spin_once(timeout_sec=0.05), len(plain) == len(with_info) == 5)[1], timeout=5)
+    assert plain == with_info == [95, 96, 97, 98, 99]
+    assert [(s.lost, s.dropped, s.received) for s in subs] == [(2, 93, 5)] * 2
+    assert long_gap.lost == 0   # its notes start after the losses: it saw no gap
+
+
 # -- wrong and broken samples ---------------------------------------------------------------
 def _dropping_errors(records):
     return [r for r in records if r[0] >= 40 and 'dropping messages' in r[2]]

@@ -43,17 +43,13 @@ class NodeEntity:
 
 
 class QueuedEntity(NodeEntity):
-    """An entity whose work (samples, requests) arrives on Zenoh threads into `_queue` and is
+    """An entity whose work (samples, requests) arrives on Zenoh's thread into `_queue` and is
     run by the executor. It sits in the executor's queue at most once while it has work, so a
-    burst costs Zenoh's thread an append, not an executor wake-up per item."""
+    burst costs Zenoh's thread an append, not an executor wake-up per item: after appending,
+    Zenoh's thread calls `_schedule()` unless `_scheduled` is set."""
 
     _queue: Any
     _scheduled = False
-
-    def _arrived(self) -> None:
-        """Zenoh thread, after appending to `_queue`."""
-        if not self._scheduled:
-            self._schedule()
 
     def _schedule(self) -> None:
         self._scheduled = True

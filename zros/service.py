@@ -1,6 +1,6 @@
 """Service servers: Zenoh queryables whose requests are answered on the executor.
 
-A query arrives on a Zenoh thread and waits in the service's queue; the executor decodes it,
+A query arrives on Zenoh's thread and waits, unread, in the service's queue; the executor decodes it,
 runs the user's callback and replies. Whatever goes wrong is answered, never left hanging: a
 request of the wrong type, larger than the limit (zros.wire.max_request_size, refused before it
 is decoded), or that does not decode strictly as the request type gets a Zenoh error reply and
@@ -104,28 +104,21 @@ class Service(QueuedEntity):
         return [e for e in self._node.context.graph.entities()
                 if e.kind == EntityKind.SERVICE and e.name == self.srv_name and e.type == type_name]
 
-    # Zenoh thread.
+    # Zenoh thread: queue the query untouched (it is read on the executor).
     def _on_query(self, query: Any) -> None:
         if len(self._queue) >= _MAX_PENDING:
             query.reply_err(f"service '{self.srv_name}' is overloaded ({_MAX_PENDING} requests waiting)".encode())
             query.drop()
             return
-        payload = query.payload
-        if payload is not None and len(payload) > self.max_request_size:  # refused before it is copied
-            self._refuse(query, f'the request of {len(payload)} bytes is larger than the limit of '
-                                f'{self.max_request_size} bytes')
-            query.drop()
-            return
-        attachment = query.attachment
-        self._queue.append((query, payload.to_bytes() if payload is not None else b'',
-                            attachment.to_bytes() if attachment is not None else b''))
-        self._arrived()
+        self._queue.append(query)
+        if not self._scheduled:
+            self._schedule()
 
     # Executor thread: one request per call. An async callback's coroutine is returned, for the
     # executor to run as a task; it answers the query when it ends.
     def _execute(self) -> Any:
         try:
-            query, payload, attachment = self._queue.popleft()
+            query = self._queue.popleft()
         except IndexError:
             query = None
         self._rearm()
@@ -133,7 +126,7 @@ class Service(QueuedEntity):
             return None
         outcome = None
         try:
-            outcome = self._answer(query, payload, attachment)
+            outcome = self._answer(query)
         finally:
             if outcome is None:
                 query.drop()
@@ -146,7 +139,14 @@ class Service(QueuedEntity):
         self.rejected += 1
         query.reply_err(f"service '{self.srv_name}' refused the request: {reason}".encode())
 
-    def _answer(self, query: Any, payload: bytes, attachment: bytes) -> Any:
+    def _answer(self, query: Any) -> Any:
+        payload = query.payload
+        if payload is not None and len(payload) > self.max_request_size:  # refused before it is copied
+            self._refuse(query, f'the request of {len(payload)} bytes is larger than the limit of '
+                                f'{self.max_request_size} bytes')
+            return None
+        attachment = query.attachment
+        attachment = attachment.to_bytes() if attachment is not None else b''
         header = read_header(attachment)
         if header is not None and header[3] != self._tail:
             if self._servers(describe_type(header[3])[0]):
@@ -158,7 +158,7 @@ class Service(QueuedEntity):
             self._refuse(query, old)
             return None
         try:
-            request = deserialize(payload, self.srv_type.Request)
+            request = deserialize(payload.to_bytes() if payload is not None else b'', self.srv_type.Request)
         except DecodeError as exc:
             self._refuse(query, str(exc))
             return None
@@ -206,6 +206,6 @@ class Service(QueuedEntity):
     def _release(self) -> None:
         super()._release()
         while self._queue:
-            query = self._queue.popleft()[0]
+            query = self._queue.popleft()
             query.reply_err(f"service '{self.srv_name}' was destroyed".encode())
             query.drop()

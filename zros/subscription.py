@@ -1,18 +1,23 @@
-"""Subscriptions: samples arrive on a Zenoh thread, wait in a bounded queue, and are decoded
-and handed to the callback on the executor.
+"""Subscriptions: samples arrive on Zenoh's thread, wait undecoded in a bounded queue, and are
+read, decoded and handed to the callback on the executor.
 
-The queue is the QoS depth (KEEP_LAST) and drops the oldest sample when full, counting the
-drop in `dropped`; gaps in a publisher's sequence numbers, seen as samples arrive (before the
-depth rule), are counted in `lost`; samples of the wrong type, larger than the size limit
-(zros.wire.max_message_size) or that do not decode strictly as the subscription's type are
-counted in `rejected` and logged once per publisher: a malformed sample never reaches the
-callback. What the callback does with a well-formed message is its own business: an exception
-it raises propagates out of spin(), as in rclpy. The executor is woken once per subscription with
-work, not once per sample, so a burst costs Zenoh's thread no more than an append.
+One hand-off: on zenoh-python's callback thread, all the subscription does is append the
+sample, untouched, to its queue and put itself in the executor's queue if it is not there yet:
+no copy, no parsing, never user code, so that thread holds the GIL as little as possible. The queue is the QoS depth (KEEP_LAST): when full, the oldest sample
+is pushed out and counted in `dropped`, so a sample the depth rule drops is never copied or
+decoded. The executor reads each sample's attachment once. Gaps in a publisher's sequence
+numbers over every sample that reached the subscription (pushed-out ones included: their
+attachments are kept for this, up to _EVICTED_NOTES) are counted in `lost`; samples of the
+wrong type, larger than the size limit (zros.wire.max_message_size, refused before they are
+copied) or that do not decode strictly as the subscription's type are counted in `rejected`
+and logged once per publisher: a malformed sample never reaches the callback. What the
+callback does with a well-formed message is its own business: an exception it raises
+propagates out of spin(), as in rclpy.
 """
 from __future__ import annotations
 
 import inspect
+import threading
 import time
 from collections import deque
 from typing import TYPE_CHECKING, Any, Callable
@@ -22,8 +27,7 @@ from zros.errors import DecodeError
 from zros.graph import EntityKind
 from zros.message import deserialize
 from zros.qos import DurabilityPolicy, QoSProfile
-from zros.wire import (foreign_protocol, max_message_size, mismatch_reason, read_header, type_tail,
-                       writer_sequence)
+from zros.wire import foreign_protocol, max_message_size, mismatch_reason, read_header, type_tail
 
 if TYPE_CHECKING:
     from zros.node import Node
@@ -32,8 +36,23 @@ __all__ = ['Subscription', 'MessageInfo']
 
 # How many publishers' rejected samples a subscription logs (one line each).
 _MAX_REPORTED = 16
+# How many pushed-out samples' attachments wait for the executor to read their sequence numbers.
+_EVICTED_NOTES = 4096
 
 MessageInfo = dict  # {'source_timestamp', 'received_timestamp', 'publication_sequence_number', ...}
+
+
+class _Timed:
+    """A sample with its arrival time, for a callback that takes MessageInfo."""
+
+    __slots__ = ('sample', 'received')
+
+    def __init__(self, sample: Any, received: int) -> None:
+        self.sample, self.received = sample, received
+
+    @property
+    def attachment(self) -> Any:
+        return self.sample.attachment
 
 
 def _wants_info(callback: Callable) -> bool:
@@ -64,7 +83,10 @@ class Subscription(QueuedEntity):
         self.callback_group = callback_group
         self.raw = raw
         self._with_info = _wants_info(callback)
-        self._queue: deque = deque(maxlen=qos.queue_depth)
+        self._queue: deque = deque(maxlen=qos.queue_depth)  # Zenoh samples, undecoded
+        self._evicted: deque = deque(maxlen=_EVICTED_NOTES)  # attachments of pushed-out samples
+        self._take_lock = threading.Lock()   # the executor's take vs. a push-out
+        self._drops_noted = 0
         self._tail = type_tail(msg_type)
         self._max_size = max_message_size()
         self._last_seq: dict[bytes, int] = {}
@@ -75,40 +97,40 @@ class Subscription(QueuedEntity):
         self.received = 0
         session = node.context.session
         key = topic_key(node.context.domain_id, topic)
+        handler = self._on_sample_timed if self._with_info else self._on_sample
         if qos.durability == DurabilityPolicy.TRANSIENT_LOCAL:
             self._zenoh = zenoh.ext.declare_advanced_subscriber(
-                session, key, self._on_sample,
+                session, key, handler,
                 history=zenoh.ext.HistoryConfig(detect_late_publishers=True, max_samples=max(1, qos.queue_depth)),
                 subscriber_detection=True)
         else:
-            self._zenoh = session.declare_subscriber(key, self._on_sample)
+            self._zenoh = session.declare_subscriber(key, handler)
         super().__init__(node, EntityKind.SUBSCRIPTION, topic, msg_type, qos)
 
-    # Zenoh thread: copy out, count gaps, queue; never user code.
+    # Zenoh thread: queue the sample untouched (no copy, no parsing) and make sure the executor
+    # will run us. Never user code.
     def _on_sample(self, sample: Any) -> None:
-        attachment = sample.attachment
-        attachment = attachment.to_bytes() if attachment is not None else b''
-        payload = sample.payload
-        if len(payload) > self._max_size:  # refused before it is copied or decoded
-            self.received += 1
-            writer = writer_sequence(attachment)
-            self._reject(writer[0] if writer else b'', f'a message of {len(payload)} bytes is larger than the limit of '
-                                           f'{self._max_size} bytes (ZROS_MAX_MESSAGE_SIZE)')
-            return
-        writer = writer_sequence(attachment)
-        if writer is not None:
-            gid, seq = writer
-            last = self._last_seq.get(gid)
-            if last is not None and seq > last + 1:
-                self.lost += seq - last - 1
-            self._last_seq[gid] = seq
         queue = self._queue
         if len(queue) == queue.maxlen:
-            self.dropped += 1
-        queue.append((payload.to_bytes(), attachment, time.time_ns() if self._with_info else 0))
-        self._arrived()
+            self._push_out()
+        queue.append(sample)
+        if not self._scheduled:
+            self._schedule()
         if self._events is not None:
             self._events.on_sample()
+
+    def _on_sample_timed(self, sample: Any) -> None:
+        """`_on_sample` for a callback that takes MessageInfo: the arrival time goes along."""
+        self._on_sample(_Timed(sample, time.time_ns()))
+
+    def _push_out(self) -> None:
+        """KEEP_LAST: drop the oldest waiting sample, counted in `dropped`; its attachment is
+        kept, unread, so that the executor can still count a gap before it in `lost`."""
+        with self._take_lock:
+            queue = self._queue
+            if len(queue) == queue.maxlen:
+                self._evicted.append(queue.popleft().attachment)
+                self.dropped += 1
 
     # Executor thread. spin_once takes one sample per call, as rclpy takes one message per
     # callback; spin() lets a subscription run up to `budget` waiting samples in one go.
@@ -116,17 +138,53 @@ class Subscription(QueuedEntity):
         queue = self._queue
         pending = None
         for _ in range(budget):
-            if not queue:
-                break
-            pending = self._deliver(*queue.popleft())
+            with self._take_lock:   # pushed-out samples are older than the one taken here
+                try:
+                    item = queue.popleft()
+                except IndexError:
+                    break
+                notes = self._take_notes() if self._evicted else None
+            lost = self.lost
+            if notes:
+                for attachment in notes:
+                    header = read_header(attachment.to_bytes()) if attachment is not None else None
+                    if header is not None:
+                        self._count_gap(header[0], header[1])
+            sample, received = (item.sample, item.received) if self._with_info else (item, 0)
+            attachment = sample.attachment
+            attachment = attachment.to_bytes() if attachment is not None else b''
+            header = read_header(attachment)
+            if header is not None:
+                self._count_gap(header[0], header[1])
+            if lost != self.lost and self._events is not None:
+                self._events.on_sample()  # report the gap now, not at the next arrival
+            pending = self._deliver(sample, attachment, header, received)
             if pending is not None:
                 break   # an async callback's coroutine: the executor runs it as a task first
         self._rearm()
         return pending
 
-    def _deliver(self, payload: bytes, attachment: bytes, received: int) -> Any:
+    def _take_notes(self) -> deque:
+        """Under `_take_lock`: the attachments of the samples pushed out so far."""
+        notes, self._evicted = self._evicted, deque(maxlen=_EVICTED_NOTES)
+        if self.dropped - self._drops_noted > len(notes):
+            # More were pushed out than notes kept (the executor was away): a gap over them is
+            # not a loss, so the writers' sequences start afresh.
+            self._last_seq.clear()
+        self._drops_noted = self.dropped
+        return notes
+
+    def _count_gap(self, gid: bytes, seq: int) -> None:
+        """`lost`: gaps in each writer's sequence numbers, over every sample that reached this
+        subscription (delivered or pushed out), in arrival order."""
+        last = self._last_seq.get(gid)
+        if last is None or seq > last:
+            if last is not None and seq > last + 1:
+                self.lost += seq - last - 1
+            self._last_seq[gid] = seq
+
+    def _deliver(self, sample: Any, attachment: bytes, header: tuple | None, received: int) -> Any:
         self.received += 1
-        header = read_header(attachment)
         if header is not None:
             gid, seq, source_ns, tail = header
             if tail != self._tail:
@@ -138,11 +196,16 @@ class Subscription(QueuedEntity):
             if old is not None:
                 self._reject(gid, old)
                 return
+        payload = sample.payload
+        if len(payload) > self._max_size:  # refused before it is copied or decoded
+            self._reject(gid, f'a message of {len(payload)} bytes is larger than the limit of '
+                              f'{self._max_size} bytes (ZROS_MAX_MESSAGE_SIZE)')
+            return
         if self.raw:
-            msg = payload
+            msg = payload.to_bytes()
         else:
             try:
-                msg = deserialize(payload, self.msg_type)
+                msg = deserialize(payload.to_bytes(), self.msg_type)
             except DecodeError as exc:
                 self._reject(gid, str(exc))
                 return

@@ -20,7 +20,7 @@ import time
 
 from zros.errors import ZrosError
 
-__all__ = ['MAGIC', 'PROTOCOL_VERSION', 'TYPE_AT', 'AttachmentWriter', 'read_header', 'writer_sequence',
+__all__ = ['MAGIC', 'PROTOCOL_VERSION', 'TYPE_AT', 'AttachmentWriter', 'read_header',
            'type_tail', 'describe_type', 'mismatch_reason', 'foreign_protocol', 'max_message_size', 'max_request_size',
            'parse_size', 'DEFAULT_MAX_MESSAGE_SIZE', 'DEFAULT_MAX_REQUEST_SIZE']
 
@@ -67,17 +67,6 @@ def read_header(attachment: bytes) -> tuple[bytes, int, int, bytes] | None:
         return None
     seq, source_ns = _SEQ_TIME.unpack_from(attachment, _SEQ_AT)
     return attachment[_GID_AT:_SEQ_AT], seq, source_ns, attachment[TYPE_AT:]
-
-
-_unpack_seq = struct.Struct('<Q').unpack_from
-
-
-def writer_sequence(attachment: bytes) -> tuple[bytes, int] | None:
-    """(gid, sequence number) of a zros attachment, None for others. The cheap part of
-    read_header."""
-    if attachment[:_GID_AT] != MAGIC or len(attachment) < TYPE_AT:
-        return None
-    return attachment[_GID_AT:_SEQ_AT], _unpack_seq(attachment, _SEQ_AT)[0]
 
 
 def describe_type(tail: bytes) -> tuple[str, str]:
