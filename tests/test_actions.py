@@ -315,3 +315,30 @@ def test_status_array_lists_retained_goals_and_drops_expired_ones(make_context, 
         assert len(latest) == 1 and latest[0].goal_info.goal_id == handle.goal_id
     finally:
         spinner.close()
+
+
+def test_blocking_send_goal_is_one_exchange_and_falls_back_to_get_result(make_context, client_node, Fibonacci):
+    """A blocking send_goal asks for the result in the send-goal query (a second reply when the
+    goal ends); a server that answers only the acceptance is asked with get_result."""
+    def execute(goal_handle):
+        time.sleep(0.1)  # the result comes well after the acceptance
+        goal_handle.succeed()
+        return Fibonacci.Result(sequence=[goal_handle.request.order])
+    _, server, spinner = _in_process_server(make_context, Fibonacci, execute)
+    send_goal, get_result = server._services
+    try:
+        client = _client(client_node, Fibonacci, 'local_fib')
+        results = [client.send_goal(Fibonacci.Goal(order=i)) for i in (3, 4)]
+        assert [(r.status, list(r.result.sequence)) for r in results] == [(GoalStatus.SUCCEEDED, [3]),
+                                                                            (GoalStatus.SUCCEEDED, [4])]
+        get_result_calls = []
+        get_result.callback = lambda request, response: (get_result_calls.append(request),
+                                                         server._on_get_result(request, response))[1]
+        assert client.send_goal(Fibonacci.Goal(order=5)).result.sequence.tolist() == [5]
+        assert get_result_calls == []
+        send_goal._follow_up = None   # a server without the second reply
+        result = client.send_goal(Fibonacci.Goal(order=6))
+        assert (result.status, list(result.result.sequence)) == (GoalStatus.SUCCEEDED, [6])
+        assert len(get_result_calls) == 1
+    finally:
+        spinner.close()

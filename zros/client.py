@@ -8,7 +8,7 @@ request, when it disappears (Zenoh finalizes the query at once), or after `timeo
 from __future__ import annotations
 
 import time
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Iterator
 
 from zros.entity import NodeEntity
 from zros.errors import DecodeError, ServiceCallError
@@ -57,10 +57,12 @@ class Client(NodeEntity):
         """Wait (on graph changes, not by polling) until a server exists; False on timeout."""
         return self._node.context.graph.wait_for(lambda entities: bool(self._servers(entities)), timeout_sec)
 
-    def _send(self, request: Any, timeout_sec: float | None, handler: Any = None) -> tuple[float, Any]:
+    def _send(self, request: Any, timeout_sec: float | None, handler: Any = None,
+              parameters: str = '') -> tuple[float, Any]:
         """Issue the Zenoh get for `request`: (timeout used, reply receiver or None).
 
-        With no handler, Zenoh's default FIFO channel holds the replies for the caller."""
+        With no handler, Zenoh's default FIFO channel holds the replies for the caller.
+        `parameters` go in the selector (`key?parameters`) for servers that read them."""
         import zenoh
         if type(request) is not self.srv_type.Request:
             raise TypeError(f"client of '{self.srv_name}' expects {self.srv_type._TYPE} Request, "
@@ -69,12 +71,14 @@ class Client(NodeEntity):
             raise RuntimeError(f"client of '{self.srv_name}' has been destroyed")
         timeout = _NO_TIMEOUT if timeout_sec is None else max(0.001, timeout_sec)
         receiver = self._node.context.session.get(
-            self._key, handler, payload=shm_payload(serialize(request)), attachment=self._stamp(),
+            f'{self._key}?{parameters}' if parameters else self._key, handler,
+            payload=shm_payload(serialize(request)), attachment=self._stamp(),
             timeout=timeout, consolidation=zenoh.ConsolidationMode.NONE)
         return timeout, receiver
 
-    def _outcome(self, reply: Any, started: float) -> Any:
-        """The response in a reply, or the ServiceCallError it stands for (returned, not raised)."""
+    def _outcome(self, reply: Any, started: float, response_type: type | None = None) -> Any:
+        """The response in a reply (a `response_type`, by default this service's Response), or
+        the ServiceCallError it stands for (returned, not raised)."""
         ok = reply.ok
         if ok is not None:
             payload = ok.payload
@@ -82,7 +86,7 @@ class Client(NodeEntity):
                 return ServiceCallError(f"service '{self.srv_name}' sent a reply of {len(payload)} bytes, larger "
                                         f'than the limit of {self._max_reply} bytes (ZROS_MAX_MESSAGE_SIZE)')
             try:
-                return deserialize(payload.to_bytes(), self.srv_type.Response)
+                return deserialize(payload.to_bytes(), response_type or self.srv_type.Response)
             except DecodeError as exc:  # a bad reply fails this call only
                 return ServiceCallError(f"service '{self.srv_name}' sent a reply that is not a valid response: {exc}")
         text = reply.err.payload.to_bytes().decode(errors='replace')
@@ -127,13 +131,23 @@ class Client(NodeEntity):
 
         The reply is read from Zenoh's channel on this thread (no hand-over from a callback
         thread), so it needs no executor and works inside callbacks."""
+        return next(self._replies(request, timeout_sec, (self.srv_type.Response,)))
+
+    def _replies(self, request: Any, timeout_sec: float | None, response_types: tuple[type, ...],
+                 parameters: str = '') -> Iterator[Any]:
+        """Blocking: send `request`, then yield its replies, decoded as `response_types` in
+        order (a server may answer one query more than once). Raises ServiceCallError for a
+        failed reply, or when the query ends before a reply expected."""
         started = time.monotonic()
-        timeout, receiver = self._send(request, timeout_sec)
-        reply = next(iter(receiver), None)
-        outcome = self._no_answer(started, timeout) if reply is None else self._outcome(reply, started)
-        if isinstance(outcome, Exception):
-            raise outcome
-        return outcome
+        timeout, receiver = self._send(request, timeout_sec, parameters=parameters)
+        replies = iter(receiver)
+        for response_type in response_types:
+            reply = next(replies, None)
+            outcome = (self._no_answer(started, timeout) if reply is None
+                       else self._outcome(reply, started, response_type))
+            if isinstance(outcome, Exception):
+                raise outcome
+            yield outcome
 
 
 class ServiceCallTimeout(ServiceCallError, TimeoutError):

@@ -71,6 +71,10 @@ class DeferredResponse:
 class Service(QueuedEntity):
     """Made by `Node.create_service`."""
 
+    #: Called with (query, response) after a response has gone out; a DeferredResponse it returns
+    #: answers the same query once more, later (an action's send-goal that also brings the result).
+    _follow_up: Callable[[Any, Any], DeferredResponse | None] | None = None
+
     def __init__(self, node: 'Node', srv_type: type, name: str, callback: Callable[[Any, Any], Any],
                  qos: QoSProfile, callback_group: Any) -> None:
         from zros.keys import service_key
@@ -201,7 +205,7 @@ class Service(QueuedEntity):
             query.reply_err(text.encode())
             return None
         query.reply(query.key_expr, shm_payload(serialize(response)))
-        return None
+        return self._follow_up(query, response) if self._follow_up is not None else None
 
     def _release(self) -> None:
         super()._release()

@@ -12,7 +12,7 @@ import threading
 import time
 from typing import TYPE_CHECKING, Any, Callable
 
-from zros.action.server import GoalStatus
+from zros.action.server import RESULT_PARAMETER, GoalStatus
 from zros.action.types import protocol_types
 from zros.errors import ServiceCallError
 from zros.graph import EntityKind
@@ -192,15 +192,23 @@ class ActionClient:
         if type(goal) is not self._action_type.Goal:
             raise TypeError(f"action '{self._name}' expects {self._action_type._TYPE} Goal, "
                             f'got {getattr(type(goal), "_TYPE", type(goal).__name__)}')
-        response = self._send_client.call(self._types.SendGoal.Request(goal=goal, client_id=self._client_id))
+        # One query: the server replies with the acceptance, then with the result when the goal
+        # ends. A server that answers only the acceptance is asked for the result separately.
+        replies = self._send_client._replies(
+            self._types.SendGoal.Request(goal=goal, client_id=self._client_id), None,
+            (self._types.SendGoal.Response, self._types.GetResult.Response), RESULT_PARAMETER)
+        response = next(replies)
         if not response.accepted:
             return None
         handle = self._register(response, feedback_callback)
         try:
-            result = self._result_client.call(self._types.GetResult.Request(goal_id=handle.goal_id))
-        except ServiceCallError as exc:
-            raise ServiceCallError(f"action server '{self._name}' did not deliver the result of goal "
-                                   f'{bytes(handle.goal_id.uuid).hex()}: {exc}') from None
+            result = next(replies)
+        except ServiceCallError:
+            try:
+                result = self._result_client.call(self._types.GetResult.Request(goal_id=handle.goal_id))
+            except ServiceCallError as exc:
+                raise ServiceCallError(f"action server '{self._name}' did not deliver the result of goal "
+                                       f'{bytes(handle.goal_id.uuid).hex()}: {exc}') from None
         self._settle(handle, result)
         return result
 

@@ -51,6 +51,9 @@ class GoalStatus(enum.IntEnum):
     ABORTED = 6
 
 
+#: The selector parameter of a send-goal query that asks for the result in a second reply.
+RESULT_PARAMETER = 'result'
+
 _ACTIVE = (GoalStatus.ACCEPTED, GoalStatus.EXECUTING, GoalStatus.CANCELING)
 # action_msgs/srv/CancelGoal return codes
 _CANCEL_OK, _CANCEL_REJECTED, _CANCEL_UNKNOWN_GOAL, _CANCEL_TERMINATED = 0, 1, 2, 3
@@ -206,6 +209,7 @@ class ActionServer:
             node.create_service(self._types.GetResult, f'{self._name}/_action/get_result', self._on_get_result,
                                 qos_profile=result_service_qos_profile, callback_group=group),
         ]
+        self._services[0]._follow_up = self._result_too
         self._cancel_qos = cancel_service_qos_profile
         self._cancel_service = None
         if not any(s._cancel_service for s in self._siblings()):
@@ -252,6 +256,19 @@ class ActionServer:
         # Accepted-callback after the reply is sent: the client learns the id before feedback.
         self._node._run_on_executor(self._handle_accepted, handle)
         return response
+
+    def _result_too(self, query: Any, response: Any) -> DeferredResponse | None:
+        """A send-goal query with the `result` parameter (a blocking `send_goal`) gets the goal's
+        GetResult response as a second reply when the goal ends: one exchange instead of two."""
+        if not response.accepted or RESULT_PARAMETER not in query.parameters:
+            return None
+        outcome = self._on_get_result(self._types.GetResult.Request(goal_id=response.goal_id),
+                                      self._types.GetResult.Response())
+        if isinstance(outcome, DeferredResponse):
+            return outcome
+        deferred = DeferredResponse()
+        deferred.resolve(outcome)
+        return deferred
 
     def _handle_accepted(self, handle: ServerGoalHandle) -> Any:
         try:
