@@ -25,8 +25,11 @@ and measures, from just before the supervisor process is spawned:
 talker), once each, and adds graph reads: `zros node list` and `zros topic list`, run as a user
 runs them (a fresh process each time) `--graph-reads` times each while the launch is up, timed
 wall-clock from spawn to exit, and checked for a complete answer (all N nodes, no "partial"
-warning). Goals (issue 20): every read under 1 s, Ctrl-C to everything gone under 3 s, no
-escalation.
+warning; a read still running after 60 s counts as 60 s and incomplete), and the graph read
+alone from this script's open session (what the verbs cost beyond starting an interpreter).
+Goals (issue 20): every read under 1 s, Ctrl-C to everything gone under 3 s, no escalation.
+`--nodes 50 100 --runs 1 --graph-reads 5` measures the same with talkers only: the graph's size
+without the N x N message load of the pairs.
 """
 from __future__ import annotations
 
@@ -35,6 +38,7 @@ import json
 import os
 import platform
 import re
+import shutil
 import signal
 import socket
 import statistics
@@ -87,21 +91,33 @@ def _launch_file(directory: Path, names: list[tuple[str, str]]) -> Path:
     return path
 
 
-def _graph_reads(env: dict, expected: set[str], reads: int) -> dict:
-    """Wall time of `zros node list` / `zros topic list` as fresh processes, and whether each
-    answer was complete."""
+def _graph_reads(env: dict, expected: set[str], reads: int, session, domain: int) -> dict:
+    """Wall time of `zros node list` / `zros topic list` as fresh processes (a read that has not
+    exited after 60 s counts as 60 s, incomplete), whether each answer was complete, and the
+    graph read alone, made from this process's open session."""
+    from zros.graph import fetch_entities
     times: dict[str, list[float]] = {'node': [], 'topic': []}
+    in_process: list[float] = []
+    loads: list[float] = []
     complete = 0
     for _ in range(reads):
+        loads.append(os.getloadavg()[0])
+        started = time.monotonic()
+        fetch_entities(session, domain, timeout=1.0)
+        in_process.append(time.monotonic() - started)
         for verb in ('node', 'topic'):
             started = time.monotonic()
-            done = subprocess.run([sys.executable, '-m', 'zros', verb, 'list'], capture_output=True, text=True,
-                                  env=env, cwd=REPO, timeout=60)
+            try:
+                done = subprocess.run([sys.executable, '-m', 'zros', verb, 'list'], capture_output=True, text=True,
+                                      env=env, cwd=REPO, timeout=60)
+            except subprocess.TimeoutExpired:
+                done = None
             times[verb].append(time.monotonic() - started)
             if verb == 'node':
-                complete += (done.returncode == 0 and expected <= set(done.stdout.split())
+                complete += (done is not None and done.returncode == 0 and expected <= set(done.stdout.split())
                              and 'partial' not in done.stderr)
-    return {'node_list_s': times['node'], 'topic_list_s': times['topic'], 'complete_reads': complete}
+    return {'node_list_s': times['node'], 'topic_list_s': times['topic'], 'complete_reads': complete,
+            'read_in_process_s': in_process, 'load_during_reads': statistics.mean(loads)}
 
 
 def _memory_kib(pid: int) -> tuple[int, int]:
@@ -177,10 +193,11 @@ def run_once(nodes: int, workdir: Path, *, pairs: bool = False, graph_reads: int
             started = first = None
             while True:
                 now = time.monotonic() - t0
-                text = out_path.read_text(errors='replace')
-                pids = [int(p) for p in re.findall(r'process started with pid \[(\d+)\]', text)]
-                if started is None and len(pids) >= nodes:
-                    started = now
+                if started is None:   # (listeners print a lot: stop reading the output once all started)
+                    text = out_path.read_text(errors='replace')
+                    pids = [int(p) for p in re.findall(r'process started with pid \[(\d+)\]', text)]
+                    if len(pids) >= nodes:
+                        started = now
                 names = {e.node_fqn for e in fetch_entities(context.session, domain, timeout=0.5) if e.kind == 'NN'}
                 seen = names & expected
                 if seen and first is None:
@@ -189,12 +206,14 @@ def run_once(nodes: int, workdir: Path, *, pairs: bool = False, graph_reads: int
                     complete = time.monotonic() - t0
                     break
                 if now > TIMEOUT_S + 2 * nodes:
-                    raise RuntimeError(f'only {len(seen)} of {nodes} nodes visible after {now:.0f} s')
+                    missing = ', '.join(sorted(expected - seen))
+                    raise RuntimeError(f'only {len(seen)} of {nodes} nodes visible after {now:.0f} s '
+                                       f'(missing: {missing}); the launch output is in {workdir}')
                 time.sleep(0.05)
-            settle = _settle([popen.pid, *pids], TIMEOUT_S)
+            settle = _settle([popen.pid, *pids], 60.0 if pairs else TIMEOUT_S)   # pairs keep talking
             memory = [_memory_kib(pid) for pid in pids]
             supervisor = _memory_kib(popen.pid)
-            reads = _graph_reads(env, expected, graph_reads) if graph_reads else {}
+            reads = _graph_reads(env, expected, graph_reads, context.session, domain) if graph_reads else {}
             t1 = time.monotonic()
             popen.send_signal(signal.SIGINT)
             popen.wait(timeout=30)
@@ -247,9 +266,10 @@ def _classic_table(results: list[dict], nodes: int, runs: int) -> None:
         print(f'| {label:<36} | {med(key) / scale:>6.2f} {unit:<3} | {min(values):>7.2f} - {max(values):>7.2f} |')
 
 
-def _load_table(results: list[dict], reads: int) -> None:
+def _load_table(results: list[dict], reads: int, pairs: bool) -> None:
     """One column per launch size, the goal beside each row, MISS where it is not met."""
-    print(f'\nzros launch under load: talker/listener pairs, {reads} reads of each list verb')
+    kind = 'talker/listener pairs (every listener hears every talker)' if pairs else 'talkers only'
+    print(f'\nzros launch under load: {kind}, {reads} reads of each list verb')
     print(f'machine: {platform.machine()}, {os.cpu_count()} CPUs, Python {platform.python_version()}, '
           f'load average at the end: {os.getloadavg()[0]:.1f}\n')
 
@@ -259,8 +279,10 @@ def _load_table(results: list[dict], reads: int) -> None:
     rows = [
         ('`zros node list`, median (max)', *times('node_list_s'), '< 1 s every time'),
         ('`zros topic list`, median (max)', *times('topic_list_s'), '< 1 s every time'),
+        ('graph read alone (open session), median (max)', *times('read_in_process_s'), '< 1 s every time'),
         ('node list answers complete', lambda r: f"{r['complete_reads']}/{reads}",
          lambda r: r['complete_reads'] == reads, 'all'),
+        ('load average during the reads', lambda r: f"{r['load_during_reads']:.0f}", None, ''),
         ('all nodes in the graph after start', lambda r: f"{r['all_s']:.1f} s", None, ''),
         ('then settled (< 0.5 CPU) after', lambda r: f"{r['settle_s']:.1f} s", None, ''),
         ('Ctrl-C until everything exited', lambda r: f"{r['shutdown_s']:.2f} s", lambda r: r['shutdown_s'] < 3.0,
@@ -299,13 +321,14 @@ def main() -> int:
     results = []
     for nodes in sizes:
         for run in range(runs):
-            with tempfile.TemporaryDirectory(prefix='zros-bench-launch-') as tmp:
-                result = run_once(nodes, Path(tmp), pairs=pairs, graph_reads=reads)
+            workdir = Path(tempfile.mkdtemp(prefix='zros-bench-launch-'))
+            result = run_once(nodes, workdir, pairs=pairs, graph_reads=reads)
+            shutil.rmtree(workdir)   # kept, and named in the error, when a run fails
             results.append(result)
             print(f"{nodes} nodes, run {run + 1}: all in the graph after {result['all_s']:.2f} s, "
                   f"stopped in {result['shutdown_s']:.2f} s", file=sys.stderr)
     if reads:
-        _load_table(results, reads)
+        _load_table(results, reads, pairs)
     else:
         for nodes in sizes:
             _classic_table([r for r in results if r['nodes'] == nodes], nodes, runs)

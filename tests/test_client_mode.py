@@ -47,3 +47,17 @@ def test_a_client_command_without_its_router_fails_within_seconds(client_config,
     assert result.returncode == 1, result
     assert 'cannot reach tcp/127.0.0.1' in result.stderr and 'cannot open the Zenoh session' in result.stderr
     assert 'Traceback' not in result.stderr
+
+
+def test_a_client_node_waiting_for_its_router_stops_on_signals(client_config, spawn):
+    """No context exists yet for a signal to shut down: the wait itself ends."""
+    import signal
+    waiting = {signum: spawn.node('demo_nodes', 'talker')
+               for signum in (signal.SIGINT, signal.SIGTERM)}
+    for signum, child in waiting.items():
+        child.wait_for_output('cannot reach tcp/127.0.0.1', timeout=15)
+        child.signal(signum)
+    for signum, child in waiting.items():
+        child.wait(5)
+        assert 'Traceback' not in child.output(), child.output()
+    assert 'stopped by a signal while waiting for the router' in waiting[signal.SIGTERM].output()

@@ -193,6 +193,22 @@ def test_bag_record_finishes_its_file_on_ctrl_c(spawn, tmp_path):
     assert 'Recorded' in child.output()
 
 
+def test_bag_play_stops_on_ctrl_c(spawn, tmp_path):
+    from zros.bag.writer import BagWriter
+    from zros.message import serialize
+    from interfaces.std_msgs.msg import String
+    bag = tmp_path / 'looped'
+    with BagWriter(bag) as writer:
+        writer.add_topic('/looped', 'std_msgs/msg/String', type_hash=String._HASH, qos='R:V:L10')
+        for i in range(20):   # 20 messages 0.1 s apart, played again and again
+            t = 1_700_000_000_000_000_000 + i * 100_000_000
+            writer.write('/looped', serialize(String(data=f'm{i}')), log_time=t, publish_time=t)
+    child = spawn(*_zros('bag', 'play', '--loop', str(bag)), name='play')
+    time.sleep(2.0)
+    assert child.popen.poll() is None, child.output()   # still looping
+    assert _stops(child, timeout=5) == 0
+
+
 def test_launch_children_get_default_signals_and_stop(spawn, tmp_path):
     """The launch inherits SIGINT ignored; its children must not, or they would ignore its SIGINT."""
     probe = tmp_path / 'probe.py'

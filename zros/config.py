@@ -482,6 +482,18 @@ def _warn_unreachable(settings: SessionSettings) -> None:
           file=sys.stderr, flush=True)
 
 
+def _sleep_unless_signalled(seconds: float) -> None:
+    """Sleep, but end the wait for a router at once when SIGTERM (or a handled SIGINT) came in:
+    there is no context yet for the signal to shut down."""
+    import time
+    from zros.signals import signal_received
+    end = time.monotonic() + seconds
+    while (left := end - time.monotonic()) > 0:
+        if signal_received():
+            raise ZrosError('stopped by a signal while waiting for the router')
+        time.sleep(min(0.05, left))
+
+
 def _open_client(settings: SessionSettings, mesh: bool, connect_wait: float | None):
     """Dial the router until it answers (every 0.25 s, backing off to 2 s) or `connect_wait` runs out."""
     import time
@@ -501,6 +513,6 @@ def _open_client(settings: SessionSettings, mesh: bool, connect_wait: float | No
             _warn_unreachable(settings)
             warned = True
         pause = delay if deadline is None else min(delay, max(0.0, deadline - time.monotonic()))
-        time.sleep(pause)
+        _sleep_unless_signalled(pause)
         delay = min(2.0, delay * 2)
         config = build_config(settings, as_hub=False, mesh=mesh)   # zenoh.open consumes it

@@ -90,7 +90,10 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def entry_point() -> None:
-    code = main()
+    try:
+        code = main()
+    except KeyboardInterrupt:   # Ctrl-C before a verb's own handling (while importing, say)
+        code = 130
     from zros.context import exit_process
     exit_process(code if isinstance(code, int) else 0)
 
