@@ -4,9 +4,15 @@ Replies complete the future on Zenoh's thread, so a blocking `call()` works even
 a callback of a single-threaded executor (rclpy deadlocks there). Done-callbacks still run on
 the node's executor. A call fails with ServiceCallError when the server raises or refuses the
 request, when it disappears (Zenoh finalizes the query at once), or after `timeout_sec`.
+
+A server is ready when the graph lists it and Zenoh's routing knows its queryable: the
+liveliness token that puts a server in the graph can arrive before the queryable's declaration
+does, and a request sent in between reaches no one. So `wait_for_service` means a request
+sent now is delivered, as in ROS 2, where it returns only once client and server are matched.
 """
 from __future__ import annotations
 
+import threading
 import time
 from typing import TYPE_CHECKING, Any, Iterator
 
@@ -41,6 +47,9 @@ class Client(NodeEntity):
         self._key = service_key(node.context.domain_id, name)
         self._stamp = AttachmentWriter(srv_type).next
         self._max_reply = max_message_size()
+        self._route_lock = threading.Lock()
+        self._routed: threading.Event | None = None
+        self._route_handles: tuple[Any, ...] = ()
         super().__init__(node, EntityKind.CLIENT, name, srv_type, qos)
 
     @property
@@ -50,12 +59,45 @@ class Client(NodeEntity):
     def _servers(self, entities: list) -> list:
         return [e for e in entities if e.kind == EntityKind.SERVICE and e.name == self.srv_name]
 
+    def _route(self) -> threading.Event:
+        """An event set while Zenoh's routing knows a queryable on this service's key, kept by a
+        matching listener declared on first use (a client never asked whether it is ready pays
+        nothing)."""
+        with self._route_lock:
+            if self._routed is None:
+                routed = threading.Event()
+                querier = self._node.context.session.declare_querier(self._key)
+
+                def on_matching(status: Any) -> None:  # Zenoh thread
+                    if status.matching:
+                        routed.set()
+                    else:
+                        routed.clear()
+                listener = querier.declare_matching_listener(on_matching)
+                if querier.matching_status.matching:
+                    routed.set()
+                self._route_handles = (listener, querier)
+                self._routed = routed
+            return self._routed
+
     def service_is_ready(self) -> bool:
-        return bool(self._servers(self._node.context.graph.entities()))
+        return bool(self._servers(self._node.context.graph.entities())) and self._route().is_set()
 
     def wait_for_service(self, timeout_sec: float | None = None) -> bool:
-        """Wait (on graph changes, not by polling) until a server exists; False on timeout."""
-        return self._node.context.graph.wait_for(lambda entities: bool(self._servers(entities)), timeout_sec)
+        """Wait (on graph and routing changes, not by polling) until a server exists and a request
+        would reach it; False on timeout."""
+        deadline = None if timeout_sec is None else time.monotonic() + timeout_sec
+        routed = self._route()
+        graph = self._node.context.graph
+        while True:
+            left = None if deadline is None else max(0.0, deadline - time.monotonic())
+            if not graph.wait_for(lambda entities: bool(self._servers(entities)), left):
+                return False
+            left = None if deadline is None else max(0.0, deadline - time.monotonic())
+            if not routed.wait(left):
+                return False
+            if self.service_is_ready():  # the server may have gone while the route came up
+                return True
 
     def _send(self, request: Any, timeout_sec: float | None, handler: Any = None,
               parameters: str = '') -> tuple[float, Any]:
@@ -148,6 +190,16 @@ class Client(NodeEntity):
             if isinstance(outcome, Exception):
                 raise outcome
             yield outcome
+
+
+    def _release(self) -> None:
+        super()._release()
+        for handle in self._route_handles:
+            try:
+                handle.undeclare()
+            except Exception:  # noqa: BLE001 - the session may be closing already
+                pass
+        self._route_handles = ()
 
 
 class ServiceCallTimeout(ServiceCallError, TimeoutError):

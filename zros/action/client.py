@@ -123,16 +123,37 @@ class ActionClient:
     def action_name(self) -> str:
         return self._name
 
-    def _servers(self, entities: list) -> list:
-        """Servers of this name and this action type (servers of other types may share the name)."""
-        return [e for e in entities if e.kind == EntityKind.ACTION_SERVER and e.name == self._name
-                and e.type == self._action_type._TYPE]
+    def _listed(self, entities: list) -> bool:
+        """Whether the graph lists a server of this name and action type (servers of other types
+        may share the name) and its three services of their types, as rclpy requires."""
+        if not any(e.kind == EntityKind.ACTION_SERVER and e.name == self._name and e.type == self._action_type._TYPE
+                   for e in entities):
+            return False
+        served = {(e.name, e.type) for e in entities if e.kind == EntityKind.SERVICE}
+        return all((c.srv_name, c.srv_type._TYPE) in served for c in self._service_clients())
+
+    def _service_clients(self) -> tuple:
+        return self._send_client, self._cancel_client, self._result_client
 
     def server_is_ready(self) -> bool:
-        return bool(self._servers(self._node.context.graph.entities()))
+        """A goal sent now is delivered: the server and its services are in the graph and Zenoh's
+        routing knows their queryables (see zros.client)."""
+        return (self._listed(self._node.context.graph.entities())
+                and all(c.service_is_ready() for c in self._service_clients()))
 
     def wait_for_server(self, timeout_sec: float | None = None) -> bool:
-        return self._node.context.graph.wait_for(lambda entities: bool(self._servers(entities)), timeout_sec)
+        deadline = None if timeout_sec is None else time.monotonic() + timeout_sec
+        graph = self._node.context.graph
+        while True:
+            left = None if deadline is None else max(0.0, deadline - time.monotonic())
+            if not graph.wait_for(self._listed, left):
+                return False
+            for client in self._service_clients():
+                left = None if deadline is None else max(0.0, deadline - time.monotonic())
+                if not client.wait_for_service(left):
+                    return False
+            if self.server_is_ready():  # the server may have gone meanwhile
+                return True
 
     # -- goals ---------------------------------------------------------------------------------
     def send_goal_async(self, goal: Any, feedback_callback: Callable | None = None,
