@@ -25,6 +25,21 @@ def test_parameter_at_top_level_infers_types():
     assert LoggingSeverity.DEBUG == 10 and LoggingSeverity is zros.logging.LoggingSeverity
 
 
+def test_parameter_dict_from_yaml_file(tmp_path):
+    from zros.parameter import ParameterFileError, parameter_dict_from_yaml_file
+    path = tmp_path / 'params.yaml'
+    path.write_text('/**:\n  ros__parameters:\n    rate: 1.0\n    shared: x\n'
+                    'arm:\n  ros__parameters:\n    rate: 5.0\n    joint: {limit: 2}\n'
+                    'base:\n  ros__parameters:\n    wheels: 4\n')
+    every = parameter_dict_from_yaml_file(str(path))
+    assert list(every) == ['rate', 'joint.limit', 'wheels'] and every['joint.limit'].value.integer_value == 2
+    wild = parameter_dict_from_yaml_file(str(path), use_wildcard=True, target_nodes=['/arm'], namespace='ns.')
+    assert list(wild) == ['ns.rate', 'ns.shared', 'ns.joint.limit']
+    assert wild['ns.rate'].value.double_value == 5.0, "the node's own entry overrides /**"
+    with pytest.raises(ParameterFileError, match='no parameters for node'):
+        parameter_dict_from_yaml_file(str(path), target_nodes=['gripper'])
+
+
 def test_set_parameters_with_top_level_parameter(context):
     node = Node('param_api', context=context)
     node.declare_parameter('speed', 1.0)

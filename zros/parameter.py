@@ -11,8 +11,8 @@ import fnmatch
 import re
 from typing import Any
 
-__all__ = ['Parameter', 'parameter_value_to_python', 'load_parameter_file', 'parse_parameter_value',
-           'ParameterFileError']
+__all__ = ['Parameter', 'parameter_value_to_python', 'load_parameter_file', 'parameter_dict_from_yaml_file',
+           'parse_parameter_value', 'ParameterFileError']
 
 from zros.errors import ZrosError
 
@@ -201,6 +201,49 @@ def _node_pattern_matches(pattern: str, node_fqn: str) -> bool:
 def load_parameter_file(path: str, node_fqn: str, *, use_wildcard: bool = True) -> dict[str, Any]:
     """Parameters for `node_fqn` from a ROS 2 parameter YAML file, in file order
     (`use_wildcard=False` ignores `/**` entries, as `ros2 param load --no-use-wildcard`)."""
+    values: dict[str, Any] = {}
+    for node_key, params in _parameter_entries(path):
+        if not use_wildcard and node_key in ('/**', '**'):
+            continue
+        if _node_pattern_matches(node_key, node_fqn):
+            _flatten('', params, values)
+    return values
+
+
+def parameter_dict_from_yaml_file(parameter_file: str, use_wildcard: bool = False,
+                                  target_nodes: list[str] | None = None, namespace: str = '') -> dict[str, Any]:
+    """rclpy's: the rcl_interfaces/msg/Parameter messages of a parameter file, by name.
+
+    Every node entry counts (what AsyncParameterClient.load_parameter_file sends to its one
+    remote node), or only those of `target_nodes` (names as the file writes them); the `/**`
+    entry only with use_wildcard, and first, so a node's own entry overrides it. `namespace`
+    is prefixed to every name as it is (`'arm.'`).
+
+    Raises:
+        ParameterFileError: the file cannot be read, a target node has no entry, or nothing
+            is selected.
+    """
+    entries = _parameter_entries(parameter_file)
+    wanted = None if target_nodes is None else [node.strip('/') for node in target_nodes]
+    present = {key.strip('/') for key, _ in entries}
+    missing = [node for node in wanted or () if node not in present]
+    if missing:
+        raise ParameterFileError(f"{parameter_file}: no parameters for node(s) {', '.join(missing)} "
+                                 f"(the file has {', '.join(sorted(present))})")
+    wildcards = [params for key, params in entries if use_wildcard and key.strip('/') == '**']
+    chosen = [params for key, params in entries if key.strip('/') != '**'
+              and (wanted is None or key.strip('/') in wanted)]
+    if not wildcards and not chosen:
+        raise ParameterFileError(f'{parameter_file}: no parameters selected')
+    values: dict[str, Any] = {}
+    for params in wildcards + chosen:
+        _flatten('', params, values)
+    return {namespace + name: Parameter(namespace + name, value=value).to_parameter_msg()
+            for name, value in values.items()}
+
+
+def _parameter_entries(path: str) -> list[tuple[str, dict]]:
+    """A parameter file's (node key, ros__parameters mapping) pairs, in file order."""
     import yaml
     try:
         with open(path, encoding='utf-8') as stream:
@@ -212,20 +255,17 @@ def load_parameter_file(path: str, node_fqn: str, *, use_wildcard: bool = True) 
         where = f':{mark.line + 1}' if mark else ''
         raise ParameterFileError(f"{path}{where}: invalid YAML: {getattr(exc, 'problem', exc)}") from None
     if document is None:
-        return {}
+        return []
     if not isinstance(document, dict):
         raise ParameterFileError(f"{path}: expected a mapping of node names at the top level")
-    values: dict[str, Any] = {}
+    entries = []
     for node_key, params in _node_entries(path, '', document):
         if params is None:
             continue
         if not isinstance(params, dict):
             raise ParameterFileError(f"{path}: 'ros__parameters' of '{node_key}' must be a mapping")
-        if not use_wildcard and node_key in ('/**', '**'):
-            continue
-        if _node_pattern_matches(node_key, node_fqn):
-            _flatten('', params, values)
-    return values
+        entries.append((node_key, params))
+    return entries
 
 
 def _node_entries(path: str, prefix: str, mapping: dict) -> list[tuple[str, Any]]:

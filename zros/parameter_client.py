@@ -11,7 +11,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any, Callable, Sequence
 
 from zros.graph import EntityKind
-from zros.parameter import Parameter, load_parameter_file
+from zros.parameter import Parameter, parameter_dict_from_yaml_file
 from zros.qos import QoSProfile, qos_profile_parameter_events, qos_profile_services_default
 
 if TYPE_CHECKING:
@@ -87,18 +87,16 @@ class AsyncParameterClient:
 
     def load_parameter_file(self, parameter_file: str, use_wildcard: bool = False,
                             callback: Callable | None = None) -> 'Future':
-        """Set the remote node's entries of a ROS 2 parameter YAML file (`/**` too with
-        use_wildcard)."""
+        """Set the parameters of a ROS 2 parameter YAML file on the remote node: as rclpy, those
+        of every node entry in the file, whatever its name (`/**` too with use_wildcard)."""
         return self.set_parameters(self._from_file(parameter_file, use_wildcard), callback)
 
     def load_parameter_file_atomically(self, parameter_file: str, use_wildcard: bool = False,
                                        callback: Callable | None = None) -> 'Future':
         return self.set_parameters_atomically(self._from_file(parameter_file, use_wildcard), callback)
 
-    def _from_file(self, path: str, use_wildcard: bool) -> list[Parameter]:
-        target = self.node.resolve_service_name(self.remote_node_name)
-        values = load_parameter_file(path, target, use_wildcard=use_wildcard)
-        return [Parameter(name, value=value) for name, value in values.items()]
+    def _from_file(self, path: str, use_wildcard: bool) -> list[Any]:
+        return list(parameter_dict_from_yaml_file(path, use_wildcard).values())
 
     def on_parameter_event(self, callback: Callable, qos_profile: QoSProfile = qos_profile_parameter_events,
                            **kwargs: Any) -> 'Subscription':
