@@ -7,15 +7,30 @@ __all__ = ['CallbackGroup', 'MutuallyExclusiveCallbackGroup', 'ReentrantCallback
 
 
 class CallbackGroup:
-    """Base: decides whether an entity's callback may start now (`try_enter` / `leave`)."""
+    """Base: decides whether an entity's callback may start now.
 
-    def try_enter(self) -> bool:
-        raise NotImplementedError
+    The executor asks `can_execute(entity)` before it takes a due timer, and brackets every
+    callback with `try_enter(entity)` / `leave(entity)`. A group of your own (rclpy's extension
+    point: a throttling group, say) implements rclpy's three methods, `can_execute`,
+    `beginning_execution` and `ending_execution`, which the bracket calls. The entity is the
+    timer, subscription, service, client or guard condition, or None when a suspended `async
+    def` callback leaves the group.
+    """
 
-    def leave(self) -> None:
-        raise NotImplementedError
+    def try_enter(self, entity: object = None) -> bool:
+        return bool(self.beginning_execution(entity))
+
+    def leave(self, entity: object = None) -> None:
+        self.ending_execution(entity)
 
     def can_execute(self, entity: object = None) -> bool:
+        raise NotImplementedError
+
+    def beginning_execution(self, entity: object = None) -> bool:
+        """Permission to run `entity`'s callback now (taken until `ending_execution`)."""
+        raise NotImplementedError
+
+    def ending_execution(self, entity: object = None) -> None:
         raise NotImplementedError
 
 
@@ -26,14 +41,14 @@ class MutuallyExclusiveCallbackGroup(CallbackGroup):
         self._busy = False
         self._lock = threading.Lock()
 
-    def try_enter(self) -> bool:
+    def try_enter(self, entity: object = None) -> bool:
         with self._lock:
             if self._busy:
                 return False
             self._busy = True
             return True
 
-    def leave(self) -> None:
+    def leave(self, entity: object = None) -> None:
         with self._lock:
             self._busy = False
 
@@ -44,10 +59,10 @@ class MutuallyExclusiveCallbackGroup(CallbackGroup):
 class ReentrantCallbackGroup(CallbackGroup):
     """Any number of the group's callbacks may run in parallel."""
 
-    def try_enter(self) -> bool:
+    def try_enter(self, entity: object = None) -> bool:
         return True
 
-    def leave(self) -> None:
+    def leave(self, entity: object = None) -> None:
         pass
 
     def can_execute(self, entity: object = None) -> bool:

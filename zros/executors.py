@@ -203,7 +203,7 @@ class Executor:
         """Run one piece of work on this thread, inside its callback group (see the module
         docstring). Exceptions from the callback propagate."""
         group = item.callback_group
-        if group is not None and not group.try_enter():
+        if group is not None and not group.try_enter(item):
             self._park(group, item)
             return
         pending = None
@@ -211,7 +211,7 @@ class Executor:
             pending = item._execute(batch) if batch > 1 and type(item) is Subscription else item._execute()
         finally:
             if group is not None and not inspect.iscoroutine(pending):
-                self._leave_group(group)
+                self._leave_group(group, item)
         if inspect.iscoroutine(pending):
             Task(pending, executor=self, node=getattr(item, '_node', None), callback_group=group)()
 
@@ -221,8 +221,8 @@ class Executor:
         if group.can_execute():   # it was left between try_enter and the append
             self._release_backlog(group)
 
-    def _leave_group(self, group: Any) -> None:
-        group.leave()
+    def _leave_group(self, group: Any, entity: Any = None) -> None:
+        group.leave(entity)
         self._release_backlog(group)
         if self._timer_blocked:
             self._timer_blocked = False

@@ -15,6 +15,10 @@ starts spinning). A completion counts as work for that executor, so `spin_once()
 it, and a node that is not being spun when its future completes hands the completion to the
 executor that spins it next. Only a future with neither runs its callbacks in the completing
 thread.
+
+A future awaited by anything but a zros Task (an asyncio task, as in rclpy's asyncio examples
+that spin the node from the event loop) yields nothing, the way rclpy's futures do, so the
+other loop polls it instead of refusing an object it does not know.
 """
 from __future__ import annotations
 
@@ -23,6 +27,10 @@ import threading
 from typing import Any, Callable
 
 __all__ = ['Future', 'Task']
+
+# Set while a zros Task steps its coroutine on this thread: only then may __await__ hand the
+# future itself to the driver.
+_stepping = threading.local()
 
 
 class Future:
@@ -129,7 +137,8 @@ class Future:
 
     def __await__(self):
         while not self.done():
-            yield self     # the running Task resumes when this future completes
+            # A zros Task resumes when this future completes; any other driver gets a bare yield.
+            yield self if getattr(_stepping, 'task', False) else None
         return self.result()
 
 
@@ -184,12 +193,16 @@ class Task(Future):
     _execute = __call__   # as a piece of executor work
 
     def _step(self) -> None:
+        outer = getattr(_stepping, 'task', False)
+        _stepping.task = True
         try:
             awaited = self._coroutine.send(None)
         except StopIteration as stop:
             self._coroutine = None
             self._conclude(stop.value, None)
             return
+        finally:
+            _stepping.task = outer
         if isinstance(awaited, Future) and not awaited.done():
             awaited._resume_when_done(self)
         else:
