@@ -36,12 +36,20 @@ def test_presets():
         QoSPresetProfiles.get_from_short_key('nope')
 
 
-def test_profiles_are_frozen_and_hashable():
+def test_profiles_are_mutable_as_rclpys_and_entities_keep_a_copy(context):
+    from interfaces.std_msgs.msg import String
+    from zros.node import Node
     profile = QoSProfile(depth=3)
-    with pytest.raises(dataclasses.FrozenInstanceError):
-        profile.depth = 4
-    assert hash(profile) == hash(QoSProfile(depth=3))
-    assert dataclasses.replace(profile, depth=4).depth == 4
+    assert profile == QoSProfile(depth=3) and dataclasses.replace(profile, depth=4).depth == 4
+    publisher = Node('qos_copy', context=context).create_publisher(String, 'qos_copy', profile)
+    profile.reliability = 2          # plain ints, as rclpy takes them
+    profile.durability = DurabilityPolicy.SYSTEM_DEFAULT
+    assert profile.reliability is BEST_EFFORT and profile.durability == DurabilityPolicy.VOLATILE
+    assert publisher.qos_profile.reliability == ReliabilityPolicy.RELIABLE, 'made before the change'
+    with pytest.raises(ValueError, match='depth'):
+        profile.depth = -1
+    with pytest.raises(TypeError):
+        hash(profile)
 
 
 def test_plain_ints_and_system_default_are_normalised():
@@ -67,7 +75,8 @@ def test_keep_all():
 
 def test_to_profile():
     assert to_profile(5) == QoSProfile(depth=5)
-    assert to_profile(qos_profile_sensor_data) is qos_profile_sensor_data
+    copy = to_profile(qos_profile_sensor_data)
+    assert copy == qos_profile_sensor_data and copy is not qos_profile_sensor_data
     for bad in (True, '10', 1.0, None):
         with pytest.raises(TypeError):
             to_profile(bad)

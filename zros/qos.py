@@ -1,9 +1,11 @@
 """Quality of service: the ROS 2 profiles and what they mean on Zenoh.
 
-A profile is frozen plain data so it can be shared, hashed and written into a liveliness
-token (`to_token` / `from_token`), which is how `zros topic info -v` and the incompatibility
-check (and the incompatible-QoS events of zros.event_handler) learn what the other side asked
-for.
+A profile is plain data, mutable as rclpy's (`qos.reliability = BEST_EFFORT` is common in
+ROS 2 code; every assignment is checked and normalised as construction is). A publisher or
+subscription copies its profile when it is made (`to_profile`), so changing a profile later
+changes only what is made from it next. The profile is written into a liveliness token
+(`to_token` / `from_token`), which is how `zros topic info -v` and the incompatibility check
+(and the incompatible-QoS events of zros.event_handler) learn what the other side asked for.
 
 Mapping to Zenoh (see docs/protocol.md):
 - RELIABLE -> Zenoh reliable + CongestionControl.BLOCK: the publisher waits rather than lose a
@@ -91,11 +93,11 @@ def qos_policy_name_from_kind(policy_kind: 'QoSPolicyKind | int') -> str:
 KEEP_ALL_DEPTH = 100_000
 
 
-@dataclass(frozen=True)
+@dataclass
 class QoSProfile:
     """A ROS 2 QoS profile. `QoSProfile(depth=10)` is the ROS default profile. The durations
     (zros.duration.Duration, as rclpy's) are 0 for 'not set': no deadline, infinite lifespan
-    and lease."""
+    and lease. Profiles compare by value and, being mutable, are not hashable (as rclpy's)."""
 
     history: HistoryPolicy = HistoryPolicy.KEEP_LAST
     depth: int = 10
@@ -107,23 +109,19 @@ class QoSProfile:
     liveliness_lease_duration: Duration = Duration()
     avoid_ros_namespace_conventions: bool = False
 
+    def __setattr__(self, name: str, value: object) -> None:
+        # Plain ints are accepted for the policies, as rclpy does, and SYSTEM_DEFAULT becomes
+        # the value zros actually uses, so tokens and comparisons are exact.
+        policy = _POLICIES.get(name)
+        if policy is not None:
+            value = policy(value)
+            if value == policy.SYSTEM_DEFAULT:
+                value = _SYSTEM_DEFAULTS[name]
+        elif name == 'depth' and (isinstance(value, bool) or not isinstance(value, int) or value < 0):
+            raise ValueError(f'QoS depth must be a non-negative int, got {value!r}')
+        object.__setattr__(self, name, value)
+
     def __post_init__(self) -> None:
-        # Accept plain ints for the policies, as rclpy does, and normalise SYSTEM_DEFAULT
-        # to the values zros actually uses so tokens and comparisons are exact.
-        object.__setattr__(self, 'history', HistoryPolicy(self.history))
-        object.__setattr__(self, 'reliability', ReliabilityPolicy(self.reliability))
-        object.__setattr__(self, 'durability', DurabilityPolicy(self.durability))
-        object.__setattr__(self, 'liveliness', LivelinessPolicy(self.liveliness))
-        if self.history == HistoryPolicy.SYSTEM_DEFAULT:
-            object.__setattr__(self, 'history', HistoryPolicy.KEEP_LAST)
-        if self.reliability == ReliabilityPolicy.SYSTEM_DEFAULT:
-            object.__setattr__(self, 'reliability', ReliabilityPolicy.RELIABLE)
-        if self.durability == DurabilityPolicy.SYSTEM_DEFAULT:
-            object.__setattr__(self, 'durability', DurabilityPolicy.VOLATILE)
-        if self.liveliness == LivelinessPolicy.SYSTEM_DEFAULT:
-            object.__setattr__(self, 'liveliness', LivelinessPolicy.AUTOMATIC)
-        if not isinstance(self.depth, int) or self.depth < 0:
-            raise ValueError(f'QoS depth must be a non-negative int, got {self.depth!r}')
         if self.history == HistoryPolicy.KEEP_LAST and self.depth == 0:
             raise ValueError('QoS depth must be > 0 with KEEP_LAST history')
 
@@ -168,6 +166,11 @@ class QoSProfile:
             return cls()
 
 
+_POLICIES: dict[str, type] = {'history': HistoryPolicy, 'reliability': ReliabilityPolicy,
+                              'durability': DurabilityPolicy, 'liveliness': LivelinessPolicy}
+_SYSTEM_DEFAULTS = {'history': HistoryPolicy.KEEP_LAST, 'reliability': ReliabilityPolicy.RELIABLE,
+                    'durability': DurabilityPolicy.VOLATILE, 'liveliness': LivelinessPolicy.AUTOMATIC}
+
 qos_profile_default = QoSProfile(depth=10)
 qos_profile_sensor_data = QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST_EFFORT)
 qos_profile_services_default = QoSProfile(depth=10)
@@ -194,9 +197,10 @@ class QoSPresetProfiles(enum.Enum):
 
 
 def to_profile(qos: 'QoSProfile | int') -> QoSProfile:
-    """rclpy accepts a depth where a profile is expected: KEEP_LAST with that depth."""
+    """The profile an entity keeps: a copy of `qos`, or, as rclpy accepts a depth where a
+    profile is expected, KEEP_LAST with that depth."""
     if isinstance(qos, QoSProfile):
-        return qos
+        return replace(qos)
     if isinstance(qos, bool) or not isinstance(qos, int):
         raise TypeError(f'expected a QoSProfile or an int depth, got {type(qos).__name__}')
     return replace(qos_profile_default, depth=qos)
