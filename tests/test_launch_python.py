@@ -40,6 +40,7 @@ def main():
     params = {name: p.value for name, p in node.get_parameters_by_prefix('').items()}
     print('REPORT ' + json.dumps({'fqn': node.get_fully_qualified_name(), 'params': params,
                                   'chatter': node.resolve_topic_name('chatter'), 'args': args,
+                                  'unused': node.resolve_topic_name('/unused'),
                                   'env': os.environ.get('PROBE_ENV')}, sort_keys=True), flush=True)
     node.destroy_node()
     zros.shutdown()
@@ -77,10 +78,21 @@ def normalized_plan(text: str) -> str:
 
 
 # -- one model, two front ends -----------------------------------------------------------------
-@pytest.mark.parametrize('name', sorted(p.name[:-len('.launch.yaml')] for p in (REPO / 'configs').glob('*.launch.yaml')))
-def test_every_shipped_yaml_launch_file_has_a_python_twin_with_the_same_plan(name: str, tmp_path: Path):
-    yaml_plan = resolve(str(REPO / 'configs' / f'{name}.launch.yaml'), log_dir=str(tmp_path))
-    python_plan = resolve(str(REPO / 'configs' / f'{name}.launch.py'), log_dir=str(tmp_path))
+def twins() -> list[tuple[str, dict[str, str]]]:
+    """Every example YAML launch file, and every package YAML launch file that has a Python twin,
+    with the launch arguments it needs (relative to the repository)."""
+    needs = {'nodes/turtlebot3_gazebo/launch/robot_world': {'world': 'turtlebot3_world'}}
+    stems = [p.with_suffix('').with_suffix('') for p in (REPO / 'configs').glob('*.launch.yaml')]
+    stems += [p.with_suffix('').with_suffix('') for p in (REPO / 'nodes').glob('*/launch/*.launch.yaml')
+              if p.with_suffix('.py').exists()]
+    return sorted((str(stem.relative_to(REPO)), needs.get(str(stem.relative_to(REPO)), {})) for stem in stems)
+
+
+@pytest.mark.parametrize('name, arguments', twins())
+def test_every_shipped_yaml_launch_file_has_a_python_twin_with_the_same_plan(name: str, arguments: dict[str, str],
+                                                                            tmp_path: Path):
+    yaml_plan = resolve(str(REPO / f'{name}.launch.yaml'), launch_arguments=arguments, log_dir=str(tmp_path))
+    python_plan = resolve(str(REPO / f'{name}.launch.py'), launch_arguments=arguments, log_dir=str(tmp_path))
     assert normalized_plan(python_plan.describe()) == normalized_plan(yaml_plan.describe())
     assert [replace(e, origin=None) for e in python_plan.effects] == [replace(e, origin=None) for e in yaml_plan.effects]
 
@@ -194,6 +206,7 @@ def test_a_python_launch_runs_every_construct(probe: Path, write, tmp_path: Path
     assert report['params'] == {'from_file': 7, 'rate': 42, 'text': '42', 'mode_text': 'fast', 'home': 'from-launch',
                                 'nested.deep': True, 'scope_level': 3, 'use_sim_time': False}
     assert report['chatter'] == '/robot/inner/talk'
+    assert report['unused'] == '/other'                              # SetRemap, for the whole group
     assert report['args'] == ['--flag', 'two words']
     assert report['env'] == 'from-launch'
     assert set(reports(out)) == {'/robot/inner/reporter'}            # the conditions held the others back
@@ -380,6 +393,8 @@ def generate_launch_description():
      'def generate_launch_description():\n    return LaunchDescription([Node(package="demo_nodes")])\n',
      [":5: TypeError: Node.__init__() missing 1 required keyword-only argument: 'executable'"]),
     ('def generate_launch_description():\n    return 1 / 0\n', [':2: ZeroDivisionError: division by zero']),
+    ("import os\n\nMODEL = os.environ['ZROS_TEST_UNSET_MODEL']\n",
+     [":3: KeyError: environment variable 'ZROS_TEST_UNSET_MODEL' is not set (export ZROS_TEST_UNSET_MODEL=...)"]),
     ('def generate_launch_description(:\n', [':1: invalid Python:']),
     ('x = 1\n', [': no generate_launch_description() function']),
     ('def generate_launch_description():\n    return [1]\n', ['returned list, not a LaunchDescription']),

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import REPO, assert_clean_failure, wait_until
+from conftest import REPO, assert_clean_failure, run_cli, wait_until
 from zros.urdf import Box, Cylinder, URDFError, load_urdf, parse_urdf
 from zros.urdf.xacro import XacroError, process_file
 
@@ -161,7 +161,6 @@ def test_robot_state_publisher_from_a_launch_file(tmp_path, spawn, make_context,
             param:
             - {{name: robot_description, value: "$(command 'xacro {source} track:=0.3')"}}
         '''))
-    monkeypatch.setenv('PATH', f'{Path(sys.executable).parent}{os.pathsep}{os.environ["PATH"]}')
     launch = spawn(sys.executable, '-m', 'zros.cli.main', 'launch', str(launch_file), name='launch')
     launch.wait_for_output("Robot 'two_wheeler': 4 links, 1 fixed joints", timeout=30)
     context = make_context()
@@ -196,6 +195,49 @@ def test_robot_state_publisher_from_a_launch_file(tmp_path, spawn, make_context,
     while not received and time.monotonic() < deadline:
         executor.spin_once(timeout_sec=0.1)
     assert received and 'two_wheeler' in received[0].data
+
+
+BOX_LAUNCH = """
+from zros.launch import LaunchDescription
+from zros.launch.substitutions import Command, FindExecutable, PathJoinSubstitution
+from zros.launch_ros.actions import Node
+from zros.launch_ros.parameter_descriptions import ParameterValue
+from zros.launch_ros.substitutions import FindPackageShare
+
+
+def generate_launch_description():
+    robot_description = ParameterValue(Command([
+        PathJoinSubstitution([FindExecutable(name='xacro')]), ' ',
+        PathJoinSubstitution([FindPackageShare('rviz_models'), 'urdf', 'box.xacro'])]), value_type=str)
+    return LaunchDescription([
+        Node(package='robot_state_publisher', executable='robot_state_publisher', name='robot_state_publisher',
+             output='screen', parameters=[{'robot_description': robot_description}]),
+        Node(package='rviz2', executable='rviz2', name='rviz2', output='screen',
+             arguments=['-d', PathJoinSubstitution([FindPackageShare('rviz_models'), 'rviz', 'config.rviz'])]),
+    ])
+"""
+
+
+def test_the_seeds_xacro_launch_pattern_finds_xacro_without_an_activated_venv(tmp_path):
+    """Seed 004's box.launch.py: `Command([FindExecutable(name='xacro'), ' ', path])` into
+    `ParameterValue(..., value_type=str)`, with zros's `xacro` found next to its interpreter when
+    the venv's bin directory is not on PATH (as when `.venv/bin/zros` is run directly)."""
+    package = tmp_path / 'ws' / 'rviz_models'
+    for folder in ('urdf', 'rviz', 'launch'):
+        (package / folder).mkdir(parents=True)
+    (package / 'urdf' / 'box.xacro').write_text(
+        '<?xml version="1.0"?>\n<robot name="box_robot" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        '<xacro:property name="side" value="1"/><link name="world"/>'
+        '<link name="base_link"><visual><geometry><box size="${side} ${side} ${side}"/></geometry></visual></link>'
+        '<joint name="world_to_base" type="fixed"><parent link="world"/><child link="base_link"/></joint></robot>\n')
+    (package / 'rviz' / 'config.rviz').write_text('Visualization Manager:\n  Global Options:\n    Fixed Frame: world\n')
+    (package / 'launch' / 'box.launch.py').write_text(BOX_LAUNCH)
+    env = {**os.environ, 'ZROS_NODE_PATH': str(tmp_path / 'ws'), 'PATH': '/usr/bin:/bin'}
+    plan = run_cli('launch', 'rviz_models', 'box.launch.py', '--print', '--log-dir', tmp_path / 'log',
+                   env=env, timeout=60)
+    assert plan.returncode == 0, plan
+    assert '<box size=\\"1 1 1\\"/>' in plan.stdout and 'box_robot' in plan.stdout, plan
+    assert f"-d {package / 'rviz' / 'config.rviz'}" in plan.stdout, plan
 
 
 def test_robot_state_publisher_refuses_a_bad_description(zros_cli):

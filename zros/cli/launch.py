@@ -113,6 +113,20 @@ def _apply_session_options(early: argparse.Namespace, late: argparse.Namespace) 
     return router_links
 
 
+def _own_scripts_on_path() -> None:
+    """Append the directory of this interpreter's scripts (`xacro`, `zros`) to PATH if missing.
+
+    ROS 2 finds `xacro` in /opt/ros/<distro>/bin once sourced; zros installs it next to its own
+    Python, which is not on PATH when a venv's `zros` is run without activating the venv. Last, so
+    that the user's PATH still wins.
+    """
+    import sysconfig
+    scripts = sysconfig.get_path('scripts')
+    entries = os.environ.get('PATH', '').split(os.pathsep)
+    if scripts and scripts not in entries:
+        os.environ['PATH'] = os.pathsep.join([*filter(None, entries), scripts])
+
+
 def main(args: argparse.Namespace) -> int:
     from zros.launch import LaunchError, parse_launch_arguments, resolve
     from zros.launch.supervisor import Supervisor, make_log_dir
@@ -122,6 +136,7 @@ def main(args: argparse.Namespace) -> int:
     debug = args.debug or late.debug
     log_dir_option = late.log_dir or args.log_dir
     router_links = _apply_session_options(args, late)
+    _own_scripts_on_path()
     try:
         path, rest = _locate(late.items)
         launch_arguments = parse_launch_arguments(rest)

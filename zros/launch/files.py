@@ -94,18 +94,24 @@ def _load_python(path: str, text: str) -> Any:
     return description
 
 
-def _line_in(path: str, exc: BaseException) -> int:
-    """The line of `path` nearest to where `exc` was raised (1 if the file is not on the stack)."""
-    line = 1
+def _frame_in(path: str, exc: BaseException) -> tuple[int, str]:
+    """The line number and text of `path` nearest to where `exc` was raised ((1, '') if the file
+    is not on the stack)."""
+    line, text = 1, ''
     real = os.path.realpath(path)
     for frame in traceback.extract_tb(exc.__traceback__):
         if os.path.realpath(frame.filename) == real:
-            line = frame.lineno or line
-    return line
+            line, text = frame.lineno or line, frame.line or ''
+    return line, text
 
 
 def _python_error(path: str, exc: Exception) -> LaunchFileError:
-    where = f'{path}:{_line_in(path, exc)}'
+    line, text = _frame_in(path, exc)
+    where = f'{path}:{line}'
+    if isinstance(exc, KeyError) and 'environ' in text and exc.args and exc.args[0] not in os.environ:
+        # `os.environ['TURTLEBOT3_MODEL']`, as course launch files read the robot model
+        return LaunchFileError(None, f"{where}: KeyError: environment variable {exc.args[0]!r} is not set "
+                                     f"(export {exc.args[0]}=...)")
     if isinstance(exc, ModuleNotFoundError) and exc.name:
         root = exc.name.split('.')[0]
         if root in ROS_MODULES:
