@@ -9,12 +9,13 @@ so are a developer's search paths and log format (zros.testing.domains.ALL_SETTI
 """
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import subprocess
 import sys
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any, Callable, Iterator
 
 import pytest
 
@@ -183,3 +184,30 @@ def log_records() -> list:
     add_sink(sink)
     yield records
     remove_sink(sink)
+
+
+@contextlib.contextmanager
+def background_node(name: str) -> Iterator[Any]:
+    """A node in its own context, spun by a MultiThreadedExecutor on a daemon thread (for pages
+    and servers that answer while the test thread drives a browser); shut down on exit."""
+    import threading
+
+    from zros.context import Context
+    from zros.executors import ExternalShutdownException, MultiThreadedExecutor
+    from zros.node import Node
+    ctx = Context().init([], install_signal_handlers=False)
+    node = Node(name, context=ctx)
+    executor = MultiThreadedExecutor(context=ctx)
+    executor.add_node(node)
+
+    def spin() -> None:
+        try:
+            executor.spin()
+        except ExternalShutdownException:
+            pass
+    threading.Thread(target=spin, daemon=True).start()
+    try:
+        yield node
+    finally:
+        executor.shutdown(timeout_sec=2)
+        ctx.shutdown()

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from conftest import REPO, wait_until
+from conftest import REPO, background_node, wait_until
 from zros.view.headless import Browser, find_chromium
 
 pytestmark = pytest.mark.skipif(find_chromium() is None, reason='Debian chromium is not installed (.ci/run '
@@ -67,9 +67,6 @@ class World:
 
 @pytest.fixture(scope='module')
 def world(module_domain, module_spawn, tmp_path_factory):
-    from zros.context import Context
-    from zros.executors import MultiThreadedExecutor
-    from zros.node import Node
     from zros.view.scene.app import SceneView
     from zros.view.scene.config import DisplayConfig, GridConfig, ViewConfig
     x, y, yaw = ROBOT
@@ -78,38 +75,18 @@ def world(module_domain, module_spawn, tmp_path_factory):
     urdf = (REPO / 'nodes' / 'turtlebot3_description' / 'urdf' / 'turtlebot3_burger.urdf').read_text()
     module_spawn.node('robot_state_publisher', 'robot_state_publisher', '--ros-args', '-p',
                       f'robot_description:={urdf}')
-    ctx = Context().init([], install_signal_handlers=False)
-    node = Node('browser_test', context=ctx)
-    executor = MultiThreadedExecutor(context=ctx)
-    executor.add_node(node)
-    spinner = threading.Thread(target=_spin, args=(executor,), daemon=True)
-    spinner.start()
     config = ViewConfig(fixed_frame='map', grid=GridConfig(enabled=False), displays=[
         DisplayConfig('Map', 'Map', '/map', options={'alpha': 1.0}),
         DisplayConfig('LaserScan', 'LaserScan', '/scan', options={'color': (255, 0, 0), 'size': 0.06}),
         DisplayConfig('RobotModel', 'RobotModel', '/robot_description'),
         DisplayConfig('LaserScan', 'Ghost scan', '/ghost_scan')])
-    view = SceneView(node, config=config, port=0)
-    browser = Browser(width=WINDOW[0], height=WINDOW[1])
-    try:
+    with background_node('browser_test') as node, SceneView(node, config=config, port=0) as view, \
+            Browser(width=WINDOW[0], height=WINDOW[1]) as browser:
         browser.open(view.url, wait_for='document.querySelector("canvas")', timeout=60)
         browser.evaluate('document.querySelectorAll(".mantine-Notification-closeButton").forEach(b => b.click())')
         result = World(view, node, browser)
         result.top_down()
         yield result
-    finally:
-        browser.close()
-        view.close()
-        executor.shutdown(timeout_sec=2)
-        ctx.shutdown()
-
-
-def _spin(executor: Any) -> None:
-    from zros.executors import ExternalShutdownException
-    try:
-        executor.spin()
-    except ExternalShutdownException:
-        pass
 
 
 def _save(world: World, tmp_path: Path, name: str) -> np.ndarray:

@@ -23,6 +23,7 @@ VERBS = {
     'param': ('zros.cli.param', 'Inspect and change node parameters'),
     'action': ('zros.cli.action', 'Inspect actions and send goals'),
     'view': ('zros.cli.view', 'The scene view in the browser (RViz, rqt_graph, rqt_console, images)'),
+    'rqt': ('zros.cli.rqt', 'rqt in the browser: topic monitor, plot, service caller, parameters, graph, console'),
     'image': ('zros.cli.image', 'Save a frame of an image topic as PNG'),
     'tf': ('zros.cli.tf', 'Print the TF frame tree and its rates'),
     'lifecycle': ('zros.cli.lifecycle', 'Inspect and drive the lifecycle of managed nodes'),

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import argparse
 
-__all__ = ['add_arguments', 'cmd_view']
+__all__ = ['add_arguments', 'cmd_view', 'serve']
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -29,6 +29,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def cmd_view(args: argparse.Namespace) -> int:
+    return serve(args)
+
+
+def serve(args: argparse.Namespace, *, page: str = '', plot: list[str] | None = None) -> int:
+    """Run the view node (opened on `page`, plotting `plot`) until Ctrl-C; `zros rqt` uses it too."""
     from zros.cli.common import cli_context
     from zros.errors import CliError
     from zros.executors import SingleThreadedExecutor
@@ -39,16 +44,19 @@ def cmd_view(args: argparse.Namespace) -> int:
     ctx = cli_context()
     try:
         try:
-            node = ViewNode('view', config=args.display_config, fixed_frame=args.fixed_frame, port=args.port,
-                            host=args.host, topic=args.topic, context=ctx,
-                            parameter_overrides=[Parameter('use_sim_time', value=True)] if args.use_sim_time else None)
+            node = ViewNode('view' if not page else 'rqt', config=getattr(args, 'display_config', ''),
+                            fixed_frame=getattr(args, 'fixed_frame', ''), port=args.port, host=args.host,
+                            topic=getattr(args, 'topic', ''), page=page, plot=plot or (), context=ctx,
+                            parameter_overrides=[Parameter('use_sim_time', value=True)] if getattr(
+                                args, 'use_sim_time', False) else None)
         except (ConfigError, ViewError) as exc:
             raise CliError(str(exc) + (' (choose another with --port)' if isinstance(exc, ViewError) else '')) \
                 from None
         executor = SingleThreadedExecutor(context=ctx)
         executor.add_node(node)
-        print(f'zros view: serving {node.view.url} (Ctrl-C to stop)', flush=True)
-        print(f'zros view: full-size images at {node.images.page_url()}', flush=True)
+        verb = 'zros rqt' if page else 'zros view'
+        print(f'{verb}: serving {node.view.url} (Ctrl-C to stop)', flush=True)
+        print(f'{verb}: full-size images at {node.images.page_url()}', flush=True)
         try:
             while ctx.ok():
                 executor.spin_once(timeout_sec=0.25)

@@ -104,8 +104,12 @@ class Browser:
         port = browser_url.split('//', 1)[1].split('/', 1)[0]
         deadline = time.monotonic() + self.timeout
         while time.monotonic() < deadline:
-            with urllib.request.urlopen(f'http://{port}/json', timeout=5) as response:
-                targets = json.loads(response.read())
+            try:
+                with urllib.request.urlopen(f'http://{port}/json', timeout=5) as response:
+                    targets = json.loads(response.read())
+            except OSError:                  # a loaded machine: Chromium answers late, ask again
+                time.sleep(0.2)
+                continue
             pages = [t for t in targets if t.get('type') == 'page']
             if pages:
                 return pages[0]['webSocketDebuggerUrl']
@@ -214,11 +218,49 @@ class Browser:
         found = self.evaluate(
             f'(() => {{ const el = [...document.querySelectorAll({json.dumps(selector)})]'
             f'.find(e => e.innerText.trim() === {json.dumps(text)} && e.getClientRects().length);'
-            ' if (!el) return null; const r = el.getBoundingClientRect();'
+            ' if (!el) return null; el.scrollIntoView({block: "center"}); const r = el.getBoundingClientRect();'
             ' return [r.x + r.width / 2, r.y + r.height / 2]; })()')
         if not found:
             raise BrowserError(f'no {selector} with the text {text!r}')
         self.click(*found)
+
+    def _labelled(self, label: str) -> str:
+        """JavaScript for the visible input whose <label> reads `label`."""
+        return (f'[...document.querySelectorAll("label")].filter(l => l.innerText.trim() === {json.dumps(label)})'
+                '.map(l => document.getElementById(l.htmlFor) || [...l.closest("div").parentElement'
+                '.querySelectorAll("input:not([type=hidden]), textarea")].find(e => e.getClientRects().length))'
+                '.find(e => e && e.getClientRects().length)')
+
+    def _centre(self, expression: str, what: str) -> tuple[float, float]:
+        found = self.wait_for(f'(() => {{ const el = {expression}; if (!el) return null;'
+                              ' el.scrollIntoView({block: "center"}); const r = el.getBoundingClientRect();'
+                              ' return [r.x + r.width / 2, r.y + r.height / 2]; })()', timeout=self.timeout)
+        if not found:
+            raise BrowserError(f'no {what}')
+        return found[0], found[1]
+
+    def fill(self, label: str, text: str) -> None:
+        """Replace the text of the input labelled `label` as a user types it.
+
+        Raises:
+            BrowserError: no such input appeared within `timeout`.
+        """
+        x, y = self._centre(self._labelled(label), f'input labelled {label!r}')
+        self.click(x, y)
+        self.evaluate(f'(() => {{ const el = {self._labelled(label)}; el.focus(); el.select(); }})()')
+        self.send('Input.insertText', text=text)
+        self.send('Input.dispatchKeyEvent', type='keyDown', key='Tab', code='Tab', windowsVirtualKeyCode=9)
+        self.send('Input.dispatchKeyEvent', type='keyUp', key='Tab', code='Tab', windowsVirtualKeyCode=9)
+
+    def choose(self, label: str, option: str) -> None:
+        """Open the dropdown labelled `label` and click its option `option`.
+
+        Raises:
+            BrowserError: the dropdown or the option did not appear within `timeout`.
+        """
+        self.click(*self._centre(self._labelled(label), f'dropdown labelled {label!r}'))
+        self.click(*self._centre(f'[...document.querySelectorAll("[role=option]")].find(o => o.innerText.trim() === '
+                                 f'{json.dumps(option)})', f'option {option!r} in {label!r}'))
 
     def frame_rate(self, seconds: float = 3.0) -> float:
         """Frames the page drew per second (requestAnimationFrame callbacks), over `seconds`."""

@@ -2,8 +2,8 @@
 
 `SceneView(node, config=...)` serves one page: a 3D scene in the fixed frame (orbit, pan, zoom,
 a top-down button, a grid), the Displays list (one per topic, RViz's display types), the tools
-(2D Pose Estimate, Nav2 Goal, Publish Point, a teleop pad) and a side panel of pages (Topics,
-Images, Graph, Console; more with `add_page`). The caller spins `node`.
+(2D Pose Estimate, Nav2 Goal, Publish Point, a teleop pad) and a side panel of pages, rqt's
+tools (Topics, Plot, Services, Parameters, Images, Graph, Console; more with `add_page`). The caller spins `node`.
 
 Threads: the node's executor stores messages; a render thread (`zros-view-render`) draws them
 when a display's rate allows; a slow thread (`zros-view-slow`, 2 Hz) reads the graph, refreshes
@@ -19,7 +19,7 @@ import socket
 import threading
 import time
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 
@@ -27,7 +27,8 @@ from zros.view.scene import tools
 from zros.view.scene.config import DisplayConfig, GridConfig, ViewConfig, dump_view
 from zros.view.scene.displays import DISPLAY_KINDS, display_for_topic
 from zros.view.scene.displays.base import DISABLED, ERROR, OK, WARN, Display, DisplayContext
-from zros.view.scene.pages import ConsolePage, GraphPage, ImagesPage, Page, TopicRates, TopicsPage
+from zros.view.scene.pages import ConsolePage, GraphPage, ImagesPage, Page, TopicsPage, TopicStats
+from zros.view.scene.rqt_pages import ParametersPage, PlotPage, ServicesPage
 
 if TYPE_CHECKING:
     import viser
@@ -38,6 +39,7 @@ __all__ = ['SceneView', 'DEFAULT_PORT', 'ViewError', 'PANEL_WIDTHS']
 
 DEFAULT_PORT = 8080
 PANEL_WIDTHS = (340, 400)       # [px] the control panel (docked left) and the pages (docked right)
+RQT_PANEL_WIDTH = 760           # [px] the pages, when an rqt command opened the view on one
 RENDER_RATE = 30.0              # [Hz] the most any display is redrawn
 SLOW_PERIOD = 0.5               # [s] graph reads, pages, status
 TELEOP_PERIOD = 0.1             # [s] /cmd_vel while a pad direction is held
@@ -66,17 +68,21 @@ class SceneView:
         port: TCP port; 0 picks a free one; if taken and `port_tries` > 1 the next ones are tried.
         image_page_url: where the full-size image page is served, linked from the Images tab.
         tf: False to run without TF (every frame but the fixed one is then "not transformable").
+        first_page: the title of the page to open on ('Plot', 'Graph', ...: what `zros run
+            rqt_plot rqt_plot` and the other rqt commands show); the pages then get the wider panel.
+        plot: field paths the Plot page starts with ('/turtle1/pose/x').
     Raises:
         ViewError: no port could be bound.
     """
 
     def __init__(self, node: 'Node', *, config: ViewConfig | None = None, host: str = '127.0.0.1',
                  port: int = DEFAULT_PORT, port_tries: int = 1, image_page_url: str | None = None,
-                 tf: bool = True, title: str = 'zros view') -> None:
+                 tf: bool = True, title: str = 'zros view', first_page: str = '',
+                 plot: Sequence[str] = ()) -> None:
         self.node = node
         self.auto = config is None
         self.config = config or ViewConfig()
-        self.rates = TopicRates()
+        self.stats = TopicStats()
         self.displays: list[Display] = []
         self.pages: list[Page] = []
         self.tool: str | None = None
@@ -93,7 +99,7 @@ class SceneView:
         self.port = self.server.get_port()
         self.ctx = DisplayContext(self.server.scene, self.server.gui, node, self.frames,
                                   self.config.fixed_frame or 'map', threading.Event(),
-                                  publishers=self._publisher_count, on_received=self.rates.count)
+                                  publishers=self._publisher_count)
         self._publishers_on: dict[str, int] = {}
         self._pubs = {
             'pose': node.create_publisher(_msg('geometry_msgs/msg/PoseWithCovarianceStamped'), '/initialpose', 10),
@@ -102,7 +108,7 @@ class SceneView:
         }
         self._cmd_vel: Any = None
         self._build_scene()
-        self._build_gui(title, image_page_url)
+        self._build_gui(title, image_page_url, first_page, plot)
         for entry in self.config.displays or (_AUTO_DISPLAYS if self.auto else []):
             self.add_display(entry)
         self._threads = [threading.Thread(target=self._render_loop, name='zros-view-render', daemon=True),
@@ -197,7 +203,7 @@ class SceneView:
                                    'focal_y': float(focal[1]), 'focal_z': float(focal[2])})
 
     # -- the control panel ---------------------------------------------------------------------
-    def _build_gui(self, title: str, image_page_url: str | None) -> None:
+    def _build_gui(self, title: str, image_page_url: str | None, first_page: str, plot: Sequence[str]) -> None:
         import viser
         gui = self.server.gui
         gui.configure_theme(control_width='large', show_logo=False, show_share_button=False,
@@ -206,6 +212,8 @@ class SceneView:
         main = gui.main_panel
         main.dock_left()
         main.set_width(PANEL_WIDTHS[0])
+        if first_page:                  # an rqt command: its pages first, the scene's controls folded away
+            main.minimize()
         self.global_status = gui.add_html('')
         with gui.add_folder('Global Options'):
             frames = [self.ctx.fixed_frame]
@@ -249,21 +257,24 @@ class SceneView:
             save.on_click(lambda _: self._save_from_gui())
         self.side = gui.add_panel()
         self.side.dock_right()
-        self.side.set_width(PANEL_WIDTHS[1])
+        self.side.set_width(RQT_PANEL_WIDTH if first_page else PANEL_WIDTHS[1])
         self.images_page = ImagesPage(image_page_url)
-        for page in (TopicsPage(), self.images_page, GraphPage(), ConsolePage()):
+        pages = [TopicsPage(), PlotPage(plot), ServicesPage(), ParametersPage(), self.images_page, GraphPage(),
+                 ConsolePage()]
+        titles = [page.title for page in pages]
+        if first_page and first_page not in titles:
+            raise ValueError(f'no page {first_page!r} (pages: {", ".join(titles)})')
+        pages.sort(key=lambda page: page.title != first_page)
+        for page in pages:
             self.add_page(page)
-        self.images_tab = self._tabs[self.images_page]
+        self.images_tab = self.images_page.tab
         self.server.scene.on_click()(self._on_scene_click)
 
     def add_page(self, page: Page) -> None:
         """Add a tab to the side panel (see zros.view.scene.pages.Page)."""
-        if not hasattr(self, '_tabs'):
-            self._tabs: dict[Page, Any] = {}
-        tab = self.side.add_tab(page.title, icon=page.icon)
+        tab = page.tab = self.side.add_tab(page.title, icon=page.icon)
         with tab:
             page.build(self)
-        self._tabs[page] = tab
         with self._lock:
             self.pages.append(page)
 

@@ -1,9 +1,9 @@
 """The tabs of the view's side panel: rqt's tools in the same page as the scene.
 
 A `Page` builds its widgets once, inside its tab, and is refreshed about twice a second from the
-view's slow thread. The view ships Topics, Images, Graph (rqt_graph) and Console (rqt_console);
-more pages (plot, topic monitor, service caller, parameters) plug in with
-`SceneView.add_page(page)`:
+view's slow thread. The view ships Topics (rqt's topic monitor), Images, Graph (rqt_graph) and Console
+(rqt_console) from here, and Plot, Services and Parameters from zros.view.scene.rqt_pages;
+more pages plug in with `SceneView.add_page(page)`:
 
     class PlotPage(Page):
         title, icon = 'Plot', viser.Icon.CHART_LINE
@@ -17,7 +17,7 @@ from __future__ import annotations
 import threading
 import time
 from collections import deque
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Callable, Iterable
 
 from zros.view.scene.console import LEVELS, LogBuffer, to_html
 from zros.view.scene.graph_svg import to_svg
@@ -25,7 +25,7 @@ from zros.view.scene.graph_svg import to_svg
 if TYPE_CHECKING:
     from zros.view.scene.app import SceneView
 
-__all__ = ['Page', 'TopicsPage', 'ImagesPage', 'GraphPage', 'ConsolePage', 'TopicRates']
+__all__ = ['Page', 'TopicsPage', 'ImagesPage', 'GraphPage', 'ConsolePage', 'TopicStats', 'boxed', 'release']
 
 
 class Page:
@@ -33,6 +33,7 @@ class Page:
 
     title: str = ''
     icon: str | None = None
+    tab: Any = None          # the page's tab (set by add_page): `with page.tab:` adds widgets to it later
 
     def build(self, view: 'SceneView') -> None:
         """Add this page's widgets with `view.gui` (called once, inside the tab's container)."""
@@ -44,48 +45,69 @@ class Page:
         """Release subscriptions; the widgets go with the server."""
 
 
-class TopicRates:
-    """Message rates of topics, from arrival times (the last `window` seconds).
-
-    The view counts the messages its displays receive; topics without a display get a raw,
-    best-effort subscription (no decoding, matching any publisher's QoS) that only counts.
-    """
+class TopicStats:
+    """Rate and bandwidth of topics, from arrival times and sizes (the last `window` seconds)."""
 
     def __init__(self, window: float = 5.0) -> None:
         self.window = window
-        self._arrivals: dict[str, deque[float]] = {}
+        self._arrivals: dict[str, deque[tuple[float, int]]] = {}
         self._lock = threading.Lock()
 
-    def count(self, topic: str) -> None:
+    def count(self, topic: str, size: int = 0) -> None:
         now = time.monotonic()
         with self._lock:
             arrivals = self._arrivals.setdefault(topic, deque(maxlen=1000))
-            arrivals.append(now)
+            arrivals.append((now, size))
+
+    def _recent(self, topic: str) -> list[tuple[float, int]]:
+        now = time.monotonic()
+        with self._lock:
+            return [a for a in self._arrivals.get(topic, ()) if now - a[0] <= self.window]
 
     def rate(self, topic: str) -> float | None:
         """Messages per second over the window; None if fewer than two arrived in it."""
-        now = time.monotonic()
-        with self._lock:
-            arrivals = [t for t in self._arrivals.get(topic, ()) if now - t <= self.window]
+        arrivals = self._recent(topic)
         if len(arrivals) < 2:
             return None
-        span = arrivals[-1] - arrivals[0]
+        span = arrivals[-1][0] - arrivals[0][0]
         return (len(arrivals) - 1) / span if span > 0 else None
+
+    def bandwidth(self, topic: str) -> float | None:
+        """Bytes per second over the window (as `zros topic bw`); None like `rate`."""
+        arrivals = self._recent(topic)
+        rate = self.rate(topic)
+        if rate is None:
+            return None
+        return rate * sum(size for _, size in arrivals) / len(arrivals)
 
 
 class TopicsPage(Page):
-    """Every topic of the graph with its type, publishers, subscribers and rate."""
+    """rqt's topic monitor: every topic with its type, publishers/subscribers, rate and
+    bandwidth, and the last message of the one picked, as a tree, updated live.
+
+    Each topic gets a raw, best-effort subscription (no decoding, matching any publisher's QoS)
+    that counts messages and bytes; only the picked topic's newest payload is decoded, at the
+    page's refresh rate, so a busy topic costs the view no decoding.
+    """
 
     title, icon = 'Topics', 'list-details'
+    NONE = '(none)'
 
     def __init__(self) -> None:
         self.view: 'SceneView | None' = None
         self.table: Any = None
+        self.picked: Any = None
+        self.tree: Any = None
         self._counters: dict[str, Any] = {}
+        self._latest: dict[str, Any] = {}       # picked topic -> newest payload
+        self._shown_payload: Any = None
 
     def build(self, view: 'SceneView') -> None:
         self.view = view
         self.table = view.gui.add_html('<div style="color:#888;font-size:12px">reading the graph…</div>')
+        self.picked = view.gui.add_dropdown('Message of', [self.NONE], initial_value=self.NONE,
+                                            hint='Show the last message of this topic as a tree')
+        self.tree = view.gui.add_html('')
 
     def refresh(self, now: float) -> None:
         view = self.view
@@ -95,45 +117,72 @@ class TopicsPage(Page):
         shown = {name for name, _ in topics}
         for name in list(self._counters):
             if name not in shown:
-                view.node.destroy_subscription(self._counters.pop(name))
+                release(view.node.destroy_subscription, [self._counters.pop(name)])
         for name, types in topics:
-            if name not in self._counters and not view.displays_on(name) and types:
+            if name not in self._counters and types:
                 self._counters[name] = self._raw_counter(view, name, types[0])
+        options = [self.NONE] + [name for name, _ in topics]
+        if tuple(options) != tuple(self.picked.options):
+            self.picked.options = options
         rows = []
         for name, types in topics:
-            rate = view.rates.rate(name)
+            rate, bandwidth = view.stats.rate(name), view.stats.bandwidth(name)
             pubs, subs = view.endpoint_counts(name)
             rate_text = f'{rate:.1f} Hz' if rate is not None else '—'
+            bw_text = _bytes_per_second(bandwidth) if bandwidth is not None else ''
             rows.append(f'<tr style="border-top:1px solid #eee"><td style="padding:3px 6px 3px 0">'
                         f'<div style="font-weight:600">{_esc(name)}</div>'
                         f'<div style="color:#777;font-size:11px">{_esc(", ".join(types))}</div></td>'
                         f'<td style="padding:3px 6px;text-align:right;white-space:nowrap;color:#555">{pubs} / {subs}</td>'
-                        f'<td style="padding:3px 0 3px 6px;text-align:right;white-space:nowrap">{rate_text}</td></tr>')
-        self.table.content = (
+                        f'<td style="padding:3px 0 3px 6px;text-align:right;white-space:nowrap">{rate_text}'
+                        f'<div style="color:#777;font-size:11px">{bw_text}</div></td></tr>')
+        self.table.content = boxed(
             '<table style="font-size:12px;border-collapse:collapse;width:100%"><thead><tr style="color:#777;'
             'text-align:left;font-weight:normal"><th>Topic · type</th><th style="text-align:right;padding:0 6px">'
-            'Pub / Sub</th><th style="text-align:right">Rate</th></tr></thead><tbody>' + ''.join(rows)
+            'Pub / Sub</th><th style="text-align:right">Rate · bw</th></tr></thead><tbody>' + ''.join(rows)
             + '</tbody></table>' if rows else '<div style="color:#888;font-size:12px">no topics in the graph</div>')
+        self._show_picked(dict(topics))
 
-    @staticmethod
-    def _raw_counter(view: 'SceneView', topic: str, type_name: str) -> Any:
+    def _show_picked(self, types: dict[str, list[str]]) -> None:
+        from zros.convert import message_to_ordereddict
+        from zros.message import deserialize
+        from zros.typesupport import get_message
+        from zros.view.scene.fields import message_tree_html
+        topic = self.picked.value
+        payload = self._latest.get(topic)
+        if topic == self.NONE:
+            content = ''
+        elif payload is None:
+            content = f'<div style="color:#888">no message on {_esc(topic)} yet</div>'
+        elif payload is self._shown_payload:
+            return
+        else:
+            try:
+                msg = deserialize(payload, get_message(types[topic][0]))
+                content = message_tree_html(message_to_ordereddict(msg, truncate_length=64))
+            except Exception as exc:  # noqa: BLE001 - a type this machine lacks, a foreign payload
+                content = f'<div style="color:#dc2626">cannot decode {_esc(topic)}: {_esc(str(exc))}</div>'
+        self._shown_payload = payload
+        self.tree.content = boxed(f'<div data-message-tree="{_esc(topic)}" style="font-size:12px;'
+                                  f'font-family:monospace;max-height:45vh;overflow:auto">{content}</div>')
+
+    def _raw_counter(self, view: 'SceneView', topic: str, type_name: str) -> Any:
         from zros.qos import qos_profile_sensor_data
         from zros.typesupport import get_message
         try:
             msg_class = get_message(type_name)
         except Exception:  # noqa: BLE001 - a type this machine does not have: no rate, no error
             return None
-        return view.node.create_subscription(msg_class, topic, lambda _payload: view.rates.count(topic),
-                                             qos_profile_sensor_data, raw=True)
+
+        def received(payload: Any) -> None:
+            view.stats.count(topic, len(payload))
+            if self.picked.value == topic:
+                self._latest[topic] = bytes(payload)
+        return view.node.create_subscription(msg_class, topic, received, qos_profile_sensor_data, raw=True)
 
     def close(self) -> None:
         if self.view is not None:
-            for subscription in self._counters.values():
-                if subscription is not None:
-                    try:
-                        self.view.node.destroy_subscription(subscription)
-                    except Exception:  # noqa: BLE001 - the node may be gone
-                        pass
+            release(self.view.node.destroy_subscription, self._counters.values())
         self._counters.clear()
 
 
@@ -227,11 +276,32 @@ class ConsolePage(Page):
         self.table.content = to_html(records, total=self.buffer.seq)
 
     def close(self) -> None:
-        if self.view is not None and self._subscription is not None:
-            try:
-                self.view.node.destroy_subscription(self._subscription)
-            except Exception:  # noqa: BLE001 - the node may be gone
-                pass
+        if self.view is not None:
+            release(self.view.node.destroy_subscription, [self._subscription])
+
+
+def release(destroy: Callable[[Any], Any], endpoints: Iterable[Any]) -> None:
+    """Destroy a page's subscriptions or clients with `destroy`, skipping None and a node
+    that is already gone (the view closes after its node at shutdown)."""
+    for endpoint in endpoints:
+        if endpoint is None:
+            continue
+        try:
+            destroy(endpoint)
+        except Exception:  # noqa: BLE001 - the node may be gone
+            pass
+
+
+def boxed(content: str) -> str:
+    """HTML inset like viser's own widgets (an html widget otherwise touches the panel's edges)."""
+    return f'<div style="padding:0 12px 0 10px">{content}</div>'
+
+
+def _bytes_per_second(value: float) -> str:
+    for unit, size in (('MB/s', 1e6), ('KB/s', 1e3)):
+        if value >= size:
+            return f'{value / size:.1f} {unit}'
+    return f'{value:.0f} B/s'
 
 
 def _esc(text: str) -> str:

@@ -48,7 +48,6 @@ class DisplayContext:
     fixed_frame: str
     wake: threading.Event
     publishers: Callable[[str], int] = lambda topic: 0
-    on_received: Callable[[str], None] = lambda topic: None
 
 
 class Display:
@@ -115,7 +114,6 @@ class Display:
             self._latest = msg
             self._latest_at = time.monotonic()
             self.received += 1
-        self.ctx.on_received(self.topic)
         self.ctx.wake.set()
 
     # -- rendering (render thread) ---------------------------------------------------------

@@ -57,7 +57,6 @@ class MarkerDisplay(Display):
             self._queue.append(msg)
         self.received += 1
         self._last_message_at = time.monotonic()
-        self.ctx.on_received(self.topic)
         self.ctx.wake.set()
 
     def tick(self, now: float) -> None:
