@@ -191,6 +191,91 @@ def test_missing_transform_is_shown_in_the_page(world):
         thread.join(timeout=2)
 
 
+def test_particle_cloud_and_path_are_drawn_where_they_are(world, tmp_path):
+    """AMCL's nav2_msgs/ParticleCloud and a planner's Path, published here, added as a user adds them."""
+    from interfaces.geometry_msgs.msg import Pose, PoseStamped
+    from interfaces.nav2_msgs.msg import Particle, ParticleCloud
+    from interfaces.nav_msgs.msg import Path as PathMsg
+    from zros.view.scene.config import DisplayConfig
+    from zros.node import Node
+    publisher = Node('planner_and_amcl', context=world.node.context)    # the view ignores its own node's topics
+    cloud_pub = publisher.create_publisher(ParticleCloud, '/nav2_particle_cloud', 10)
+    path_pub = publisher.create_publisher(PathMsg, '/test_plan', 10)
+    cloud = ParticleCloud(particles=[Particle(pose=Pose(), weight=0.02) for _ in range(50)])
+    cloud.header.frame_id = 'map'
+    for i, particle in enumerate(cloud.particles):      # a ring of 0.12 m round (0.55, -0.55), heading out
+        a = i * 2 * math.pi / 50
+        particle.pose.position.x, particle.pose.position.y = 0.55 + 0.12 * math.cos(a), -0.55 + 0.12 * math.sin(a)
+        particle.pose.orientation.z, particle.pose.orientation.w = math.sin(a / 2), math.cos(a / 2)
+    path = PathMsg()
+    path.header.frame_id = 'map'
+    for i in range(11):                                   # along y = -1.65, from x = -0.5 to 0.5
+        pose = PoseStamped()
+        pose.header.frame_id = 'map'
+        pose.pose.position.x, pose.pose.position.y = -0.5 + 0.1 * i, -1.65
+        pose.pose.orientation.w = 1.0
+        path.poses.append(pose)
+    stop = threading.Event()
+
+    def publish() -> None:                                # as AMCL and the planner do: again and again
+        while not stop.wait(0.2):
+            cloud_pub.publish(cloud)
+            path_pub.publish(path)
+    thread = threading.Thread(target=publish, daemon=True)
+    thread.start()
+    particles = world.view.add_display(DisplayConfig('PoseArray', 'Particles', '/nav2_particle_cloud',
+                                                     'nav2_msgs/msg/ParticleCloud', options={'color': (0, 200, 0)}))
+    plan = world.view.add_display(DisplayConfig('Path', 'Plan', '/test_plan', 'nav_msgs/msg/Path',
+                                                options={'color': (255, 0, 255), 'width': 5.0}))
+    try:
+        wait_until(lambda: particles.status.text.startswith('50 poses in [map]'), 30,
+                   message=lambda: f'the particles, status {particles.status}')
+        wait_until(lambda: plan.status.text.startswith('11 poses in [map]'), 30,
+                   message=lambda: f'the plan, status {plan.status}')
+
+        def magenta(p: np.ndarray) -> bool:
+            return p[0] > 180 and p[2] > 180 and p[1] < 110
+
+        def green_around(pixels: np.ndarray, x: float, y: float, radius: float) -> int:
+            cx, cy = world.pixel(x, y)
+            r = int(radius * world.scale)
+            patch = pixels[int(cy) - r:int(cy) + r, int(cx) - r:int(cx) + r].astype(int)
+            return int(((patch[..., 1] > 140) & (patch[..., 1] > patch[..., 0] + 50)
+                        & (patch[..., 1] > patch[..., 2] + 50)).sum())
+
+        def drawn() -> bool:
+            pixels = _save(world, tmp_path, 'particles_and_plan.png')
+            line = sum(any(magenta(world.colour(pixels, x, -1.65 + dy)) for dy in (-0.02, 0, 0.02))
+                       for x in np.linspace(-0.4, 0.4, 9))
+            return (green_around(pixels, 0.55, -0.55, 0.45) >= 40 and line >= 8
+                    and green_around(pixels, -0.55, 0.55, 0.45) == 0)
+        assert world.browser.until(drawn, timeout=30), f'particles and plan not where they are ({tmp_path})'
+    finally:
+        stop.set()
+        thread.join(timeout=2)
+        world.view.remove_display(particles)
+        world.view.remove_display(plan)
+        publisher.destroy_node()
+
+
+def test_teleop_pad_publishes_cmd_vel(world):
+    from interfaces.geometry_msgs.msg import Twist
+    inbox: queue.SimpleQueue = queue.SimpleQueue()
+    subscription = world.node.create_subscription(Twist, '/cmd_vel', inbox.put, 10)
+    try:
+        world.browser.click_text('Teleop (/cmd_vel)', selector='p, span, div, button')
+        world.browser.click_text('▲ Forward')
+        twist = inbox.get(timeout=15)
+        assert (twist.linear.x, twist.angular.z) == (pytest.approx(0.2), 0.0)
+        assert inbox.get(timeout=5).linear.x == pytest.approx(0.2)      # repeated until Stop
+        world.browser.click_text('■ Stop')
+        deadline = time.monotonic() + 15
+        while inbox.get(timeout=max(0.1, deadline - time.monotonic())).linear.x != 0.0:
+            pass
+    finally:
+        world.node.destroy_subscription(subscription)
+
+
 def test_graph_and_console_pages(world):
     world.browser.click_text('Graph')
     world.browser.wait_for('[...document.querySelectorAll("svg text")].some(t => t.textContent === "/fake_robot")',

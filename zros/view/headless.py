@@ -209,15 +209,15 @@ class Browser:
         self._mouse('mouseReleased', x1, y1, buttons=0, button='left')
 
     def click_text(self, text: str, *, selector: str = 'button, [role=tab]') -> None:
-        """Click (with the mouse, at its middle) the first visible `selector` element whose text is
-        `text`.
+        """Click (with the mouse, at its middle) the innermost visible `selector` element whose text
+        is `text` (a folder's header rather than the folder).
 
         Raises:
             BrowserError: there is no such element.
         """
         found = self.evaluate(
             f'(() => {{ const el = [...document.querySelectorAll({json.dumps(selector)})]'
-            f'.find(e => e.innerText.trim() === {json.dumps(text)} && e.getClientRects().length);'
+            f'.filter(e => e.innerText.trim() === {json.dumps(text)} && e.getClientRects().length).pop();'
             ' if (!el) return null; el.scrollIntoView({block: "center"}); const r = el.getBoundingClientRect();'
             ' return [r.x + r.width / 2, r.y + r.height / 2]; })()')
         if not found:
