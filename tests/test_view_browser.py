@@ -75,7 +75,8 @@ def world(module_domain, module_spawn, tmp_path_factory):
     urdf = (REPO / 'nodes' / 'turtlebot3_description' / 'urdf' / 'turtlebot3_burger.urdf').read_text()
     module_spawn.node('robot_state_publisher', 'robot_state_publisher', '--ros-args', '-p',
                       f'robot_description:={urdf}')
-    config = ViewConfig(fixed_frame='map', grid=GridConfig(enabled=False), displays=[
+    config = ViewConfig(fixed_frame='map', grid=GridConfig(enabled=False),
+                        camera={'mode': 'top-down', 'distance': DISTANCE}, displays=[
         DisplayConfig('Map', 'Map', '/map', options={'alpha': 1.0}),
         DisplayConfig('LaserScan', 'LaserScan', '/scan', options={'color': (255, 0, 0), 'size': 0.06}),
         DisplayConfig('RobotModel', 'RobotModel', '/robot_description'),
@@ -223,8 +224,9 @@ def test_particle_cloud_and_path_are_drawn_where_they_are(world, tmp_path):
             path_pub.publish(path)
     thread = threading.Thread(target=publish, daemon=True)
     thread.start()
+    # As a .rviz file's PoseArray display says: geometry_msgs/PoseArray; the view follows what is published.
     particles = world.view.add_display(DisplayConfig('PoseArray', 'Particles', '/nav2_particle_cloud',
-                                                     'nav2_msgs/msg/ParticleCloud', options={'color': (0, 200, 0)}))
+                                                     'geometry_msgs/msg/PoseArray', options={'color': (0, 200, 0)}))
     plan = world.view.add_display(DisplayConfig('Path', 'Plan', '/test_plan', 'nav_msgs/msg/Path',
                                                 options={'color': (255, 0, 255), 'width': 5.0}))
     try:

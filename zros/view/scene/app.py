@@ -92,6 +92,7 @@ class SceneView:
         self._lock = threading.RLock()
         self._entities: list[Any] = []
         self._topic_types: list[tuple[str, list[str]]] = []
+        self._published_types: dict[str, set[str]] = {}
         self._status_dirty = threading.Event()
         self._fixed_auto = not self.config.fixed_frame
         self.frames = self._start_tf() if tf else None
@@ -501,14 +502,17 @@ class SceneView:
         self._entities = entities
         topics: dict[str, set[str]] = {}
         publishers: dict[str, int] = {}
+        published: dict[str, set[str]] = {}
         me = self.node.get_fully_qualified_name()
         for e in entities:
             if e.kind in (EntityKind.PUBLISHER, EntityKind.SUBSCRIPTION) and not is_hidden(e.name):
                 topics.setdefault(e.name, set()).add(e.type)
                 if e.kind == EntityKind.PUBLISHER and e.node_fqn != me:
                     publishers[e.name] = publishers.get(e.name, 0) + 1
+                    published.setdefault(e.name, set()).add(e.type)
         self._topic_types = sorted((name, sorted(types)) for name, types in topics.items())
         self._publishers_on = publishers
+        self._published_types = published
 
     # -- loops -------------------------------------------------------------------------------
     def _render_loop(self) -> None:
@@ -563,6 +567,7 @@ class SceneView:
             self.add_choice.options = choices or ['(none yet)']
         if self.auto:
             self._auto_add()
+        self._follow_published_types()
         with self._lock:
             pages = list(self.pages)
         for page in pages:
@@ -580,6 +585,21 @@ class SceneView:
                 continue
             self.add_display(DisplayConfig(cls.kind, _display_name(cls.kind, name), name, types[0],
                                            options=_auto_options(cls.kind, name)))
+
+    def _follow_published_types(self) -> None:
+        """A display that draws several types (PoseArray: geometry_msgs/PoseArray and nav2's
+        ParticleCloud) subscribes with the type the topic's publishers send, whatever a .rviz file
+        or a guess said."""
+        with self._lock:
+            displays = list(self.displays)
+        for display in displays:
+            sent = self._published_types.get(display.topic, set())
+            if not display.enabled or display.msg_type in sent or len(display.msg_types) < 2:
+                continue
+            drawable = sorted(sent & set(display.msg_types))
+            if drawable:
+                display.msg_type = drawable[0]
+                display.subscribe()
 
     def _update_statuses(self) -> None:
         with self._lock:
