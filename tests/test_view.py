@@ -293,3 +293,15 @@ def test_browser_shows_the_turtlesim_trail(spawn, view, tmp_path):
     trail = pixels[top + 329, left + 170]
     assert np.abs(trail - (255, 0, 0)).sum() <= 12, f'expected the red trail, found {trail}'
     assert not background[top + 329, left + 170]
+
+
+def test_a_fixed_frame_alone_still_shows_every_topic(context):
+    """The simulator's launch file starts the view with `fixed_frame: odom` and no config file:
+    every topic must still be added as it appears (not TF alone)."""
+    from zros.view.scene.node import ViewNode
+    node = ViewNode('view', fixed_frame='odom', port=0, context=context)
+    try:
+        assert node.view.auto and node.view.ctx.fixed_frame == 'odom'
+        assert not node.view._fixed_auto                 # TF's map appearing later does not move it
+    finally:
+        node.destroy_node()

@@ -37,7 +37,7 @@ class Frames:
 
     def __init__(self, node: 'Node') -> None:
         from zros.tf2_ros import Buffer, TransformListener
-        self._buffer = Buffer(node=node)
+        self._buffer = Buffer()          # no tf2_frames service: several views may run (RViz serves none)
         self._listener = TransformListener(self._buffer, node)
 
     def lookup(self, target: str, source: str, stamp_ns: int = 0) -> Transform:
