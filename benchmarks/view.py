@@ -1,8 +1,8 @@
 """The scene view under a navigation-sized load: server CPU, bytes to the browser, page frame rate,
 and the latency from a message published to its scene update.
 
-    python benchmarks/view.py            # about 70 s
-    python benchmarks/view.py --quick    # about 35 s: shorter windows
+    python benchmarks/view.py            # about 100 s
+    python benchmarks/view.py --quick    # about 50 s: shorter windows
 
 The load is `zros run zros_view fake_robot` with the robot driving: a 384 x 384 map re-published
 (unchanged) at 1 Hz, a 360-beam scan at 5 Hz, TF at 30 Hz, 2000 particles at 5 Hz, AMCL's pose,
@@ -17,7 +17,12 @@ a 60-pose plan and frontier markers at 1 Hz. Two phases:
    `publish()` to the end of its display's scene update (the arrays handed to viser, which
    sends them on its next flush).
 
-Goals (DESIGN §9, issue 19): server < 10 % of a core, page >= 30 fps, latency < 50 ms.
+3. **rqt_plot.** `zros rqt /bench_twist/linear/x:y` in its own process, its Plot page open in
+   the browser, while `zros topic pub -r 50` publishes the topic: the rqt process's CPU and the
+   bytes it sends (the page gets at most 500 points per series twice a second, whatever the rate).
+
+Goals (DESIGN §9, issue 19): server < 10 % of a core, page >= 30 fps, latency < 50 ms; the same
+CPU goal for the plot page (issue 24: plotting at 50 Hz must not load the graph).
 """
 from __future__ import annotations
 
@@ -36,6 +41,7 @@ sys.path[:0] = [str(REPO), str(Path(__file__).resolve().parent)]
 from pubsub import machine_facts, percentile, pick_domain, table, worker_env  # noqa: E402
 
 CPU_GOAL, FPS_GOAL, LATENCY_GOAL = 10.0, 30.0, 50.0
+PLOT_RATE = 50.0           # [Hz] the topic rqt_plot's page plots (issue 24: "plotting at 50 Hz")
 LOAD_ARGS = ['--ros-args', '-p', 'map_rate:=1.0', '-p', 'particles:=2000', '-p', 'speed:=0.15']
 
 
@@ -109,6 +115,14 @@ def phase_server(window: float) -> dict:
         _stop(robot)
 
 
+def _spin(executor) -> None:
+    from zros.executors import ExternalShutdownException
+    try:
+        executor.spin()
+    except ExternalShutdownException:                       # the phase's context shut down
+        pass
+
+
 def phase_latency(samples: int) -> dict:
     """Publish-to-scene-update latency of a LaserScan display, under the same load."""
     import numpy as np
@@ -129,7 +143,7 @@ def phase_latency(samples: int) -> dict:
         node = Node('view_bench', context=ctx)
         executor = MultiThreadedExecutor(context=ctx)
         executor.add_node(node)
-        threading.Thread(target=executor.spin, daemon=True).start()
+        threading.Thread(target=_spin, args=(executor,), daemon=True).start()
         view = SceneView(node, port=0)
         sent: dict[int, float] = {}
         latencies: list[float] = []
@@ -167,15 +181,40 @@ def phase_latency(samples: int) -> dict:
         _stop(robot)
 
 
+def phase_plot(window: float, rate: float = PLOT_RATE) -> dict:
+    """rqt_plot's page on a `rate` Hz topic: the rqt process's CPU and the bytes it sends."""
+    from zros.view.headless import Browser
+    domain = pick_domain()
+    env = worker_env(domain)
+    publisher = _spawn([sys.executable, '-m', 'zros.cli.main', 'topic', 'pub', '-r', f'{rate:g}', '/bench_twist',
+                        'geometry_msgs/msg/Twist', '{linear: {x: 1.0, y: 2.0}}'], env)
+    rqt = _spawn([sys.executable, '-m', 'zros.cli.main', 'rqt', '/bench_twist/linear/x:y', '--port', '0'], env)
+    try:
+        url = _wait_line(rqt, 'serving', 30).split('serving ', 1)[1].split()[0]
+        with Browser(width=1400, height=850) as browser:
+            browser.open(url, wait_for='document.querySelector(".uplot")', timeout=60)
+            browser.wait_for('document.body.innerText.includes("/bench_twist/linear/y: 2")', timeout=30)
+            time.sleep(3)
+            port = int(url.rstrip('/').rsplit(':', 1)[1])
+            cpu0, sent0, t0 = _cpu_seconds(rqt.pid), _bytes_sent(port), time.monotonic()
+            time.sleep(window)
+            cpu1, sent1, t1 = _cpu_seconds(rqt.pid), _bytes_sent(port), time.monotonic()
+        return {'cpu_percent': 100.0 * (cpu1 - cpu0) / (t1 - t0), 'bytes_per_s': (sent1 - sent0) / (t1 - t0)}
+    finally:
+        _stop(rqt)
+        _stop(publisher)
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
-    parser.add_argument('--quick', action='store_true', help='shorter windows (about 35 s)')
+    parser.add_argument('--quick', action='store_true', help='shorter windows (about 50 s)')
     args = parser.parse_args()
     window, samples = (8.0, 40) if args.quick else (20.0, 150)
     facts = machine_facts()
     print(f"# view benchmark: {facts['nproc']} cores, {facts['cpu']}, Python {facts['python']}")
     server = phase_server(window)
     latency = phase_latency(samples)
+    plot = phase_plot(window)
     rows = [
         ['server CPU (one core = 100 %)', f"{server['cpu_percent']:.1f} %", f'< {CPU_GOAL:g} %',
          'ok' if server['cpu_percent'] < CPU_GOAL else 'MISS'],
@@ -185,6 +224,10 @@ def main() -> int:
         ['publish -> scene update, median', f"{latency['median_ms']:.1f} ms", f'< {LATENCY_GOAL:g} ms',
          'ok' if latency['median_ms'] < LATENCY_GOAL else 'MISS'],
         ['publish -> scene update, p95', f"{latency['p95_ms']:.1f} ms", '', ''],
+        [f'rqt plot of 2 fields at {PLOT_RATE:g} Hz: server CPU', f"{plot['cpu_percent']:.1f} %",
+         f'< {CPU_GOAL:g} %', 'ok' if plot['cpu_percent'] < CPU_GOAL else 'MISS'],
+        [f'rqt plot at {PLOT_RATE:g} Hz: bytes/s sent to the browser', f"{plot['bytes_per_s'] / 1000:.1f} kB/s",
+         '-', ''],
     ]
     print(table(['measure', 'value', 'goal', ''], rows))
     print(f"(window {server['window_s']:.0f} s; latency over {latency['samples']} scans, {latency['lost']} not drawn)")
