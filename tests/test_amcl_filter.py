@@ -1,0 +1,300 @@
+"""zros.amcl without Zenoh: motion models, the likelihood field, KLD resampling, recovery,
+initialisation in free space, the estimate, and the whole filter localizing in the simulator."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from zros.amcl import (Amcl, AmclParameters, DifferentialMotionModel, LikelihoodFieldModel, MapGrid, OmniMotionModel,
+                       ParticleFilter, create_laser_model, create_motion_model)
+from zros.amcl.localizer import compose, inverse
+from zros.amcl.motion_models import angle_diff
+from zros.amcl.particle_filter import kld_limit
+from zros.amcl.sensor_models import LaserScanData, distance_field
+from zros.sim import BURGER, LDS_01, Simulation, load_world, rasterize
+
+LASER = (BURGER.lidar_mount[0], 0.0, 0.0)
+
+
+def world_map(world, start) -> MapGrid:
+    raster = rasterize(world, 0.05)
+    grid = MapGrid(raster.occupancy_data(), resolution=0.05, origin=raster.origin, width=raster.width)
+    return grid.reachable_from(*start)
+
+
+@pytest.fixture(scope='module')
+def tb3_world():
+    world = load_world('turtlebot3_world')
+    return world, world_map(world, (world.spawn.x, world.spawn.y))
+
+
+def box_map(size: int = 40, resolution: float = 0.1) -> MapGrid:
+    data = np.zeros((size, size), dtype=np.int8)
+    data[0, :] = data[-1, :] = data[:, 0] = data[:, -1] = 100
+    return MapGrid(data, resolution=resolution, origin=(0.0, 0.0))
+
+
+def drive(model, particles, poses, rng):
+    previous = poses[0]
+    for pose in poses[1:]:
+        delta = pose - previous
+        delta[2] = angle_diff(pose[2], previous[2])
+        model.odometry_update(particles, pose, delta, rng)
+        previous = pose
+
+
+# -- motion models ---------------------------------------------------------------------------------
+@pytest.mark.parametrize('model_type', ['nav2_amcl::DifferentialMotionModel', 'differential',
+                                        'nav2_amcl::OmniMotionModel', 'omnidirectional'])
+def test_noise_free_motion_follows_the_odometry_from_any_start(model_type):
+    model = create_motion_model(model_type, (0.0, 0.0, 0.0, 0.0, 0.0))
+    t = np.linspace(0, 6, 60)
+    odometry = np.column_stack([np.cos(t) * 2, np.sin(t), angle_diff(t * 0.7, 0.0)])
+    start = np.array([[1.0, -2.0, 0.5], [0.0, 0.0, 3.0]])        # map poses of the first odometry pose
+    particles = start.copy()
+    drive(model, particles, odometry, np.random.default_rng(0))
+    for s, p in zip(start, particles):
+        expected = compose(compose(s, inverse(odometry[0])), odometry[-1])
+        assert np.allclose(p[:2], expected[:2], atol=1e-9)
+        assert abs(angle_diff(p[2], expected[2])) < 1e-9
+
+
+def test_noise_grows_with_the_alphas_and_driving_backwards_is_not_a_half_turn():
+    rng = np.random.default_rng(1)
+    forward = np.array([[0.0, 0.0, 0.0], [0.3, 0.0, 0.0]])
+    backward = np.array([[0.0, 0.0, 0.0], [-0.3, 0.0, 0.0]])
+    spreads = []
+    for alpha in (0.05, 0.2, 0.8):
+        p = np.zeros((4000, 3))
+        drive(DifferentialMotionModel(alpha, alpha, alpha, alpha), p, forward, rng)
+        spreads.append(p.std(axis=0))
+    assert spreads[0][0] < spreads[1][0] < spreads[2][0]
+    assert spreads[0][2] < spreads[1][2] < spreads[2][2]
+    p = np.zeros((4000, 3))
+    drive(DifferentialMotionModel(0.2, 0.2, 0.2, 0.2), p, backward, rng)
+    assert abs(p[:, 0].mean() + 0.3) < 0.01
+    assert p[:, 2].std() < 0.3          # a half turn's noise would be ~sqrt(0.2) * pi
+
+
+def test_omni_strafe_noise_comes_from_alpha5():
+    rng = np.random.default_rng(2)
+    sideways = np.array([[0.0, 0.0, 0.0], [0.0, 0.4, 0.0]])
+    quiet, noisy = np.zeros((3000, 3)), np.zeros((3000, 3))
+    drive(OmniMotionModel(0.0, 0.0, 0.0, 0.0, 0.0), quiet, sideways, rng)
+    drive(OmniMotionModel(0.0, 0.0, 0.0, 0.0, 0.5), noisy, sideways, rng)
+    assert np.allclose(quiet[:, :2], [0.0, 0.4])
+    assert noisy[:, 0].std() > 0.2 and abs(noisy[:, 1].mean() - 0.4) < 0.02
+
+
+def test_unknown_model_names_are_refused_with_the_known_ones():
+    with pytest.raises(ValueError, match='nav2_amcl::DifferentialMotionModel'):
+        create_motion_model('tank', (0.2,) * 5)
+    with pytest.raises(ValueError, match='likelihood_field'):
+        create_laser_model('beam', box_map(), z_hit=0.5, z_rand=0.5, sigma_hit=0.2, max_dist=2.0, max_beams=60)
+
+
+# -- the laser model --------------------------------------------------------------------------------
+def test_distance_field_is_euclidean_and_capped():
+    data = np.zeros((21, 21), dtype=np.int8)
+    data[10, 10] = 100
+    grid = MapGrid(data, resolution=0.1, origin=(0.0, 0.0))
+    field = distance_field(grid, 0.5)
+    assert field[10, 10] == 0.0
+    assert field[10, 13] == pytest.approx(0.3)
+    assert field[13, 14] == pytest.approx(0.5)          # 0.5 exactly (3-4-5)
+    assert field[0, 0] == 0.5                          # capped
+    assert (distance_field(MapGrid(np.zeros((3, 3)), resolution=0.1), 2.0) == 2.0).all()
+
+
+@pytest.mark.parametrize('laser_model_type', ['likelihood_field', 'likelihood_field_prob'])
+def test_the_true_pose_explains_the_scan_best(tb3_world, laser_model_type):
+    world, grid = tb3_world
+    sim = Simulation(world, seed=4)
+    robot = sim.add_robot('burger')
+    amcl = Amcl(AmclParameters(laser_model_type=laser_model_type), grid, seed=0)
+    scan = amcl.prepare_scan(robot.scan(), LDS_01.angles(), LDS_01.range_min, LDS_01.range_max)
+    p = robot.pose
+    offsets = np.array([[0, 0, 0], [0.15, 0, 0], [0, -0.15, 0], [0, 0, 0.15], [0.5, 0.3, -0.4], [-0.3, 0.2, 1.0]])
+    likelihood = amcl.laser_model.likelihood(np.array([p.x, p.y, p.yaw]) + offsets, scan, LASER)
+    assert int(np.argmax(likelihood)) == 0
+    assert likelihood[0] > 1.5 * likelihood[4:].max()
+
+
+def test_beams_beyond_range_nan_and_too_close_are_not_used():
+    amcl = Amcl(AmclParameters(max_beams=6), box_map(), seed=0)
+    ranges = np.array([1.0, np.nan, -np.inf, np.inf, 0.05, 2.0])
+    scan = amcl.prepare_scan(ranges, np.linspace(0, 2, 6), 0.12, 3.5)
+    used, _ = amcl.laser_model.beams(scan)
+    assert list(used) == [1.0, 2.0]
+    empty = LaserScanData(np.full(6, np.nan), np.zeros(6), 3.5)
+    assert (amcl.laser_model.likelihood(np.zeros((3, 3)), empty, LASER) == 1.0).all()
+
+
+def test_beam_skipping_leaves_out_beams_the_map_does_not_explain():
+    grid = box_map()
+    model = create_laser_model('likelihood_field_prob', grid, z_hit=0.5, z_rand=0.5, sigma_hit=0.2, max_dist=2.0,
+                               max_beams=8, do_beamskip=True, beam_skip_threshold=0.3)
+    assert isinstance(model, LikelihoodFieldModel)
+    particles = np.array([[2.0, 2.0, 0.0], [2.05, 2.0, 0.0]])
+    bearings = np.linspace(0, 2 * np.pi, 8, endpoint=False)
+    wall = np.full(8, 1.9)                      # every beam ends on the box's walls (cells 0 and 39)
+    person = wall.copy()
+    person[0] = 0.5                              # one beam ends on someone in the middle of the room
+    with_person = model.likelihood(particles, LaserScanData(person, bearings, 3.5), (0.0, 0.0, 0.0))
+    without = model.likelihood(particles, LaserScanData(wall, bearings, 3.5), (0.0, 0.0, 0.0))
+    assert np.allclose(with_person / with_person[0], without / without[0])
+
+
+# -- the particle filter ---------------------------------------------------------------------------------
+def test_kld_limit_grows_with_the_occupied_bins_within_bounds():
+    k = np.array([0, 1, 2, 10, 50, 200, 5000])
+    limit = kld_limit(k, pf_err=0.05, pf_z=0.99, min_particles=100, max_particles=3000)
+    assert limit[0] == limit[1] == 3000           # Nav2: one bin (or none) asks for the most
+    assert limit[2] == 100 and limit[3] < limit[4] < limit[5] and limit[6] == 3000
+
+
+def test_resampling_adapts_the_count_and_keeps_the_weights_proportions():
+    pf = ParticleFilter(box_map(), min_particles=200, max_particles=4000, rng=np.random.default_rng(5))
+    pf.init_uniform()
+    assert len(pf) == 4000
+    pf.resample()
+    assert len(pf) == 4000                        # spread over the room: many bins
+    pf.particles = np.array([[1.0, 1.0, 0.0], [3.0, 3.0, 1.0]])
+    pf.weights = np.array([0.25, 0.75])
+    pf.resample()
+    share = np.mean(pf.particles[:, 0] == 3.0)
+    assert 200 <= len(pf) < 1000 and abs(share - 0.75) < 0.01     # low variance: exact to one particle
+
+
+def test_recovery_injects_random_particles_when_the_fit_drops():
+    pf = ParticleFilter(box_map(), min_particles=500, max_particles=500, alpha_slow=0.001, alpha_fast=0.5,
+                        rng=np.random.default_rng(6))
+    pf.init_gaussian(np.array([2.0, 2.0, 0.0]), np.diag([0.01, 0.01, 0.01]))
+    for _ in range(5):
+        pf.sensor_update(np.full(len(pf), 10.0))
+        pf.resample()
+    assert np.all(np.hypot(pf.particles[:, 0] - 2.0, pf.particles[:, 1] - 2.0) < 1.0)
+    pf.sensor_update(np.full(len(pf), 0.5))          # the scans stop matching: w_fast falls below w_slow
+    pf.resample()
+    far = np.hypot(pf.particles[:, 0] - 2.0, pf.particles[:, 1] - 2.0) > 1.0
+    assert 0.3 < far.mean() < 1.0
+    assert pf.w_slow == pf.w_fast == 0.0
+
+
+def test_a_huge_initial_covariance_spreads_over_free_space_only(tb3_world):
+    _, grid = tb3_world
+    pf = ParticleFilter(grid, rng=np.random.default_rng(7))
+    assert pf.init_gaussian(np.zeros(3), np.diag([200.0, 200.0, 1.0]))
+    assert grid.is_free(pf.particles[:, 0], pf.particles[:, 1]).all()
+    assert pf.particles[:, 0].std() > 1.0 and pf.particles[:, 1].std() > 1.0    # the whole arena
+
+
+def test_a_normal_initial_covariance_is_drawn_as_asked_but_not_inside_walls(tb3_world):
+    world, grid = tb3_world
+    pf = ParticleFilter(grid, rng=np.random.default_rng(8))
+    mean = np.array([world.spawn.x, world.spawn.y, 0.3])
+    assert pf.init_gaussian(mean, np.diag([0.05, 0.05, 0.02]))
+    assert grid.is_free(pf.particles[:, 0], pf.particles[:, 1]).all()
+    assert np.allclose(pf.particles.mean(axis=0), mean, atol=0.03)
+    assert pf.particles[:, 0].std() == pytest.approx(math.sqrt(0.05), rel=0.15)
+
+
+def test_a_zero_covariance_puts_every_particle_on_the_pose_even_in_unknown_space(tb3_world):
+    _, grid = tb3_world
+    pf = ParticleFilter(grid, rng=np.random.default_rng(9))
+    assert not pf.init_gaussian(np.array([50.0, 50.0, 1.0]), np.zeros((3, 3)))
+    assert np.allclose(pf.particles, [50.0, 50.0, 1.0])
+
+
+def test_estimate_takes_the_heaviest_cluster_and_the_whole_sets_covariance():
+    pf = ParticleFilter(box_map(), rng=np.random.default_rng(10))
+    rng = np.random.default_rng(11)
+    a = np.column_stack([rng.normal(1.0, 0.05, 300), rng.normal(1.0, 0.05, 300), rng.normal(3.1, 0.02, 300)])
+    a[:, 2] = angle_diff(a[:, 2], 0.0)              # straddles +-pi: one cluster all the same
+    b = np.column_stack([rng.normal(3.0, 0.05, 100), rng.normal(3.0, 0.05, 100), rng.normal(0.0, 0.02, 100)])
+    pf.particles = np.vstack([a, b])
+    pf.weights = np.full(400, 1 / 400)
+    estimate = pf.estimate()
+    assert estimate.clusters == 2 and estimate.weight == pytest.approx(0.75)
+    assert np.allclose(estimate.pose[:2], a[:, :2].mean(axis=0))
+    assert abs(angle_diff(estimate.pose[2], 3.1)) < 0.01
+    assert estimate.covariance[0, 0] == pytest.approx(np.cov(pf.particles[:, 0], bias=True), rel=1e-6)
+    assert estimate.covariance[0, 1] == pytest.approx(np.cov(pf.particles[:, 0], pf.particles[:, 1], bias=True)[0, 1])
+    assert estimate.covariance[2, 2] > 1.0          # two opposite headings
+
+
+# -- the whole filter in the simulator ------------------------------------------------------------------------
+def run(world, grid, amcl, seconds, command, *, seed=1, start=None):
+    """Drive the simulated robot with `command(step, scan) -> (v, w)`, feeding every scan to
+    `amcl`; returns the robot and the estimate errors (m, rad) after each published update."""
+    sim = Simulation(world, seed=seed)
+    robot = sim.add_robot('burger', start)
+    errors = []
+    for step in range(int(seconds / 0.2)):
+        robot.command(*command(step, robot.scan(noise=False)))
+        sim.step(0.2)
+        o = robot.odometry()
+        scan = amcl.prepare_scan(robot.scan(), LDS_01.angles(), LDS_01.range_min, LDS_01.range_max)
+        if amcl.update((o.x, o.y, o.yaw), scan, LASER).published:
+            estimate = compose(amcl.map_to_odom(), np.array([o.x, o.y, o.yaw]))
+            p = robot.pose
+            errors.append((math.hypot(estimate[0] - p.x, estimate[1] - p.y), abs(angle_diff(estimate[2], p.yaw))))
+    return robot, np.array(errors)
+
+
+def wander(step, scan):
+    front = np.concatenate([scan[:35], scan[-35:]])
+    blocked = (front < 0).any() or (np.isfinite(front) & (front < 0.45)).any()
+    return (0.0, 1.0) if blocked else (0.2, 0.0)
+
+
+def test_converges_from_half_a_metre_and_30_degrees_off_and_tracks(tb3_world):
+    world, grid = tb3_world
+    amcl = Amcl(AmclParameters(laser_model_type='likelihood_field_prob'), grid, seed=2)
+    s = world.spawn
+    amcl.set_initial_pose((s.x + 0.4, s.y - 0.3, s.yaw + math.radians(30)), np.diag([0.25, 0.25, 0.07]))
+    robot, errors = run(world, grid, amcl, 20.0, wander)
+    assert errors[0][0] > 0.05 or errors[0][1] > 0.05 or len(errors) > 3
+    assert errors[-5:, 0].max() < 0.1 and errors[-5:, 1].max() < math.radians(5), errors
+    assert amcl.estimate.covariance.max() < 0.07          # what seed 000's node waits for
+    assert robot.collisions == 0
+
+
+def test_no_update_without_motion_unless_asked(tb3_world):
+    world, grid = tb3_world
+    amcl = Amcl(AmclParameters(), grid, seed=3)
+    sim = Simulation(world, seed=1)
+    robot = sim.add_robot('burger')
+    scan = amcl.prepare_scan(robot.scan(), LDS_01.angles(), LDS_01.range_min, LDS_01.range_max)
+    assert amcl.update((0.0, 0.0, 0.0), scan, LASER) == (False, False, False, None)    # no pose yet
+    amcl.set_initial_pose((world.spawn.x, world.spawn.y, 0.0), np.diag([0.1, 0.1, 0.05]))
+    first = amcl.update((0.0, 0.0, 0.0), scan, LASER)
+    assert first.updated and first.published
+    assert not amcl.update((0.1, 0.1, 0.1), scan, LASER).updated          # below update_min_d / _a
+    assert amcl.update((0.3, 0.1, 0.1), scan, LASER).updated
+    amcl.request_nomotion_update()
+    assert amcl.update((0.3, 0.1, 0.1), scan, LASER).published
+
+
+def test_global_localization_finds_the_robot_in_a_distinctive_world():
+    world = load_world('turtlebot3_house')
+    start = (world.spawn.x, world.spawn.y)
+    grid = world_map(world, start)
+    amcl = Amcl(AmclParameters(laser_model_type='likelihood_field_prob', max_particles=5000), grid, seed=4)
+    amcl.global_localization()
+    assert len(amcl.pf) == 5000 and amcl.pf.particles[:, 0].std() > 1.0
+    _, errors = run(world, grid, amcl, 40.0, lambda step, scan: (0.0, 0.6) if step < 50 else wander(step, scan))
+    assert errors[-1][0] < 0.1 and errors[-1][1] < math.radians(5), errors[-10:]
+
+
+def test_map_grid_refuses_bad_input():
+    with pytest.raises(ValueError, match='resolution'):
+        MapGrid(np.zeros((2, 2)), resolution=0.0)
+    with pytest.raises(ValueError, match='rows of 3'):
+        MapGrid(np.zeros(7), resolution=0.1, width=3)
+    with pytest.raises(ValueError, match='free space'):
+        box_map().reachable_from(-5.0, 0.0)
+    with pytest.raises(ValueError, match='no free cell'):
+        MapGrid(np.full((2, 2), 100), resolution=0.1).sample_free(3, np.random.default_rng())

@@ -1,0 +1,203 @@
+"""AMCL's update cycle without the middleware: when to filter, what to publish, map -> odom.
+
+`Amcl` is what nav2_amcl's node does with each scan, minus topics and TF (the `nav2_amcl amcl`
+node and benchmarks/localization.py both drive it):
+
+1. Nothing happens until the pose is known: `set_initial_pose` or `global_localization`.
+2. The first scan after that updates the filter without motion and publishes.
+3. Afterwards the filter runs only once odometry has moved `update_min_d` in x or y, or turned
+   `update_min_a` (or after `request_nomotion_update`): motion model, laser model, and every
+   `resample_interval` updates a resampling, which publishes a new estimate.
+4. `map_to_odom()` turns the estimate into the map -> odom transform, using the odometry pose
+   of the scan the estimate came from.
+
+Scans are prepared as Nav2 prepares them (`prepare_scan`): range_max is the scan's, or
+`laser_max_range` when that is positive and smaller; range_min likewise with `laser_min_range`;
+a reading at or below range_min (including -inf, "too close") counts as range_max, which the
+laser model ignores, as it ignores NaN.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from zros.amcl.map_grid import MapGrid
+from zros.amcl.motion_models import angle_diff, create_motion_model
+from zros.amcl.particle_filter import ParticleFilter, PoseEstimate
+from zros.amcl.sensor_models import LaserScanData, create_laser_model
+
+__all__ = ['Amcl', 'AmclParameters', 'LaserScanData', 'UpdateResult', 'compose', 'inverse']
+
+
+@dataclass
+class AmclParameters:
+    """The filter's tunables, with nav2_amcl's names and Humble defaults (units: m, rad)."""
+    alpha1: float = 0.2
+    alpha2: float = 0.2
+    alpha3: float = 0.2
+    alpha4: float = 0.2
+    alpha5: float = 0.2
+    beam_skip_distance: float = 0.5
+    beam_skip_error_threshold: float = 0.9
+    beam_skip_threshold: float = 0.3
+    do_beamskip: bool = False
+    laser_likelihood_max_dist: float = 2.0
+    laser_max_range: float = 100.0
+    laser_min_range: float = -1.0
+    laser_model_type: str = 'likelihood_field'
+    max_beams: int = 60
+    max_particles: int = 2000
+    min_particles: int = 500
+    pf_err: float = 0.05
+    pf_z: float = 0.99
+    recovery_alpha_fast: float = 0.0
+    recovery_alpha_slow: float = 0.0
+    resample_interval: int = 1
+    robot_model_type: str = 'nav2_amcl::DifferentialMotionModel'
+    sigma_hit: float = 0.2
+    update_min_a: float = 0.2
+    update_min_d: float = 0.25
+    z_hit: float = 0.5
+    z_rand: float = 0.5
+
+
+class UpdateResult(NamedTuple):
+    """What one scan did: `updated` the filter ran; `resampled`; `published` there is a new
+    estimate to publish (amcl_pose, map -> odom); `estimate` the latest one (None before any)."""
+    updated: bool
+    resampled: bool
+    published: bool
+    estimate: PoseEstimate | None
+
+
+def compose(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The 2D pose b expressed in a's parent frame (a then b)."""
+    c, s = math.cos(a[2]), math.sin(a[2])
+    return np.array([a[0] + c * b[0] - s * b[1], a[1] + s * b[0] + c * b[1], angle_diff(a[2] + b[2], 0.0)])
+
+
+def inverse(a: np.ndarray) -> np.ndarray:
+    """The inverse of the 2D transform a."""
+    c, s = math.cos(a[2]), math.sin(a[2])
+    return np.array([-c * a[0] - s * a[1], s * a[0] - c * a[1], angle_diff(-a[2], 0.0)])
+
+
+class Amcl:
+    """One robot's localizer on one map. See the module docstring.
+
+    Args:
+        parameters: the tunables.
+        grid: the map.
+        seed: seeds the filter's random numbers (None: fresh entropy).
+
+    Raises:
+        ValueError: a parameter out of range or an unknown model name (the message names it).
+    """
+
+    def __init__(self, parameters: AmclParameters, grid: MapGrid, *, seed: int | None = None) -> None:
+        p = self.parameters = parameters
+        if p.resample_interval < 1:
+            raise ValueError(f'resample_interval must be >= 1, got {p.resample_interval}')
+        self.motion_model = create_motion_model(p.robot_model_type, (p.alpha1, p.alpha2, p.alpha3, p.alpha4, p.alpha5))
+        self.pf = ParticleFilter(grid, min_particles=p.min_particles, max_particles=p.max_particles, pf_err=p.pf_err,
+                                 pf_z=p.pf_z, alpha_slow=p.recovery_alpha_slow, alpha_fast=p.recovery_alpha_fast,
+                                 rng=np.random.default_rng(seed))
+        self.set_map(grid)
+        self.pose_known = False
+        self.estimate: PoseEstimate | None = None
+        self._odom_pose: np.ndarray | None = None      # odometry at the last filter update
+        self._estimate_odom_pose: np.ndarray | None = None
+        self._force_update = False
+        self._updates = 0
+
+    @property
+    def grid(self) -> MapGrid:
+        return self.pf.grid
+
+    def set_map(self, grid: MapGrid) -> None:
+        """Localize in `grid` from now on (the particles stay where they are)."""
+        p = self.parameters
+        self.laser_model = create_laser_model(
+            p.laser_model_type, grid, z_hit=p.z_hit, z_rand=p.z_rand, sigma_hit=p.sigma_hit,
+            max_dist=p.laser_likelihood_max_dist, max_beams=p.max_beams, do_beamskip=p.do_beamskip,
+            beam_skip_distance=p.beam_skip_distance, beam_skip_threshold=p.beam_skip_threshold,
+            beam_skip_error_threshold=p.beam_skip_error_threshold)
+        self.pf.grid = grid
+
+    # -- where to start ------------------------------------------------------------------------------
+    def set_initial_pose(self, pose: tuple[float, float, float], covariance: np.ndarray) -> bool:
+        """Restart the filter around `pose` (x, y, yaw) with `covariance` (3, 3). Returns False
+        when the pose and its spread lie wholly outside the map's free space (it is used anyway)."""
+        in_free_space = self.pf.init_gaussian(np.asarray(pose, dtype=np.float64), covariance)
+        self._restart()
+        return in_free_space
+
+    def global_localization(self) -> None:
+        """Forget the pose: particles uniform over the free space (reinitialize_global_localization)."""
+        self.pf.init_uniform()
+        self._restart()
+
+    def _restart(self) -> None:
+        self.pose_known = True
+        self._odom_pose = None
+
+    def request_nomotion_update(self) -> None:
+        """Filter on the next scan even if the robot has not moved."""
+        self._force_update = True
+
+    # -- each scan -------------------------------------------------------------------------------------
+    def prepare_scan(self, ranges: np.ndarray, bearings: np.ndarray, range_min: float,
+                     range_max: float) -> LaserScanData:
+        """A LaserScanData from a scan's ranges [m] and beam bearings [rad] (see the module docstring)."""
+        p = self.parameters
+        if p.laser_max_range > 0:
+            range_max = min(range_max, p.laser_max_range)
+        if p.laser_min_range > 0:
+            range_min = max(range_min, p.laser_min_range)
+        ranges = np.array(ranges, dtype=np.float64)
+        ranges[ranges <= range_min] = range_max
+        return LaserScanData(ranges, np.asarray(bearings, dtype=np.float64), float(range_max))
+
+    def update(self, odom_pose: tuple[float, float, float], scan: LaserScanData,
+               laser_pose: tuple[float, float, float]) -> UpdateResult:
+        """Feed one scan, with the odometry pose (odom -> base, x, y, yaw) at its time and the
+        laser's pose in the base frame."""
+        if not self.pose_known:
+            return UpdateResult(False, False, False, None)
+        p = self.parameters
+        pose = np.asarray(odom_pose, dtype=np.float64)
+        first = self._odom_pose is None
+        if first:
+            update = True
+            self._updates = 0
+        else:
+            delta = pose - self._odom_pose
+            delta[2] = angle_diff(pose[2], self._odom_pose[2])
+            update = (abs(delta[0]) > p.update_min_d or abs(delta[1]) > p.update_min_d
+                      or abs(delta[2]) > p.update_min_a or self._force_update)
+            if update:
+                self.pf.motion_update(self.motion_model, pose, delta)
+        resampled = False
+        if update:
+            self.pf.sensor_update(self.laser_model.likelihood(self.pf.particles, scan, laser_pose))
+            self._force_update = False
+            self._odom_pose = pose
+            self._updates += 1
+            if self._updates % p.resample_interval == 0:
+                self.pf.resample()
+                resampled = True
+        published = resampled or first
+        if published:
+            self.estimate = self.pf.estimate()
+            self._estimate_odom_pose = pose
+        return UpdateResult(update, resampled, published, self.estimate)
+
+    def map_to_odom(self) -> np.ndarray | None:
+        """The map -> odom transform (x, y, yaw) that puts the robot at the latest estimate, or
+        None before the first one."""
+        if self.estimate is None:
+            return None
+        return compose(self.estimate.pose, inverse(self._estimate_odom_pose))
