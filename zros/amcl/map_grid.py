@@ -13,7 +13,7 @@ y in [oy + row res, ...); row 0 is the lowest y. The origin's rotation is ignore
 from __future__ import annotations
 
 import numpy as np
-from scipy.ndimage import label
+from scipy.ndimage import binary_dilation, label
 
 __all__ = ['MapGrid', 'FREE_MAX', 'OCCUPIED_MIN']
 
@@ -101,12 +101,16 @@ class MapGrid:
         return np.column_stack([x + jitter[:, 0], y + jitter[:, 1], rng.uniform(-np.pi, np.pi, count)])
 
     def reachable_from(self, x: float, y: float) -> 'MapGrid':
-        """This map with the free space that (x, y) [m] cannot reach marked unknown: what a
-        mapper driving from there would know (a simulator's exact raster is also free outside
-        the arena's walls). ValueError when (x, y) is not in free space."""
+        """What a mapper driving from (x, y) [m] would know of this map: the free space it can
+        reach, and the obstacle cells that border it (a lidar never sees inside a wall); all
+        else unknown. A simulator's exact raster is free outside the arena and solid inside
+        thick walls, and a laser end point that overshoots a wall's surface must not score as
+        a hit. ValueError when (x, y) is not in free space."""
         if not self.is_free(np.array([x]), np.array([y]))[0]:
             raise ValueError(f'({x:g}, {y:g}) is not in the map\'s free space')
         regions, _ = label(self.free)
         rows, cols, _ = self.cells(np.array([x]), np.array([y]))
-        data = np.where(self.free & (regions != regions[rows[0], cols[0]]), -1, self.data)
+        reachable = regions == regions[rows[0], cols[0]]
+        surface = self.occupied & binary_dilation(reachable, structure=np.ones((3, 3), dtype=bool))
+        data = np.where(reachable | surface, self.data, -1)
         return MapGrid(data, resolution=self.resolution, origin=self.origin)
