@@ -1,0 +1,167 @@
+"""AMCL's accuracy and cost against the simulator's ground truth (issue 17).
+
+    .venv/bin/python benchmarks/localization.py            # about 4 minutes
+    .venv/bin/python benchmarks/localization.py --quick    # about a minute: fewer runs
+
+No Zenoh: zros.sim's Simulation and zros.amcl's Amcl in one process, as fast as they go, fed
+what the node would feed them (each scan, wheel odometry at its time, the lidar's mount). The
+map is the world's exact raster as a mapper would know it (MapGrid.reachable_from). The drive
+is scripted: forward at 0.2 m/s, turning in place at 1 rad/s while anything is within 0.45 m
+ahead (decided on a noise-free scan, so the drive is the same whatever the filter does).
+Both laser models run: Nav2's default `likelihood_field` and `likelihood_field_prob` (what
+nav2_bringup's localization_params.yaml ships). Each row is judged against issue 17's goal:
+
+- convergence: the initial pose is 0.5 m and 30 deg off (covariance 0.25 m^2, 0.07 rad^2, as
+  RViz sends); distance driven until the estimate is within 10 cm and 5 deg (goal < 2 m),
+  median and worst over seeded runs in turtlebot3_world and turtlebot3_house;
+- tracking: RMS position and heading error of every estimate after convergence over a 60 s
+  drive (goal <= 5 cm and 2 deg);
+- global relocalization: global_localization() (what reinitialize_global_localization does)
+  at a random free pose in turtlebot3_world, 10 s turning in place then 50 s of the drive; the
+  share of 10 seeded runs whose estimate is within 10 cm and 5 deg at the end (goal >= 80%);
+- cost: one filter update (motion, laser, KLD resampling, estimate) with 2000 particles
+  (goal < 20 ms), mean and 90th percentile.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import time
+
+import numpy as np
+
+from zros.amcl import Amcl, AmclParameters, MapGrid
+from zros.amcl.localizer import compose
+from zros.amcl.motion_models import angle_diff
+from zros.sim import BURGER, LDS_01, Simulation, load_world, rasterize
+
+SCAN_PERIOD = 1.0 / LDS_01.rate          # [s]
+LASER = (BURGER.lidar_mount[0], BURGER.lidar_mount[1], 0.0)
+MODELS = ('likelihood_field', 'likelihood_field_prob')
+GOOD = (0.10, math.radians(5.0))         # [m], [rad]: "converged"
+
+
+def world_map(world) -> MapGrid:
+    raster = rasterize(world, 0.05)
+    grid = MapGrid(raster.occupancy_data(), resolution=0.05, origin=raster.origin, width=raster.width)
+    return grid.reachable_from(world.spawn.x, world.spawn.y)
+
+
+def scripted_command(scan: np.ndarray) -> tuple[float, float]:
+    """Forward, or turn in place while something is within 0.45 m ahead."""
+    front = np.concatenate([scan[:35], scan[-35:]])
+    blocked = (front < 0).any() or (np.isfinite(front) & (front < 0.45)).any()
+    return (0.0, 1.0) if blocked else (0.2, 0.0)
+
+
+def drive(world, amcl: Amcl, seconds: float, *, seed: int, start=None, turn_first: float = 0.0):
+    """Run the drive feeding every scan to `amcl`. Returns (distance driven [m], position error
+    [m], heading error [rad], update cost [s] or nan) per published estimate."""
+    sim = Simulation(world, seed=seed)
+    robot = sim.add_robot('burger', start)
+    bearings = LDS_01.angles()
+    rows, travelled, last = [], 0.0, robot.pose
+    for step in range(int(round(seconds / SCAN_PERIOD))):
+        command = (0.0, 0.6) if step * SCAN_PERIOD < turn_first else scripted_command(robot.scan(noise=False))
+        robot.command(*command)
+        sim.step(SCAN_PERIOD)
+        pose = robot.pose
+        travelled += math.hypot(pose.x - last.x, pose.y - last.y)
+        last = pose
+        odom = robot.odometry()
+        scan = amcl.prepare_scan(robot.scan(), bearings, LDS_01.range_min, LDS_01.range_max)
+        began = time.perf_counter()
+        result = amcl.update((odom.x, odom.y, odom.yaw), scan, LASER)
+        cost = time.perf_counter() - began if result.updated else math.nan
+        if result.published:
+            estimate = compose(amcl.map_to_odom(), np.array([odom.x, odom.y, odom.yaw]))
+            rows.append((travelled, math.hypot(estimate[0] - pose.x, estimate[1] - pose.y),
+                         abs(angle_diff(estimate[2], pose.yaw)), cost))
+    return np.array(rows)
+
+
+def convergence(world_name: str, model: str, runs: int) -> dict:
+    world = load_world(world_name)
+    grid = world_map(world)
+    distances, position, heading = [], [], []
+    for seed in range(runs):
+        amcl = Amcl(AmclParameters(laser_model_type=model), grid, seed=seed)
+        rng = np.random.default_rng(100 + seed)
+        angle = rng.uniform(-math.pi, math.pi)
+        s = world.spawn
+        amcl.set_initial_pose((s.x + 0.5 * math.cos(angle), s.y + 0.5 * math.sin(angle),
+                               s.yaw + math.radians(30) * rng.choice([-1, 1])), np.diag([0.25, 0.25, 0.07]))
+        rows = drive(world, amcl, 60.0, seed=seed)
+        good = np.flatnonzero((rows[:, 1] < GOOD[0]) & (rows[:, 2] < GOOD[1]))
+        if len(good) == 0:
+            distances.append(math.inf)
+            continue
+        distances.append(rows[good[0], 0])
+        after = rows[good[0]:]
+        position.append(after[:, 1])
+        heading.append(after[:, 2])
+    position = np.concatenate(position) if position else np.array([math.nan])
+    heading = np.concatenate(heading) if heading else np.array([math.nan])
+    return {'median': float(np.median(distances)), 'worst': float(np.max(distances)),
+            'rms_position': float(np.sqrt(np.mean(position ** 2))),
+            'rms_heading': float(np.degrees(np.sqrt(np.mean(heading ** 2))))}
+
+
+def relocalization(model: str, runs: int) -> float:
+    world = load_world('turtlebot3_world')
+    grid = world_map(world)
+    successes = 0
+    for seed in range(runs):
+        rng = np.random.default_rng(200 + seed)
+        while True:
+            x, y = rng.uniform(-2.3, 2.3, 2)
+            if grid.is_free(np.array([x]), np.array([y]))[0] and not world.collides(x, y, 0.3):
+                break
+        amcl = Amcl(AmclParameters(laser_model_type=model), grid, seed=seed)
+        amcl.global_localization()
+        rows = drive(world, amcl, 60.0, seed=seed, start=(x, y, rng.uniform(-math.pi, math.pi)), turn_first=10.0)
+        successes += bool(rows[-1, 1] < GOOD[0] and rows[-1, 2] < GOOD[1])
+    return successes / runs
+
+
+def update_cost(model: str, updates: int) -> tuple[float, float]:
+    world = load_world('turtlebot3_world')
+    parameters = AmclParameters(laser_model_type=model, min_particles=2000, max_particles=2000)
+    amcl = Amcl(parameters, world_map(world), seed=0)
+    s = world.spawn
+    amcl.set_initial_pose((s.x, s.y, s.yaw), np.diag([0.25, 0.25, 0.07]))
+    rows = drive(world, amcl, updates * 2 * SCAN_PERIOD, seed=0)
+    costs = rows[np.isfinite(rows[:, 3]), 3] * 1e3
+    return float(costs.mean()), float(np.percentile(costs, 90))
+
+
+def verdict(ok: bool) -> str:
+    return 'PASS' if ok else 'MISS'
+
+
+def main(quick: bool) -> None:
+    runs, global_runs = (2, 4) if quick else (5, 10)
+    print(f'AMCL against ground truth ({runs} seeded runs per convergence row, {global_runs} for relocalization)\n')
+    print(f'{"case":58s} {"measured":>22s} {"goal":>12s}')
+    for model in MODELS:
+        for world_name in ('turtlebot3_world', 'turtlebot3_house'):
+            r = convergence(world_name, model, runs)
+            label = f'{model} {world_name}'
+            print(f'{"convergence, distance driven (median/worst) " + label:58s} '
+                  f'{r["median"]:9.2f} / {r["worst"]:5.2f} m {"< 2 m":>12s} {verdict(r["worst"] < 2.0)}')
+            print(f'{"tracking RMS position " + label:58s} {r["rms_position"] * 100:19.1f} cm {"<= 5 cm":>12s} '
+                  f'{verdict(r["rms_position"] <= 0.05)}')
+            print(f'{"tracking RMS heading " + label:58s} {r["rms_heading"]:18.2f} deg {"<= 2 deg":>12s} '
+                  f'{verdict(r["rms_heading"] <= 2.0)}')
+        share = relocalization(model, global_runs)
+        print(f'{"global relocalization within 60 s, turtlebot3_world " + model:58s} {share * 100:20.0f} % '
+              f'{">= 80%":>12s} {verdict(share >= 0.8)}')
+        mean, p90 = update_cost(model, 30 if quick else 100)
+        print(f'{"update cost at 2000 particles (mean/p90) " + model:58s} {mean:11.1f} / {p90:5.1f} ms '
+              f'{"< 20 ms":>12s} {verdict(p90 < 20.0)}')
+
+
+if __name__ == '__main__':
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument('--quick', action='store_true', help='fewer runs (about a minute)')
+    main(parser.parse_args().quick)
