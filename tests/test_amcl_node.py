@@ -228,6 +228,18 @@ def test_tracks_and_map_to_odom_puts_the_robot_where_it_is(stack: Harness) -> No
     assert math.hypot(t.transform.translation.x - x, t.transform.translation.y - y) < 0.1
 
 
+def test_an_initial_pose_in_the_odom_frame_is_transformed_into_the_map(stack: Harness) -> None:
+    from zros.time import Time
+    t = stack.tf.lookup_transform('odom', 'base_footprint', Time(), timeout=5.0)
+    yaw = 2.0 * math.atan2(t.transform.rotation.z, t.transform.rotation.w)
+    count = len(stack.poses)
+    stack.publish_initial_pose(t.transform.translation.x, t.transform.translation.y, yaw, [0.01, 0.01, 0.01],
+                               frame='odom')
+    stack.amcl.wait_for_output("Initial pose given in 'odom', transformed into 'map'", 10)
+    after = wait_until(lambda: list(stack.poses)[count + 1:], 30, message='amcl_pose after the new initial pose')
+    assert stack.error(after[-1])[0] < 0.1, stack.error(after[-1])
+
+
 def test_a_late_subscriber_gets_the_last_amcl_pose(stack: Harness) -> None:
     from zros.qos import DurabilityPolicy, QoSProfile
     from interfaces.geometry_msgs.msg import PoseWithCovarianceStamped
@@ -323,7 +335,7 @@ def test_a_seed_style_node_localizes_from_a_huge_covariance_then_resets(stack: H
     stack.drive(0.0, 0.0)
 
 
-def test_a_wrongly_typed_parameter_is_one_line(module_domain: int) -> None:
+def test_a_wrongly_typed_parameter_is_one_line(domain: int) -> None:
     assert_clean_failure(run_cli('run', 'nav2_amcl', 'amcl', '--ros-args', '-p', 'max_particles:=lots'),
                          "parameter 'max_particles'")
 
