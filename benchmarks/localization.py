@@ -9,7 +9,7 @@ map is the world's exact raster as a mapper would know it (MapGrid.reachable_fro
 is scripted: forward at 0.2 m/s, turning in place at 1 rad/s while anything is within 0.45 m
 ahead (decided on a noise-free scan, so the drive is the same whatever the filter does).
 Both laser models run: Nav2's default `likelihood_field` and `likelihood_field_prob` (what
-nav2_bringup's localization_params.yaml ships). Each row is judged against issue 17's goal:
+turtlebot3_navigation2's burger.yaml sets). Each row is judged against issue 17's goal:
 
 - convergence: the initial pose is 0.5 m and 30 deg off (covariance 0.25 m^2, 0.07 rad^2, as
   RViz sends); distance driven until the estimate is within 10 cm and 5 deg (goal < 2 m),
