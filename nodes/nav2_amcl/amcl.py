@@ -291,15 +291,15 @@ class AmclNode(LifecycleNode):
         amcl = self._amcl
         if amcl is None or not amcl.pose_known:
             return                                 # the status timer says why
+        ranges = np.asarray(msg.ranges, dtype=np.float64)
+        if np.isnan(ranges).any():
+            self._warn_once('nan_scan', f"Scans on {self._value('scan_topic')} contain NaN ranges: those beams "
+                                        'are ignored (said once)')
         stamp = Time.from_msg(msg.header.stamp)
         laser_pose = self._laser_pose(msg.header.frame_id)
         odom = self._odom_pose(stamp) if laser_pose is not None else None
         if odom is None:
             return
-        ranges = np.asarray(msg.ranges, dtype=np.float64)
-        if np.isnan(ranges).any():
-            self._warn_once('nan_scan', f"Scans on {self._value('scan_topic')} contain NaN ranges: those beams "
-                                        'are ignored (said once)')
         scan = amcl.prepare_scan(ranges, self._scan_bearings(msg, len(ranges)), float(msg.range_min),
                                  float(msg.range_max))
         result = amcl.update(odom, scan, laser_pose)
