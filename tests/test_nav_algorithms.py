@@ -1,0 +1,163 @@
+"""The navigation algorithms without Zenoh: costmap layers, planner, Regulated Pure Pursuit and
+the checkers, and the three together driving zros.sim's robot."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from zros.navigation.controller import (FAILED_TO_MAKE_PROGRESS, NO_VALID_CONTROL, FollowError, GoalChecker,
+                                        PathFollower, ProgressChecker, RegulatedPurePursuit, RPPParams,
+                                        curvature_constraint)
+from zros.navigation.costmap import (FREE_SPACE, INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION,
+                                     CostmapParams, LayeredCostmap, inflate, static_costs, to_occupancy)
+from zros.navigation.planner import (GOAL_OCCUPIED, GOAL_OUTSIDE_MAP, NO_VALID_PATH, START_OCCUPIED, GridPlanner,
+                                     PlanningError)
+
+
+def _room(size: int = 60, resolution: float = 0.05) -> np.ndarray:
+    """A walled square room (OccupancyGrid values) with a wall across the middle and a gap."""
+    occ = np.zeros((size, size), np.int8)
+    occ[0, :] = occ[-1, :] = occ[:, 0] = occ[:, -1] = 100
+    occ[:, size // 2] = 100
+    occ[size - 12:size - 4, size // 2] = 0      # the gap, near the top
+    return occ
+
+
+def _costmap(occ: np.ndarray, **kw) -> LayeredCostmap:
+    cm = LayeredCostmap(CostmapParams(inflation_radius=0.55, cost_scaling_factor=3.0, **kw))
+    cm.set_static_map(occ, 0.05, (0.0, 0.0))
+    cm.update()
+    return cm
+
+
+def test_static_layer_translation_and_published_values():
+    occ = np.array([[-1, 0, 50, 100]], np.int8)
+    assert static_costs(occ).tolist() == [[NO_INFORMATION, FREE_SPACE, FREE_SPACE, LETHAL_OBSTACLE]]
+    assert static_costs(occ, track_unknown_space=False)[0, 0] == FREE_SPACE
+    assert to_occupancy(np.array([0, 253, 254, 255, 1, 252], np.uint8)).tolist() == [0, 99, 100, -1, 1, 98]
+
+
+def test_inflation_follows_nav2s_exponential():
+    costs = np.zeros((41, 41), np.uint8)
+    costs[20, 20] = LETHAL_OBSTACLE
+    out = inflate(costs, 0.05, inscribed_radius=0.1, inflation_radius=0.55, cost_scaling_factor=3.0)
+    assert out[20, 20] == LETHAL_OBSTACLE
+    assert out[20, 22] == INSCRIBED_INFLATED_OBSTACLE                       # 0.10 m
+    assert out[20, 26] == int(252 * math.exp(-3.0 * (0.30 - 0.1)))         # 0.30 m: 138, the reference's example
+    assert out[20, 32] == 0                                                 # 0.60 m: beyond the radius
+    unknown = np.full((5, 5), NO_INFORMATION, np.uint8)
+    unknown[2, 2] = LETHAL_OBSTACLE
+    kept = inflate(unknown, 0.05, inscribed_radius=0.06, inflation_radius=0.5, cost_scaling_factor=3.0)
+    assert kept[2, 3] == INSCRIBED_INFLATED_OBSTACLE and kept[2, 4] == NO_INFORMATION
+
+
+def test_obstacle_layer_marks_hits_and_clears_along_beams():
+    cm = LayeredCostmap(CostmapParams(rolling_window=True, width=4.0, height=4.0, use_static_layer=False,
+                                      track_unknown_space=True, use_inflation_layer=False))
+    cm.move_to(0.0, 0.0)
+    angles = np.array([0.0, math.pi / 2])
+    cm.add_scan((0.0, 0.0), angles, np.array([1.0, np.inf]), 0.12, 3.5)
+    master = cm.update()
+    assert cm.cost_at(np.array([[1.01, 0.0]]))[0] == LETHAL_OBSTACLE
+    assert cm.cost_at(np.array([[0.5, 0.0], [0.0, 1.5]])).tolist() == [FREE_SPACE, FREE_SPACE]
+    assert cm.cost_at(np.array([[-1.0, -1.0]]))[0] == NO_INFORMATION
+    # The obstacle moved away: the next scan clears it.
+    cm.add_scan((0.0, 0.0), angles, np.array([1.775, np.inf]), 0.12, 3.5)
+    cm.update()
+    assert cm.cost_at(np.array([[1.01, 0.0]]))[0] == FREE_SPACE
+    # The window follows the robot and keeps what stays inside it.
+    cm.move_to(0.5, 0.0)
+    cm.update()
+    assert cm.cost_at(np.array([[1.775, 0.0]]))[0] == LETHAL_OBSTACLE
+    assert master.shape == (80, 80)
+
+
+def test_planner_goes_through_the_gap_and_keeps_clear():
+    cm = _costmap(_room())
+    planner = GridPlanner(cm)
+    path = planner.plan((0.6, 0.6), (2.4, 0.6))
+    assert tuple(path[0]) == (0.6, 0.6) and tuple(path[-1]) == (2.4, 0.6)
+    assert path[:, 1].max() > 2.2                     # up to the gap (y 2.4..2.8) and back down
+    assert (cm.cost_at(path) < INSCRIBED_INFLATED_OBSTACLE).all()
+    steps = np.linalg.norm(np.diff(path, axis=0), axis=1)
+    assert steps.max() < 0.1
+
+
+def test_planner_error_codes_and_tolerance():
+    occ = _room()
+    occ[:, 30] = 100                                  # close the gap: the right half is unreachable
+    planner = GridPlanner(_costmap(occ))
+    cases = {(1.5, 0.6): GOAL_OCCUPIED, (5.0, 0.6): GOAL_OUTSIDE_MAP, (2.4, 0.6): NO_VALID_PATH}
+    for goal, code in cases.items():
+        with pytest.raises(PlanningError) as err:
+            planner.plan((0.6, 0.6), goal)
+        assert err.value.code == code, goal
+    with pytest.raises(PlanningError) as err:
+        planner.plan((1.5, 1.0), (0.6, 0.6))
+    assert err.value.code == START_OCCUPIED
+    # A goal in the inflated zone (not lethal) is moved to the nearest free cell within tolerance.
+    path = planner.plan((0.6, 0.6), (1.43, 0.6))
+    assert 1.2 < path[-1][0] < 1.43
+
+
+def test_regulations_and_rotate_to_heading():
+    assert curvature_constraint(0.5, 1 / 0.45, 0.9) == pytest.approx(0.25)
+    assert curvature_constraint(0.5, 1 / 2.0, 0.9) == 0.5
+    rpp = RegulatedPurePursuit(RPPParams(desired_linear_vel=0.22, max_angular_vel=2.0))
+    path = np.stack([np.linspace(0, 2, 41), np.zeros(41)], axis=1)
+    v, w = rpp.compute((0.0, 0.2, 0.0), 0.0, path, 0.0, xy_goal_tolerance=0.25)
+    assert 0 < v <= 0.22 and w < 0                    # the path is to the right: turn right
+    v, w = rpp.compute((0.0, 0.0, math.pi), 0.0, path, 0.0, xy_goal_tolerance=0.25)
+    assert v == 0 and w != 0                          # facing away: rotate in place first
+
+
+def test_checkers_and_collision_ahead():
+    progress = ProgressChecker(0.5, 10.0)
+    assert progress.check(0, 0, 0.0) and progress.check(0.1, 0, 9.0) and not progress.check(0.2, 0, 10.5)
+    goal = GoalChecker(0.25, 0.25)
+    assert not goal.is_goal_reached((0.2, 0, 1.0), (0, 0, 0))   # near, heading off
+    assert not goal.is_goal_reached((0.3, 0, 1.0), (0, 0, 0))
+    assert goal.is_goal_reached((0.3, 0, 0.1), (0, 0, 0))       # stateful: position already reached
+    follower = PathFollower(RegulatedPurePursuit(RPPParams()), GoalChecker(), ProgressChecker(0.5, 1.0))
+    follower.set_path(np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]), 0.0)
+    follower.step((0.0, 0.0, 0.0), 0.0, 0.0)
+    with pytest.raises(FollowError) as err:
+        follower.step((0.0, 0.0, 0.0), 0.0, 2.0)
+    assert err.value.code == FAILED_TO_MAKE_PROGRESS
+    follower.set_path(np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]), 0.0)
+    wall = lambda pts: np.where(np.asarray(pts)[:, 0] > 0.3, LETHAL_OBSTACLE, FREE_SPACE).astype(np.uint8)  # noqa: E731
+    with pytest.raises(FollowError) as err:
+        follower.step((0.0, 0.0, 0.0), 0.0, 0.0, wall)
+    assert err.value.code == NO_VALID_CONTROL
+
+
+def test_plan_and_follow_in_the_simulator_without_collisions():
+    from zros.sim import Simulation, parse_world, rasterize
+    world = parse_world("""
+name: room
+spawn: {x: -1.0, y: -1.0, yaw: 0.0}
+obstacles:
+- ring: {center: [0, 0], sides: 4, inner_circumradius: 2.55, outer_circumradius: 2.83}
+- box: {center: [0.3, 0.0], size: [0.4, 1.6], yaw: 0.0}
+""")
+    raster = rasterize(world, 0.05)
+    cm = LayeredCostmap(CostmapParams(inflation_radius=0.55, cost_scaling_factor=3.0))
+    cm.set_static_map(raster.occupancy_data().reshape(raster.cells.shape), 0.05, tuple(raster.origin))
+    cm.update()
+    planner = GridPlanner(cm)
+    sim = Simulation(world, seed=3)
+    robot = sim.add_robot('burger')
+    follower = PathFollower(RegulatedPurePursuit(RPPParams(desired_linear_vel=0.22, max_angular_vel=2.0)),
+                            GoalChecker(), ProgressChecker())
+    for gx, gy, gyaw in [(1.4, 0.8, 1.57), (-1.0, 1.2, 3.14)]:
+        pose = robot.pose
+        follower.set_path(planner.plan((pose.x, pose.y), (gx, gy)), gyaw)
+        while (cmd := follower.step((robot.pose.x, robot.pose.y, robot.pose.yaw), 0.0, sim.time, cm.cost_at)):
+            robot.command(*cmd)
+            sim.step(0.1)
+            assert sim.time < 200
+        robot.command(0.0, 0.0)
+        assert math.hypot(robot.pose.x - gx, robot.pose.y - gy) < 0.25
+    assert robot.collisions == 0

@@ -1,0 +1,164 @@
+"""Navigation end to end over real processes: the simulator in a small room, the map from the
+world's exact raster, a static map -> odom (perfect localization), and nav2_bringup's
+navigation_launch.py (planner, controller, behaviors, bt_navigator, waypoint follower, lifecycle
+manager). Goals go through navigate_to_pose, navigate_through_poses, follow_waypoints and
+goal_pose, as a user's would; the simulator's ground truth says where the robot really is."""
+from __future__ import annotations
+
+import math
+import sys
+import threading
+import time
+from typing import Any
+
+import pytest
+
+from conftest import wait_until
+
+WORLD = """
+name: nav_room
+spawn: {x: -1.0, y: -1.0, yaw: 0.0}
+obstacles:
+- ring: {center: [0, 0], sides: 4, inner_circumradius: 2.55, outer_circumradius: 2.83}
+- box: {center: [0.3, 0.0], size: [0.4, 1.6], yaw: 0.0}
+"""
+SPAWN = (-1.0, -1.0)
+
+
+@pytest.fixture(scope='module')
+def stack(module_spawn: Any, tmp_path_factory: Any) -> Any:
+    from zros.executors import MultiThreadedExecutor
+    from zros.node import Node
+    from zros.qos import DurabilityPolicy, QoSProfile
+    from zros.sim import parse_world, rasterize
+    from interfaces.nav_msgs.msg import OccupancyGrid, Odometry
+    world_file = tmp_path_factory.mktemp('world') / 'nav_room.yaml'
+    world_file.write_text(WORLD)
+    module_spawn.node('turtlebot3_gazebo', 'gzserver', '--ros-args', '-p', f'world:={world_file}',
+                      '-p', 'real_time_factor:=3.0')
+    module_spawn.node('tf2_ros', 'static_transform_publisher', '--x', str(SPAWN[0]), '--y', str(SPAWN[1]),
+                      '--frame-id', 'map', '--child-frame-id', 'odom', '--ros-args', '-p', 'use_sim_time:=true')
+    launch = module_spawn.command(sys.executable, '-m', 'zros', 'launch', 'nav2_bringup', 'navigation_launch.py',
+                                  'use_sim_time:=True', name='navigation')
+    from zros.context import Context
+    context = Context().init([], install_signal_handlers=False)
+    node = Node('nav_test', context=context)
+    raster = rasterize(parse_world(WORLD), 0.05)
+    grid = OccupancyGrid()
+    grid.header.frame_id = 'map'
+    grid.info.resolution = 0.05
+    grid.info.height, grid.info.width = raster.cells.shape
+    grid.info.origin.position.x, grid.info.origin.position.y = map(float, raster.origin)
+    grid.data = raster.occupancy_data()
+    map_pub = node.create_publisher(OccupancyGrid, '/map', QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
+    map_pub.publish(grid)
+    truth: dict[str, Any] = {}
+    node.create_subscription(Odometry, '/sim/ground_truth', lambda m: truth.__setitem__('pose', m.pose.pose), 10)
+    executor = MultiThreadedExecutor(num_threads=4, context=context)
+    executor.add_node(node)
+    threading.Thread(target=executor.spin, daemon=True).start()
+    from zros.lifecycle import LifecycleClient
+    nav = LifecycleClient(node, 'bt_navigator')
+
+    def active() -> bool:
+        try:
+            return nav.wait_for_services(timeout_sec=0.5) and nav.get_state().label == 'active'
+        except Exception:  # noqa: BLE001 - not up yet
+            return False
+    wait_until(active, 180, interval=0.5, message=lambda: f'bt_navigator active\n{launch.output()[-3000:]}')
+
+    class Stack:
+        pass
+    s = Stack()
+    s.node, s.launch, s.truth, s.executor = node, launch, truth, executor
+    yield s
+    executor.shutdown(timeout_sec=2)
+    context.shutdown()
+
+
+def _pose(x: float, y: float, yaw: float = 0.0) -> Any:
+    from interfaces.geometry_msgs.msg import PoseStamped
+    p = PoseStamped()
+    p.header.frame_id = 'map'
+    p.pose.position.x, p.pose.position.y = x, y
+    p.pose.orientation.z, p.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+    return p
+
+
+def _send(stack: Any, action: type, name: str, goal: Any, feedback: list | None = None) -> Any:
+    from zros.action import ActionClient
+    client = ActionClient(stack.node, action, name)
+    assert client.wait_for_server(timeout_sec=10)
+    future = client.send_goal_async(goal, feedback_callback=(lambda m: feedback.append(m.feedback)) if feedback is not None else None)
+    handle = wait_until(lambda: future.result() if future.done() else None, 10, message='goal accepted')
+    assert handle.accepted
+    return handle
+
+
+def _result(handle: Any, timeout: float) -> Any:
+    future = handle.get_result_async()
+    return wait_until(lambda: future.result() if future.done() else None, timeout, message='result')
+
+
+def _truth_xy(stack: Any) -> tuple[float, float]:
+    p = stack.truth['pose'].position
+    return p.x, p.y
+
+
+def test_goal_is_reached_with_feedback(stack: Any) -> None:
+    from interfaces.action_msgs.msg import GoalStatus
+    from interfaces.nav2_msgs.action import NavigateToPose
+    feedback: list = []
+    handle = _send(stack, NavigateToPose, 'navigate_to_pose', NavigateToPose.Goal(pose=_pose(1.4, 0.8, 1.57)), feedback)
+    response = _result(handle, 120)
+    assert response.status == GoalStatus.STATUS_SUCCEEDED, stack.launch.output()[-3000:]
+    x, y = _truth_xy(stack)
+    assert math.hypot(x - 1.4, y - 0.8) < 0.35
+    assert feedback, 'feedback published'
+    assert max(f.distance_remaining for f in feedback) > 1.0
+    assert any(f.estimated_time_remaining.sec > 0 for f in feedback)
+    assert feedback[-1].navigation_time.sec > 0 and feedback[-1].current_pose.header.frame_id == 'map'
+
+
+def test_goal_in_a_wall_fails_with_goal_occupied(stack: Any) -> None:
+    from interfaces.action_msgs.msg import GoalStatus
+    from interfaces.nav2_msgs.action import ComputePathToPose, NavigateToPose
+    handle = _send(stack, NavigateToPose, 'navigate_to_pose', NavigateToPose.Goal(pose=_pose(0.3, 0.0)))
+    response = _result(handle, 30)
+    assert response.status == GoalStatus.STATUS_ABORTED
+    assert response.result.error_code == ComputePathToPose.Result.GOAL_OCCUPIED
+    assert 'lethal' in response.result.error_msg
+
+
+def test_cancel_stops_the_robot_and_a_new_goal_preempts(stack: Any) -> None:
+    from interfaces.action_msgs.msg import GoalStatus
+    from interfaces.nav2_msgs.action import NavigateToPose
+    first = _send(stack, NavigateToPose, 'navigate_to_pose', NavigateToPose.Goal(pose=_pose(-1.5, 1.5)))
+    wait_until(lambda: math.hypot(*(a - b for a, b in zip(_truth_xy(stack), (1.4, 0.8)))) > 0.3, 30,
+               message='robot moving')
+    second = _send(stack, NavigateToPose, 'navigate_to_pose', NavigateToPose.Goal(pose=_pose(-1.5, -1.5)))
+    assert _result(first, 10).status == GoalStatus.STATUS_ABORTED
+    wait_until(lambda: math.hypot(_truth_xy(stack)[0] + 1.5, _truth_xy(stack)[1] + 1.5) < 1.5, 60,
+               message='heading for the second goal')
+    cancel = second.cancel_goal_async()
+    wait_until(lambda: cancel.done(), 10)
+    assert _result(second, 10).status == GoalStatus.STATUS_CANCELED
+    time.sleep(1.0)
+    before = _truth_xy(stack)
+    time.sleep(1.0)
+    after = _truth_xy(stack)
+    assert math.hypot(after[0] - before[0], after[1] - before[1]) < 0.02, 'the robot stopped'
+
+
+def test_waypoints_report_missed_ones(stack: Any) -> None:
+    from interfaces.action_msgs.msg import GoalStatus
+    from interfaces.nav2_msgs.action import FollowWaypoints
+    feedback: list = []
+    goal = FollowWaypoints.Goal(poses=[_pose(-1.0, 0.0), _pose(0.3, 0.0), _pose(-1.0, -1.2)])
+    handle = _send(stack, FollowWaypoints, 'follow_waypoints', goal, feedback)
+    response = _result(handle, 150)
+    assert response.status == GoalStatus.STATUS_SUCCEEDED, stack.launch.output()[-3000:]
+    assert list(response.result.missed_waypoints) == [1]
+    assert {f.current_waypoint for f in feedback} == {0, 1, 2}
+    x, y = _truth_xy(stack)
+    assert math.hypot(x + 1.0, y + 1.2) < 0.35

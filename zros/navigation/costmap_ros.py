@@ -1,0 +1,192 @@
+"""Costmap2DROS's role: a LayeredCostmap wired to /map, /scan and TF, published for the view.
+
+It is a node of its own (`global_costmap` in namespace `global_costmap`, `local_costmap` in
+`local_costmap`), living in the process of the server that uses it, as in Nav2, so that Nav2's
+parameter files (`global_costmap: global_costmap: ros__parameters: ...`) apply unchanged. It
+publishes `<name>/costmap` (nav_msgs/OccupancyGrid, Nav2's cost-to-occupancy table) and
+`<name>/costmap_raw` (nav2_msgs/Costmap), and serves `<name>/clear_entirely_<name>`.
+"""
+from __future__ import annotations
+
+import threading
+from typing import Any, Callable
+
+import numpy as np
+
+from zros.navigation.costmap import CostmapParams, LayeredCostmap, to_occupancy
+from zros.navigation.node_support import Nav2Params, lookup_pose
+from zros.node import Node
+from zros.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+
+__all__ = ['CostmapNode']
+
+
+class CostmapNode(Node):
+    """One costmap; `on_update` runs after each rebuild of the master grid (planner cache)."""
+
+    def __init__(self, name: str, *, default_frame: str, rolling: bool, tf_buffer: Any,
+                 on_update: Callable[[], None] | None = None) -> None:
+        # Node-specific rules: a launch file's `__node:=planner_server` for the process must not
+        # rename the costmap too (Nav2 does the same with its costmap's NodeOptions).
+        super().__init__(name, namespace=name,
+                         cli_args=['--ros-args', '-r', f'{name}:__node:={name}', '-r', f'{name}:__ns:=/{name}'])
+        self.tf_buffer = tf_buffer
+        self.on_update = on_update
+        self.lock = threading.RLock()
+        prm = Nav2Params(self)
+        self.global_frame = prm.get('global_frame', default_frame)
+        self.robot_base_frame = prm.get('robot_base_frame', 'base_link')
+        update_frequency = prm.get('update_frequency', 5.0 if rolling else 1.0)
+        publish_frequency = prm.get('publish_frequency', 2.0 if rolling else 1.0)
+        plugins = prm.get('plugins', ['voxel_layer', 'inflation_layer'] if rolling
+                          else ['static_layer', 'obstacle_layer', 'inflation_layer'])
+        kinds = {name: self._kind(prm, name) for name in plugins}
+        obstacle = next((n for n, k in kinds.items() if k == 'obstacle'), None)
+        inflation = next((n for n, k in kinds.items() if k == 'inflation'), None)
+        static = next((n for n, k in kinds.items() if k == 'static'), None)
+        params = CostmapParams(
+            resolution=prm.get('resolution', 0.05),
+            width=float(prm.get('width', 3.0)), height=float(prm.get('height', 3.0)),
+            rolling_window=prm.get('rolling_window', rolling),
+            robot_radius=prm.get('robot_radius', 0.1),
+            track_unknown_space=prm.get('track_unknown_space', not rolling),
+            lethal_cost_threshold=prm.get('lethal_cost_threshold', 100),
+            trinary_costmap=prm.get('trinary_costmap', True),
+            use_static_layer=static is not None, use_obstacle_layer=obstacle is not None,
+            use_inflation_layer=inflation is not None)
+        self.scan_topic = '/scan'
+        if obstacle:
+            sources = prm.get(f'{obstacle}.observation_sources', 'scan').split()
+            source = sources[0] if sources else 'scan'
+            self.scan_topic = prm.get(f'{obstacle}.{source}.topic', '/scan')
+            params.obstacle_max_range = prm.get(f'{obstacle}.{source}.obstacle_max_range',
+                                                prm.get(f'{obstacle}.{source}.obstacle_range', 2.5))
+            params.raytrace_max_range = prm.get(f'{obstacle}.{source}.raytrace_max_range',
+                                                prm.get(f'{obstacle}.{source}.raytrace_range', 3.0))
+        if inflation:
+            params.inflation_radius = prm.get(f'{inflation}.inflation_radius', 0.55)
+            params.cost_scaling_factor = prm.get(f'{inflation}.cost_scaling_factor', 10.0)
+            params.inflate_unknown = prm.get(f'{inflation}.inflate_unknown', False)
+        self.params = params
+        self.costmap = LayeredCostmap(params)
+        self._have_map = static is None
+        self._scan_frame_warned = False
+        latched = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
+        from interfaces.nav2_msgs.msg import Costmap
+        from interfaces.nav2_msgs.srv import ClearEntireCostmap, GetCostmap
+        from interfaces.nav_msgs.msg import OccupancyGrid
+        from interfaces.sensor_msgs.msg import LaserScan
+        self._grid_pub = self.create_publisher(OccupancyGrid, 'costmap', latched)
+        self._raw_pub = self.create_publisher(Costmap, 'costmap_raw', latched)
+        if static:
+            topic = prm.get(f'{static}.map_topic', '/map')
+            self.create_subscription(OccupancyGrid, topic, self._on_map, latched)
+        if obstacle:
+            self.create_subscription(LaserScan, self.scan_topic, self._on_scan, 5)
+        self.create_service(ClearEntireCostmap, f'clear_entirely_{name}', self._on_clear)
+        self.create_service(GetCostmap, 'get_costmap', self._on_get_costmap)
+        self.create_timer(1.0 / max(update_frequency, 0.1), self.update)
+        self.create_timer(1.0 / max(publish_frequency, 0.1), self.publish)
+        prm.report_unused()
+
+    @staticmethod
+    def _kind(prm: Nav2Params, layer: str) -> str:
+        plugin = prm.get(f'{layer}.plugin', '')
+        for key, kind in (('Static', 'static'), ('Obstacle', 'obstacle'), ('Voxel', 'obstacle'),
+                          ('Inflation', 'inflation')):
+            if key in plugin or key.lower() in layer:
+                return kind
+        return 'unknown'
+
+    # -- inputs ------------------------------------------------------------------------------
+    def _on_map(self, msg: Any) -> None:
+        data = np.asarray(msg.data, np.int8).reshape(msg.info.height, msg.info.width)
+        origin = (msg.info.origin.position.x, msg.info.origin.position.y)
+        with self.lock:
+            self.costmap.set_static_map(data, msg.info.resolution, origin)
+            self._have_map = True
+        self.update()
+
+    def _on_scan(self, msg: Any) -> None:
+        try:
+            x, y, yaw = lookup_pose(self.tf_buffer, self.global_frame, msg.header.frame_id)
+        except Exception as exc:  # noqa: BLE001 - tf2's exceptions: no transform yet
+            self.get_logger().warn(f'Costmap waiting for transform {self.global_frame} -> {msg.header.frame_id}: {exc}',
+                                   throttle_duration_sec=5.0)
+            return
+        ranges = np.asarray(msg.ranges, np.float64)
+        angles = yaw + msg.angle_min + msg.angle_increment * np.arange(len(ranges))
+        with self.lock:
+            self.costmap.add_scan((x, y), angles, ranges, msg.range_min, msg.range_max)
+
+    def _on_clear(self, request: Any, response: Any) -> Any:
+        with self.lock:
+            self.costmap.clear()
+        self.update()
+        self.get_logger().info(f'Received request to clear entirely the {self.get_name()}')
+        return response
+
+    def _on_get_costmap(self, request: Any, response: Any) -> Any:
+        response.map = self._messages()[1]
+        return response
+
+    # -- outputs -----------------------------------------------------------------------------
+    def robot_pose(self) -> tuple[float, float, float]:
+        return lookup_pose(self.tf_buffer, self.global_frame, self.robot_base_frame)
+
+    @property
+    def ready(self) -> bool:
+        return self._have_map
+
+    def update(self) -> None:
+        if self.params.rolling_window:
+            try:
+                x, y, _ = self.robot_pose()
+            except Exception:  # noqa: BLE001 - no TF yet: keep the window where it is
+                return
+            with self.lock:
+                self.costmap.move_to(x, y)
+        with self.lock:
+            if not self._have_map:
+                return
+            self.costmap.update()
+        if self.on_update is not None:
+            self.on_update()
+
+    def cost_at(self, xy: np.ndarray) -> np.ndarray:
+        with self.lock:
+            return self.costmap.cost_at(xy)
+
+    def publish(self) -> None:
+        if self._have_map:
+            grid, raw = self._messages()
+            self._grid_pub.publish(grid)
+            self._raw_pub.publish(raw)
+
+    def _messages(self) -> tuple[Any, Any]:
+        """The master grid as (nav_msgs/OccupancyGrid, nav2_msgs/Costmap)."""
+        from interfaces.nav2_msgs.msg import Costmap
+        from interfaces.nav_msgs.msg import OccupancyGrid
+        with self.lock:
+            master = self.costmap.master.copy()
+            origin = self.costmap.origin.copy()
+            resolution = self.costmap.resolution
+        stamp = self.get_clock().now().to_msg()
+        grid = OccupancyGrid()
+        grid.header.frame_id = self.global_frame
+        grid.header.stamp = stamp
+        grid.info.resolution = float(resolution)
+        grid.info.height, grid.info.width = master.shape
+        grid.info.origin.position.x, grid.info.origin.position.y = float(origin[0]), float(origin[1])
+        grid.info.map_load_time = stamp
+        grid.data = to_occupancy(master).ravel()
+        raw = Costmap()
+        raw.header = grid.header
+        raw.metadata.resolution = grid.info.resolution
+        raw.metadata.size_y, raw.metadata.size_x = master.shape
+        raw.metadata.origin = grid.info.origin
+        raw.metadata.update_time = stamp
+        raw.metadata.layer = 'master'
+        raw.data = master.ravel()
+        return grid, raw
+

@@ -1,0 +1,182 @@
+"""Global planner on a costmap: Dijkstra over the 8-connected grid (NavFn's role) and path smoothing.
+
+Cell traversal costs follow NavFn: a free cell costs COST_NEUTRAL (50), a cell of cost c costs
+50 + 0.8 c, unknown cells cost 253 when `allow_unknown` (else they are walls), lethal cells are
+walls. Cells inside the inscribed radius are walls for the goal but not for getting out of them:
+they cost a large constant, so a robot that starts touching a wall still gets a path out.
+
+The graph is built once per costmap (vectorised, scipy.sparse) and searched with
+scipy.sparse.csgraph's Dijkstra; a goal the search does not reach, or one in an inflated cell, is
+moved to the best reachable cell within `tolerance` [m], as NavFn does. Failures carry Nav2's
+ComputePathToPose error codes.
+
+Reference: navigation2 nav2_navfn_planner (navfn.cpp, navfn_planner.cpp) and nav2_smoother's
+SimpleSmoother for the smoothing weights.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import dijkstra
+
+from zros.navigation.costmap import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION, LayeredCostmap
+
+__all__ = ['PlanningError', 'GridPlanner', 'smooth_path', 'path_yaws',
+           'UNKNOWN', 'START_OUTSIDE_MAP', 'GOAL_OUTSIDE_MAP', 'START_OCCUPIED', 'GOAL_OCCUPIED',
+           'NO_VALID_PATH']
+
+# nav2_msgs/action/ComputePathToPose result codes.
+UNKNOWN = 200
+START_OUTSIDE_MAP = 203
+GOAL_OUTSIDE_MAP = 204
+START_OCCUPIED = 205
+GOAL_OCCUPIED = 206
+NO_VALID_PATH = 208
+
+COST_NEUTRAL = 50.0
+COST_FACTOR = 0.8
+_UNKNOWN_COST = 253.0
+_INSCRIBED_COST = 5000.0    # escape-only: far dearer than any detour through free space
+
+# (d_row, d_col, length [cells]) of the edges each cell owns; the other four are their reverses.
+_EDGES = ((0, 1, 1.0), (1, 0, 1.0), (1, 1, np.sqrt(2.0)), (1, -1, np.sqrt(2.0)))
+
+
+class PlanningError(Exception):
+    """A request the planner cannot serve; `code` is the ComputePathToPose error code."""
+
+    def __init__(self, code: int, message: str) -> None:
+        super().__init__(message)
+        self.code = code
+
+
+@dataclass
+class _Graph:
+    matrix: object
+    cell_cost: np.ndarray
+
+
+class GridPlanner:
+    """Plans on one LayeredCostmap; call `invalidate()` after the costmap's master grid changes."""
+
+    def __init__(self, costmap: LayeredCostmap, *, tolerance: float = 0.5, allow_unknown: bool = True,
+                 smooth: bool = True) -> None:
+        self.costmap = costmap
+        self.tolerance = tolerance
+        self.allow_unknown = allow_unknown
+        self.smooth = smooth
+        self._graph: _Graph | None = None
+
+    def invalidate(self) -> None:
+        self._graph = None
+
+    def _build(self) -> _Graph:
+        costs = self.costmap.master
+        cell = COST_NEUTRAL + COST_FACTOR * costs.astype(np.float64)
+        cell[costs == INSCRIBED_INFLATED_OBSTACLE] = _INSCRIBED_COST
+        cell[costs == LETHAL_OBSTACLE] = np.inf
+        cell[costs == NO_INFORMATION] = _UNKNOWN_COST if self.allow_unknown else np.inf
+        rows, cols = costs.shape
+        index = np.arange(rows * cols).reshape(rows, cols)
+        src, dst, weight = [], [], []
+        for dr, dc, length in _EDGES:
+            r0, r1 = max(0, -dr), rows - max(0, dr)
+            c0, c1 = max(0, -dc), cols - max(0, dc)
+            a = index[r0:r1, c0:c1]
+            b = index[r0 + dr:r1 + dr, c0 + dc:c1 + dc]
+            w = length * 0.5 * (cell[r0:r1, c0:c1] + cell[r0 + dr:r1 + dr, c0 + dc:c1 + dc])
+            ok = np.isfinite(w)
+            src.append(a[ok])
+            dst.append(b[ok])
+            weight.append(w[ok])
+        src, dst, weight = np.concatenate(src), np.concatenate(dst), np.concatenate(weight)
+        matrix = coo_matrix((np.concatenate([weight, weight]), (np.concatenate([src, dst]), np.concatenate([dst, src]))),
+                            shape=(rows * cols, rows * cols)).tocsr()
+        return _Graph(matrix, cell)
+
+    def plan(self, start: tuple[float, float], goal: tuple[float, float]) -> np.ndarray:
+        """Return the path as (N, 2) points [m] from `start` to `goal` (or the cell the goal was
+        moved to), smoothed; raise PlanningError otherwise."""
+        cm = self.costmap
+        scol, srow, sin = cm.world_to_cells(np.array([start]))
+        gcol, grow, gin = cm.world_to_cells(np.array([goal]))
+        if not sin[0]:
+            raise PlanningError(START_OUTSIDE_MAP, f'Start Coordinates of ({start[0]:.2f}, {start[1]:.2f}) was outside bounds')
+        if not gin[0]:
+            raise PlanningError(GOAL_OUTSIDE_MAP, f'Goal Coordinates of ({goal[0]:.2f}, {goal[1]:.2f}) was outside bounds')
+        s = (int(srow[0]), int(scol[0]))
+        g = (int(grow[0]), int(gcol[0]))
+        master = cm.master
+        if master[s] == LETHAL_OBSTACLE:
+            raise PlanningError(START_OCCUPIED, f'Start Coordinates of ({start[0]:.2f}, {start[1]:.2f}) was in lethal cost')
+        if master[g] == LETHAL_OBSTACLE:
+            raise PlanningError(GOAL_OCCUPIED, f'Goal Coordinates of ({goal[0]:.2f}, {goal[1]:.2f}) was in lethal cost')
+        if self._graph is None:
+            self._graph = self._build()
+        cols = master.shape[1]
+        dist, pred = dijkstra(self._graph.matrix, indices=s[0] * cols + s[1], return_predecessors=True)
+        target = self._reachable_goal(g, dist)
+        if target is None:
+            raise PlanningError(NO_VALID_PATH, f'Failed to create plan with tolerance of: {self.tolerance:.2f}')
+        cells = [target]
+        start_index = s[0] * cols + s[1]
+        while cells[-1] != start_index:
+            cells.append(int(pred[cells[-1]]))
+        cells.reverse()
+        idx = np.asarray(cells)
+        points = cm.cell_centres(idx % cols, idx // cols)
+        points[0] = start
+        if target == g[0] * cols + g[1]:
+            points[-1] = goal
+        if self.smooth and len(points) > 2:
+            points = smooth_path(points, cm)
+        return points
+
+    def _reachable_goal(self, g: tuple[int, int], dist: np.ndarray) -> int | None:
+        master = self.costmap.master
+        rows, cols = master.shape
+        index = g[0] * cols + g[1]
+        if np.isfinite(dist[index]) and master[g] < INSCRIBED_INFLATED_OBSTACLE:
+            return index
+        reach = int(np.ceil(self.tolerance / self.costmap.resolution))
+        r0, r1 = max(0, g[0] - reach), min(rows, g[0] + reach + 1)
+        c0, c1 = max(0, g[1] - reach), min(cols, g[1] + reach + 1)
+        rr, cc = np.mgrid[r0:r1, c0:c1]
+        rr, cc = rr.ravel(), cc.ravel()
+        d_goal = np.hypot(rr - g[0], cc - g[1]) * self.costmap.resolution
+        flat = rr * cols + cc
+        ok = (d_goal <= self.tolerance) & np.isfinite(dist[flat]) & (master[rr, cc] < INSCRIBED_INFLATED_OBSTACLE)
+        if not ok.any():
+            return None
+        best = np.lexsort((dist[flat][ok], d_goal[ok]))[0]
+        return int(flat[ok][best])
+
+
+def smooth_path(points: np.ndarray, costmap: LayeredCostmap, *, w_data: float = 0.2, w_smooth: float = 0.3,
+                iterations: int = 200) -> np.ndarray:
+    """Pull the path taut (Nav2 SimpleSmoother's update, all points at once per iteration); a point
+    that would move into an inscribed or lethal cell keeps its previous position. The ends stay."""
+    original = np.asarray(points, np.float64)
+    path = original.copy()
+    for _ in range(iterations):
+        inner = path[1:-1]
+        update = inner + w_data * (original[1:-1] - inner) + w_smooth * (path[:-2] + path[2:] - 2 * inner)
+        bad = costmap.cost_at(update) >= INSCRIBED_INFLATED_OBSTACLE
+        bad &= costmap.cost_at(inner) < INSCRIBED_INFLATED_OBSTACLE
+        update[bad] = inner[bad]
+        if np.abs(update - inner).max(initial=0.0) < 1e-5:
+            path[1:-1] = update
+            break
+        path[1:-1] = update
+    return path
+
+
+def path_yaws(points: np.ndarray, final_yaw: float) -> np.ndarray:
+    """Heading of each path point [rad]: towards the next point; the last takes `final_yaw`."""
+    d = np.diff(points, axis=0)
+    yaws = np.empty(len(points))
+    yaws[:-1] = np.arctan2(d[:, 1], d[:, 0])
+    yaws[-1] = final_yaw
+    return yaws

@@ -1,0 +1,106 @@
+"""What every navigation server node shares: lifecycle gating of goals, one goal at a time with
+preemption, and a non-blocking action call for servers that drive other servers.
+
+Nav2's servers (nav2_util::SimpleActionServer) run one goal at a time; a new goal preempts the
+running one, which ends ABORTED. Here each goal's execute callback runs its own loop on the
+multi-threaded executor; `GoalSlot` tells a loop when a newer goal has taken over.
+"""
+from __future__ import annotations
+
+import threading
+from typing import Any, Callable
+
+from zros.action import ActionServer, CancelResponse, GoalResponse
+from zros.callback_groups import ReentrantCallbackGroup
+
+__all__ = ['GoalSlot', 'gated_action_server', 'GoalCall']
+
+
+class GoalSlot:
+    """The goal a server is working on; `take(handle)` makes `handle` current, `is_current(handle)`
+    is how an older loop learns it has been preempted."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._current: Any = None
+
+    def take(self, handle: Any) -> Any:
+        with self._lock:
+            previous, self._current = self._current, handle
+            return previous
+
+    def is_current(self, handle: Any) -> bool:
+        with self._lock:
+            return self._current is handle
+
+    def release(self, handle: Any) -> None:
+        with self._lock:
+            if self._current is handle:
+                self._current = None
+
+    @property
+    def current(self) -> Any:
+        with self._lock:
+            return self._current
+
+
+def gated_action_server(node: Any, action_type: type, name: str, execute: Callable[[Any], Any]) -> ActionServer:
+    """An action server that accepts goals only while the lifecycle node is active, and accepts
+    cancel requests (rclpy's default refuses them)."""
+    def goal_callback(goal: Any) -> GoalResponse:
+        if node.current_state.label != 'active':
+            node.get_logger().warn(f"Action server '{name}' is inactive: rejecting the goal (is the lifecycle manager up?)")
+            return GoalResponse.REJECT
+        return GoalResponse.ACCEPT
+
+    return ActionServer(node, action_type, name, execute, goal_callback=goal_callback,
+                        cancel_callback=lambda handle: CancelResponse.ACCEPT,
+                        callback_group=ReentrantCallbackGroup())
+
+
+class GoalCall:
+    """One goal sent to another action server, polled from a loop without blocking it.
+
+    `poll()` returns True once the goal has finished (or was rejected); then `status` (an
+    action_msgs GoalStatus code) and `result` are set.
+    """
+
+    def __init__(self, client: Any, goal: Any, feedback_callback: Callable | None = None) -> None:
+        self.status: int | None = None
+        self.result: Any = None
+        self.feedback: Any = None
+        self._handle: Any = None
+        self._result_future: Any = None
+        self._user_feedback = feedback_callback
+        self._send_future = client.send_goal_async(goal, feedback_callback=self._on_feedback)
+
+    def _on_feedback(self, msg: Any) -> None:
+        self.feedback = msg.feedback
+        if self._user_feedback is not None:
+            self._user_feedback(msg.feedback)
+
+    def poll(self) -> bool:
+        from interfaces.action_msgs.msg import GoalStatus
+        if self.status is not None:
+            return True
+        if self._result_future is None:
+            if not self._send_future.done():
+                return False
+            self._handle = self._send_future.result()
+            if self._handle is None or not self._handle.accepted:
+                self.status = GoalStatus.STATUS_ABORTED
+                return True
+            self._result_future = self._handle.get_result_async()
+        if not self._result_future.done():
+            return False
+        response = self._result_future.result()
+        self.status, self.result = response.status, response.result
+        return True
+
+    def cancel(self) -> None:
+        if self._handle is not None and self.status is None:
+            self._handle.cancel_goal_async()
+        elif self._handle is None:
+            # Not accepted yet: cancel as soon as it is.
+            self._send_future.add_done_callback(
+                lambda f: f.result() is not None and f.result().accepted and f.result().cancel_goal_async())
