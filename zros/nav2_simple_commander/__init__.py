@@ -1,0 +1,1 @@
+"""nav2_simple_commander: BasicNavigator and TaskResult (zros.nav2_simple_commander.robot_navigator)."""

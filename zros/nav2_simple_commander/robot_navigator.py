@@ -1,0 +1,352 @@
+"""nav2_simple_commander's BasicNavigator: a Python API for Nav2 tasks (Humble's methods and
+semantics), for mission scripts:
+
+    from zros.nav2_simple_commander.robot_navigator import BasicNavigator, TaskResult
+    navigator = BasicNavigator()
+    navigator.setInitialPose(initial_pose)
+    navigator.waitUntilNav2Active()
+    navigator.goToPose(goal_pose)
+    while not navigator.isTaskComplete():
+        feedback = navigator.getFeedback()
+    if navigator.getResult() == TaskResult.SUCCEEDED: ...
+
+One difference, deliberate: `waitUntilNav2Active` never waits silently. Every few seconds it
+logs which node is not active yet and why (not running, still unconfigured, amcl without an
+initial pose, no amcl at all because SLAM localizes), and it takes an optional `timeout` [s].
+"""
+from __future__ import annotations
+
+import time
+from enum import Enum
+from typing import Any
+
+import zros
+from zros.action import ActionClient
+from zros.node import Node
+from zros.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+
+from interfaces.action_msgs.msg import GoalStatus
+from interfaces.geometry_msgs.msg import PoseWithCovarianceStamped
+from interfaces.lifecycle_msgs.srv import GetState
+from interfaces.nav2_msgs.action import (BackUp, ComputePathThroughPoses, ComputePathToPose, DriveOnHeading,
+                                         FollowPath, FollowWaypoints, NavigateThroughPoses, NavigateToPose, Spin)
+from interfaces.nav2_msgs.srv import ClearEntireCostmap, GetCostmap, LoadMap, ManageLifecycleNodes
+
+__all__ = ['BasicNavigator', 'TaskResult']
+
+_REPORT_PERIOD_S = 3.0
+
+
+class TaskResult(Enum):
+    UNKNOWN = 0
+    SUCCEEDED = 1
+    CANCELED = 2
+    FAILED = 3
+
+
+class BasicNavigator(Node):
+    def __init__(self, node_name: str = 'basic_navigator', namespace: str = '') -> None:
+        super().__init__(node_name=node_name, namespace=namespace)
+        self.initial_pose = None
+        self.initial_pose_received = False
+        self.goal_handle: Any = None
+        self.result_future: Any = None
+        self.feedback: Any = None
+        self.status: Any = None
+        amcl_pose_qos = QoSProfile(durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE,
+                                   history=HistoryPolicy.KEEP_LAST, depth=1)
+        self.nav_through_poses_client = ActionClient(self, NavigateThroughPoses, 'navigate_through_poses')
+        self.nav_to_pose_client = ActionClient(self, NavigateToPose, 'navigate_to_pose')
+        self.follow_waypoints_client = ActionClient(self, FollowWaypoints, 'follow_waypoints')
+        self.follow_path_client = ActionClient(self, FollowPath, 'follow_path')
+        self.compute_path_to_pose_client = ActionClient(self, ComputePathToPose, 'compute_path_to_pose')
+        self.compute_path_through_poses_client = ActionClient(self, ComputePathThroughPoses, 'compute_path_through_poses')
+        self.spin_client = ActionClient(self, Spin, 'spin')
+        self.backup_client = ActionClient(self, BackUp, 'backup')
+        self.drive_on_heading_client = ActionClient(self, DriveOnHeading, 'drive_on_heading')
+        self.localization_pose_sub = self.create_subscription(
+            PoseWithCovarianceStamped, 'amcl_pose', self._amclPoseCallback, amcl_pose_qos)
+        self.initial_pose_pub = self.create_publisher(PoseWithCovarianceStamped, 'initialpose', 10)
+        self.change_maps_srv = self.create_client(LoadMap, 'map_server/load_map')
+        self.clear_costmap_global_srv = self.create_client(
+            ClearEntireCostmap, 'global_costmap/clear_entirely_global_costmap')
+        self.clear_costmap_local_srv = self.create_client(
+            ClearEntireCostmap, 'local_costmap/clear_entirely_local_costmap')
+        self.get_costmap_global_srv = self.create_client(GetCostmap, 'global_costmap/get_costmap')
+        self.get_costmap_local_srv = self.create_client(GetCostmap, 'local_costmap/get_costmap')
+
+    def destroyNode(self) -> None:
+        self.destroy_node()
+
+    def destroy_node(self) -> None:
+        for client in (self.nav_through_poses_client, self.nav_to_pose_client, self.follow_waypoints_client,
+                       self.follow_path_client, self.compute_path_to_pose_client,
+                       self.compute_path_through_poses_client, self.spin_client, self.backup_client,
+                       self.drive_on_heading_client):
+            client.destroy()
+        super().destroy_node()
+
+    # -- localization --------------------------------------------------------------------------
+    def setInitialPose(self, initial_pose: Any) -> None:
+        """Store the pose and publish it once on `initialpose` (waitUntilNav2Active repeats it
+        until amcl answers)."""
+        self.initial_pose_received = False
+        self.initial_pose = initial_pose
+        self._setInitialPose()
+
+    def _setInitialPose(self) -> None:
+        msg = PoseWithCovarianceStamped()
+        msg.pose.pose = self.initial_pose.pose
+        msg.header.frame_id = self.initial_pose.header.frame_id
+        msg.header.stamp = self.initial_pose.header.stamp
+        self.info('Publishing Initial Pose')
+        self.initial_pose_pub.publish(msg)
+
+    def _amclPoseCallback(self, msg: Any) -> None:
+        self.debug('Received amcl pose')
+        self.initial_pose_received = True
+
+    # -- tasks ---------------------------------------------------------------------------------
+    def _send(self, client: Any, goal: Any, what: str, feedback: bool = True) -> bool:
+        self.debug(f"Waiting for '{what}' action server")
+        while not client.wait_for_server(timeout_sec=1.0):
+            self.info(f"'{what}' action server not available, waiting...")
+        send_goal_future = client.send_goal_async(goal, self._feedbackCallback if feedback else None)
+        zros.spin_until_future_complete(self, send_goal_future)
+        self.goal_handle = send_goal_future.result()
+        if self.goal_handle is None or not self.goal_handle.accepted:
+            self.error(f'{what} request was rejected!')
+            return False
+        self.result_future = self.goal_handle.get_result_async()
+        return True
+
+    def goThroughPoses(self, poses: list, behavior_tree: str = '') -> bool:
+        self.info(f'Navigating with {len(poses)} goals....')
+        return self._send(self.nav_through_poses_client,
+                          NavigateThroughPoses.Goal(poses=list(poses), behavior_tree=behavior_tree),
+                          'NavigateThroughPoses')
+
+    def goToPose(self, pose: Any, behavior_tree: str = '') -> bool:
+        self.info(f'Navigating to goal: {pose.pose.position.x} {pose.pose.position.y}...')
+        return self._send(self.nav_to_pose_client, NavigateToPose.Goal(pose=pose, behavior_tree=behavior_tree),
+                          'NavigateToPose')
+
+    def followWaypoints(self, poses: list) -> bool:
+        self.info(f'Following {len(poses)} goals....')
+        return self._send(self.follow_waypoints_client, FollowWaypoints.Goal(poses=list(poses)), 'FollowWaypoints')
+
+    def spin(self, spin_dist: float = 1.57, time_allowance: int = 10) -> bool:
+        goal = Spin.Goal(target_yaw=float(spin_dist))
+        goal.time_allowance.sec = int(time_allowance)
+        self.info(f'Spinning to angle {goal.target_yaw}....')
+        return self._send(self.spin_client, goal, 'Spin')
+
+    def backup(self, backup_dist: float = 0.15, backup_speed: float = 0.025, time_allowance: int = 10) -> bool:
+        goal = BackUp.Goal(speed=float(backup_speed))
+        goal.target.x = float(backup_dist)
+        goal.time_allowance.sec = int(time_allowance)
+        self.info(f'Backing up {goal.target.x} m at {goal.speed} m/s....')
+        return self._send(self.backup_client, goal, 'BackUp')
+
+    def driveOnHeading(self, dist: float = 0.15, speed: float = 0.025, time_allowance: int = 10) -> bool:
+        goal = DriveOnHeading.Goal(speed=float(speed))
+        goal.target.x = float(dist)
+        goal.time_allowance.sec = int(time_allowance)
+        self.info(f'Driving on heading {goal.target.x} m at {goal.speed} m/s....')
+        return self._send(self.drive_on_heading_client, goal, 'DriveOnHeading')
+
+    def followPath(self, path: Any, controller_id: str = '', goal_checker_id: str = '') -> bool:
+        self.info('Executing path...')
+        return self._send(self.follow_path_client,
+                          FollowPath.Goal(path=path, controller_id=controller_id, goal_checker_id=goal_checker_id),
+                          'FollowPath')
+
+    def cancelTask(self) -> None:
+        self.info('Canceling current task.')
+        if self.result_future and self.goal_handle is not None:
+            future = self.goal_handle.cancel_goal_async()
+            zros.spin_until_future_complete(self, future)
+
+    def isTaskComplete(self) -> bool:
+        """Spin 0.1 s on the result; True once the task has ended (or none was started)."""
+        if not self.result_future:
+            return True
+        zros.spin_until_future_complete(self, self.result_future, timeout_sec=0.10)
+        if self.result_future.result():
+            self.status = self.result_future.result().status
+            if self.status != GoalStatus.STATUS_SUCCEEDED:
+                self.debug(f'Task with failed with status code: {self.status}')
+            return True
+        return False
+
+    def getFeedback(self) -> Any:
+        return self.feedback
+
+    def getResult(self) -> TaskResult:
+        if self.status == GoalStatus.STATUS_SUCCEEDED:
+            return TaskResult.SUCCEEDED
+        if self.status == GoalStatus.STATUS_ABORTED:
+            return TaskResult.FAILED
+        if self.status == GoalStatus.STATUS_CANCELED:
+            return TaskResult.CANCELED
+        return TaskResult.UNKNOWN
+
+    def _feedbackCallback(self, msg: Any) -> None:
+        self.debug('Received action feedback message')
+        self.feedback = msg.feedback
+
+    # -- waiting for Nav2 ----------------------------------------------------------------------
+    def waitUntilNav2Active(self, navigator: str = 'bt_navigator', localizer: str = 'amcl',
+                            timeout: float | None = None) -> bool:
+        """Block until the localizer (if any) and the navigator are active, and amcl has a pose.
+
+        Every few seconds it says who is not ready and why. With `timeout` [s] it gives up and
+        returns False; otherwise it returns True once Nav2 is ready.
+        """
+        deadline = None if timeout is None else time.monotonic() + timeout
+        if localizer:
+            if not self._waitForNodeToActivate(localizer, deadline):
+                return False
+            if localizer == 'amcl' and not self._waitForInitialPose(deadline):
+                return False
+        if not self._waitForNodeToActivate(navigator, deadline):
+            return False
+        self.info('Nav2 is ready for use!')
+        return True
+
+    def _waitForNodeToActivate(self, node_name: str, deadline: float | None = None) -> bool:
+        self.debug(f'Waiting for {node_name} to become active..')
+        client = self.create_client(GetState, f'{node_name}/get_state')
+        last_report = 0.0
+        try:
+            while True:
+                reason = self._not_active_reason(client, node_name)
+                if reason is None:
+                    return True
+                now = time.monotonic()
+                if deadline is not None and now > deadline:
+                    self.error(f'Gave up waiting for Nav2: {reason}')
+                    return False
+                if now - last_report >= _REPORT_PERIOD_S:
+                    self.info(f'Waiting for Nav2: {reason}')
+                    last_report = now
+                zros.spin_once(self, timeout_sec=0.5)
+        finally:
+            self.destroy_client(client)
+
+    def _not_active_reason(self, client: Any, node_name: str) -> str | None:
+        if not client.wait_for_service(timeout_sec=0.5):
+            reason = f'{node_name} is not running (no {node_name}/get_state service)'
+            if node_name == 'amcl':
+                reason += "; with SLAM there is no amcl: call waitUntilNav2Active(localizer='slam_toolbox') or localizer=''"
+            return reason
+        future = client.call_async(GetState.Request())
+        zros.spin_until_future_complete(self, future, timeout_sec=2.0)
+        if not future.done() or future.result() is None:
+            return f'{node_name} does not answer on {node_name}/get_state'
+        label = future.result().current_state.label
+        if label == 'active':
+            return None
+        return (f'{node_name} is {label}, not active (its lifecycle manager brings it up: is the '
+                'navigation or localization launch file running with autostart?)')
+
+    def _waitForInitialPose(self, deadline: float | None = None) -> bool:
+        last_report = 0.0
+        while not self.initial_pose_received:
+            now = time.monotonic()
+            if deadline is not None and now > deadline:
+                self.error('Gave up waiting for Nav2: amcl has no initial pose')
+                return False
+            if self.initial_pose is not None:
+                self._setInitialPose()
+            if now - last_report >= _REPORT_PERIOD_S:
+                self.info('Waiting for Nav2: amcl has no initial pose'
+                          + ('' if self.initial_pose is not None else
+                             ' (call setInitialPose(), or give one with RViz\'s 2D Pose Estimate)'))
+                last_report = now
+            zros.spin_once(self, timeout_sec=1.0)
+        return True
+
+    # -- planning ------------------------------------------------------------------------------
+    def _path(self, client: Any, goal: Any, what: str) -> Any:
+        if not self._send(client, goal, what, feedback=False):
+            return None
+        zros.spin_until_future_complete(self, self.result_future)
+        self.status = self.result_future.result().status
+        if self.status != GoalStatus.STATUS_SUCCEEDED:
+            self.warn(f'Getting path failed with status code: {self.status}')
+            return None
+        return self.result_future.result().result.path
+
+    def getPath(self, start: Any, goal: Any, planner_id: str = '', use_start: bool = False) -> Any:
+        return self._path(self.compute_path_to_pose_client,
+                          ComputePathToPose.Goal(start=start, goal=goal, planner_id=planner_id, use_start=use_start),
+                          'ComputePathToPose')
+
+    def getPathThroughPoses(self, start: Any, goals: list, planner_id: str = '', use_start: bool = False) -> Any:
+        return self._path(self.compute_path_through_poses_client,
+                          ComputePathThroughPoses.Goal(start=start, goals=list(goals), planner_id=planner_id,
+                                                       use_start=use_start),
+                          'ComputePathThroughPoses')
+
+    # -- maps and costmaps ---------------------------------------------------------------------
+    def _call(self, client: Any, request: Any, what: str) -> Any:
+        while not client.wait_for_service(timeout_sec=1.0):
+            self.info(f'{what} service not available, waiting...')
+        future = client.call_async(request)
+        zros.spin_until_future_complete(self, future)
+        return future.result()
+
+    def changeMap(self, map_filepath: str) -> bool:
+        response = self._call(self.change_maps_srv, LoadMap.Request(map_url=map_filepath), 'Change map')
+        if response is None or response.result != LoadMap.Response.RESULT_SUCCESS:
+            self.error('Change map request failed!')
+            return False
+        self.info('Change map request was successful!')
+        return True
+
+    def clearAllCostmaps(self) -> None:
+        self.clearLocalCostmap()
+        self.clearGlobalCostmap()
+
+    def clearLocalCostmap(self) -> None:
+        self._call(self.clear_costmap_local_srv, ClearEntireCostmap.Request(), 'Clear local costmaps')
+
+    def clearGlobalCostmap(self) -> None:
+        self._call(self.clear_costmap_global_srv, ClearEntireCostmap.Request(), 'Clear global costmaps')
+
+    def getGlobalCostmap(self) -> Any:
+        return self._call(self.get_costmap_global_srv, GetCostmap.Request(), 'Get global costmaps').map
+
+    def getLocalCostmap(self) -> Any:
+        return self._call(self.get_costmap_local_srv, GetCostmap.Request(), 'Get local costmaps').map
+
+    # -- lifecycle -----------------------------------------------------------------------------
+    def _manage(self, command: int, verb: str) -> None:
+        self.info(f'{verb} up lifecycle nodes based on lifecycle_manager.' if verb == 'Starting'
+                  else f'{verb} down lifecycle nodes based on lifecycle_manager.')
+        for name, types in self.get_service_names_and_types():
+            if 'nav2_msgs/srv/ManageLifecycleNodes' in types:
+                self.info(f'{verb} {name}')
+                self._call(self.create_client(ManageLifecycleNodes, name),
+                           ManageLifecycleNodes.Request(command=command), name)
+        self.info(f'Nav2 is {"ready for use" if verb == "Starting" else "shut down"}!')
+
+    def lifecycleStartup(self) -> None:
+        self._manage(ManageLifecycleNodes.Request.STARTUP, 'Starting')
+
+    def lifecycleShutdown(self) -> None:
+        self._manage(ManageLifecycleNodes.Request.SHUTDOWN, 'Shutting')
+
+    # -- logging -------------------------------------------------------------------------------
+    def info(self, msg: str) -> None:
+        self.get_logger().info(msg)
+
+    def warn(self, msg: str) -> None:
+        self.get_logger().warn(msg)
+
+    def error(self, msg: str) -> None:
+        self.get_logger().error(msg)
+
+    def debug(self, msg: str) -> None:
+        self.get_logger().debug(msg)
