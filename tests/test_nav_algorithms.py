@@ -161,3 +161,25 @@ obstacles:
         robot.command(0.0, 0.0)
         assert math.hypot(robot.pose.x - gx, robot.pose.y - gy) < 0.25
     assert robot.collisions == 0
+
+
+def test_frontiers_reachable_grouped_sorted_and_blacklisted():
+    from zros.navigation.frontiers import Blacklist, find_frontiers
+    occ = np.full((40, 60), -1, np.int8)
+    occ[5:35, 5:30] = 0                         # a known room, open to the unknown on three sides
+    occ[5:35, 5] = 100                          # its left wall: nothing to explore there
+    occ[5:35, 45:50] = 0                        # known free space the robot cannot reach
+    frontiers = find_frontiers(occ, 0.05, (0.0, 0.0), (0.5, 1.0), min_frontier_size=0.5)
+    assert len(frontiers) == 1                  # top, right and bottom edges touch: one 8-connected frontier
+    f = frontiers[0]
+    assert f.size == 24 + 30 + 24               # the unknown cells 4-adjacent to the free ones, on three sides
+    assert (f.points[:, 0] < 1.6).all()          # none from the unreachable patch (x 2.25..2.5)
+    assert f.min_distance == pytest.approx(np.hypot(f.middle[0] - 0.5, f.middle[1] - 1.0))
+    occ[35, 5:30] = 100                         # close the bottom and top: the right edge is left
+    occ[4, 5:30] = 100
+    right = find_frontiers(occ, 0.05, (0.0, 0.0), (0.5, 1.0), min_frontier_size=0.5)
+    assert len(right) == 1 and right[0].size == 30 and right[0].centroid[0] == pytest.approx(1.525)
+    assert find_frontiers(occ, 0.05, (0.0, 0.0), (0.5, 1.0), min_frontier_size=2.0) == []
+    blacklist = Blacklist(0.05)
+    blacklist.add(right[0].centroid)
+    assert blacklist.contains((right[0].centroid[0] + 0.2, right[0].centroid[1])) and not blacklist.contains((0, 0))

@@ -116,8 +116,15 @@ class GridPlanner:
         if self._graph is None:
             self._graph = self._build()
         cols = master.shape[1]
-        dist, pred = dijkstra(self._graph.matrix, indices=s[0] * cols + s[1], return_predecessors=True)
-        target = self._reachable_goal(g, dist)
+        # Search a cost radius that covers a path a few times longer than the straight line through
+        # moderately inflated cells first (a fraction of the map); the whole map only if that misses.
+        reach = (np.hypot(s[0] - g[0], s[1] - g[1]) + self.tolerance / cm.resolution) * 3.0 * 2 * COST_NEUTRAL + 1000.0
+        for limit in (reach, np.inf):
+            dist, pred = dijkstra(self._graph.matrix, indices=s[0] * cols + s[1], return_predecessors=True,
+                                  limit=limit)
+            target = self._reachable_goal(g, dist)
+            if target is not None:
+                break
         if target is None:
             raise PlanningError(NO_VALID_PATH, f'Failed to create plan with tolerance of: {self.tolerance:.2f}')
         cells = [target]
