@@ -81,7 +81,8 @@ def normalized_plan(text: str) -> str:
 def twins() -> list[tuple[str, dict[str, str]]]:
     """Every example YAML launch file, and every package YAML launch file that has a Python twin,
     with the launch arguments it needs (relative to the repository)."""
-    needs = {'nodes/turtlebot3_gazebo/launch/robot_world': {'world': 'turtlebot3_world'}}
+    needs = {'nodes/turtlebot3_gazebo/launch/robot_world': {'world': 'turtlebot3_world'},
+             'nodes/turtlebot3_gazebo/launch/turtlebot3_world': {'view': 'true', 'x_pose': '0.5', 'use_sim_time': 'True'}}
     stems = [p.with_suffix('').with_suffix('') for p in (REPO / 'configs').glob('*.launch.yaml')]
     stems += [p.with_suffix('').with_suffix('') for p in (REPO / 'nodes').glob('*/launch/*.launch.yaml')
               if p.with_suffix('.py').exists()]
