@@ -12,6 +12,11 @@ import time
 
 import pytest
 
+from zros.executors import SingleThreadedExecutor
+from zros.node import Node
+
+from interfaces.std_msgs.msg import String
+
 # Exec the command with SIGINT ignored, as a background job of a non-interactive shell has it.
 _SHIM = ('import os, signal, sys; signal.signal(signal.SIGINT, signal.SIG_IGN); '
          'os.execv(sys.argv[1], sys.argv[1:])')
@@ -176,10 +181,11 @@ print('never reached', flush=True)
     (('action', 'send_goal', '/absent', 'action_tutorials_interfaces/action/Fibonacci', '{order: 3}'),
      'Waiting for an action server'),
 ], ids=['topic-echo', 'topic-hz', 'topic-pub', 'service-call', 'action-send_goal'])
-def test_waiting_cli_verbs_exit_on_ctrl_c(spawn, argv, ready):
+def test_waiting_cli_verbs_exit_on_ctrl_c(context, spawn, wait_for, argv, ready):
     child = spawn(*_zros(*argv), name=argv[0])
-    if ready is None:
-        time.sleep(2.0)
+    if ready is None:   # echo prints nothing while it waits: its subscription shows it is up
+        watcher = Node('echo_watcher', context=context)
+        wait_for(lambda: watcher.count_subscribers('/quiet') >= 1, timeout=15, message=child.output)
     else:
         child.wait_for_output(ready, timeout=15)
     assert _stops(child, timeout=5) == 130
@@ -193,19 +199,23 @@ def test_bag_record_finishes_its_file_on_ctrl_c(spawn, tmp_path):
     assert 'Recorded' in child.output()
 
 
-def test_bag_play_stops_on_ctrl_c(spawn, tmp_path):
+def test_bag_play_stops_on_ctrl_c(context, spawn, spin_for, tmp_path):
     from zros.bag.writer import BagWriter
     from zros.message import serialize
-    from interfaces.std_msgs.msg import String
     bag = tmp_path / 'looped'
     with BagWriter(bag) as writer:
         writer.add_topic('/looped', 'std_msgs/msg/String', type_hash=String._HASH, qos='R:V:L10')
         for i in range(20):   # 20 messages 0.1 s apart, played again and again
             t = 1_700_000_000_000_000_000 + i * 100_000_000
             writer.write('/looped', serialize(String(data=f'm{i}')), log_time=t, publish_time=t)
+    heard = []
+    watcher = Node('play_watcher', context=context)
+    watcher.create_subscription(String, '/looped', heard.append, 10)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(watcher)
     child = spawn(*_zros('bag', 'play', '--loop', str(bag)), name='play')
-    time.sleep(2.0)
-    assert child.popen.poll() is None, child.output()   # still looping
+    spin_for(executor, lambda: len(heard) > 20, timeout=15)   # into its second round
+    assert child.popen.poll() is None, child.output()
     assert _stops(child, timeout=5) == 0
 
 
