@@ -504,6 +504,8 @@ class DdsSide:
         from cyclonedds.sub import DataReader
 
         def on_data(reader: Any) -> None:
+            if reader is None:  # cyclonedds calls it once more while the reader is deleted
+                return
             for sample in reader.take(64):
                 callback(sample)
         return DataReader(self.participant, self._topic(name), self.qos, listener=Listener(on_data_available=on_data))
