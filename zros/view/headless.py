@@ -215,14 +215,9 @@ class Browser:
         Raises:
             BrowserError: there is no such element.
         """
-        found = self.evaluate(
-            f'(() => {{ const el = [...document.querySelectorAll({json.dumps(selector)})]'
-            f'.filter(e => e.innerText.trim() === {json.dumps(text)} && e.getClientRects().length).pop();'
-            ' if (!el) return null; el.scrollIntoView({block: "center"}); const r = el.getBoundingClientRect();'
-            ' return [r.x + r.width / 2, r.y + r.height / 2]; })()')
-        if not found:
-            raise BrowserError(f'no {selector} with the text {text!r}')
-        self.click(*found)
+        self.click(*self._centre(f'[...document.querySelectorAll({json.dumps(selector)})].filter(e => '
+                                 f'e.innerText.trim() === {json.dumps(text)} && e.getClientRects().length).pop()',
+                                 f'{selector} with the text {text!r}', timeout=5.0))
 
     def _labelled(self, label: str) -> str:
         """JavaScript for the visible input whose <label> reads `label`."""
@@ -231,13 +226,23 @@ class Browser:
                 '.querySelectorAll("input:not([type=hidden]), textarea")].find(e => e.getClientRects().length))'
                 '.find(e => e && e.getClientRects().length)')
 
-    def _centre(self, expression: str, what: str) -> tuple[float, float]:
-        found = self.wait_for(f'(() => {{ const el = {expression}; if (!el) return null;'
-                              ' el.scrollIntoView({block: "center"}); const r = el.getBoundingClientRect();'
-                              ' return [r.x + r.width / 2, r.y + r.height / 2]; })()', timeout=self.timeout)
-        if not found:
-            raise BrowserError(f'no {what}')
-        return found[0], found[1]
+    def _centre(self, expression: str, what: str, timeout: float | None = None) -> tuple[float, float]:
+        """The middle of the element `expression` finds, scrolled into view, once it has stopped
+        moving (a folder that is still opening moves what it holds)."""
+        script = (f'(() => {{ const el = {expression}; if (!el) return null; el.scrollIntoView({{block: "center"}});'
+                  ' const r = el.getBoundingClientRect(); return [r.x + r.width / 2, r.y + r.height / 2]; })()')
+        deadline = time.monotonic() + (self.timeout if timeout is None else timeout)
+        last = None
+        while True:
+            found = self.evaluate(script)
+            if found and found == last:
+                return found[0], found[1]
+            if time.monotonic() >= deadline:
+                if found:
+                    return found[0], found[1]
+                raise BrowserError(f'no {what}')
+            last = found
+            time.sleep(0.15)
 
     def fill(self, label: str, text: str) -> None:
         """Replace the text of the input labelled `label` as a user types it.
