@@ -1,6 +1,6 @@
-"""nav2_map_server's two tools as real processes: map_server (a lifecycle node serving /map
-transient local, GetMap and load_map, keeping its map when a load fails) and map_saver_cli
-(writing what /map carries, byte for byte the file map_server read)."""
+"""nav2_map_server's tools as real processes: map_server (a lifecycle node serving /map
+transient local, GetMap and load_map, keeping its map when a load fails), map_saver_server and
+map_saver_cli (writing what /map carries, byte for byte the file map_server read)."""
 from __future__ import annotations
 
 import signal
@@ -19,12 +19,12 @@ def _maps(tmp_path):
     return save_map(first, tmp_path / 'first'), save_map(second, tmp_path / 'second')
 
 
-def test_map_server_lifecycle_load_map_and_map_saver_cli(spawn, make_context, tmp_path, zros_cli):
+def test_map_server_lifecycle_load_map_and_map_savers(spawn, make_context, tmp_path, zros_cli):
     from zros.executors import SingleThreadedExecutor
     from zros.lifecycle import LifecycleClient
     from zros.node import Node
     from zros.qos import DurabilityPolicy, QoSProfile
-    from interfaces.nav2_msgs.srv import LoadMap
+    from interfaces.nav2_msgs.srv import LoadMap, SaveMap
     from interfaces.nav_msgs.msg import OccupancyGrid
     from interfaces.nav_msgs.srv import GetMap
     (first_yaml, first_pgm), (second_yaml, second_pgm) = _maps(tmp_path)
@@ -60,6 +60,14 @@ def test_map_server_lifecycle_load_map_and_map_saver_cli(spawn, make_context, tm
     loaded = load.call(LoadMap.Request(map_url=f'file://{second_yaml}'), timeout_sec=10)
     assert loaded.result == LoadMap.Response.RESULT_SUCCESS and loaded.map.info.width == 16
     wait_until(lambda: maps[-1].info.width == 16, 10, message='the new map on /map')
+
+    saver = spawn.node('nav2_map_server', 'map_saver_server', '--ros-args', '-p', 'autostart:=true')
+    save = node.create_client(SaveMap, 'map_saver/save_map')
+    assert save.wait_for_service(timeout_sec=15), saver.output()
+    assert save.call(SaveMap.Request(map_url=str(tmp_path / 'served'), map_topic='map'), timeout_sec=15).result
+    assert (tmp_path / 'served.pgm').read_bytes() == second_pgm.read_bytes()
+    failed = save.call(SaveMap.Request(map_url=str(tmp_path / 'bad'), map_mode='fancy'), timeout_sec=15)
+    assert not failed.result and not (tmp_path / 'bad.yaml').exists()
 
     saved = zros_cli('run', 'nav2_map_server', 'map_saver_cli', '-f', tmp_path / 'saved', timeout=30)
     assert saved.returncode == 0, saved
