@@ -147,3 +147,7 @@ def test_shipped_turtlebot3_world_map_is_the_worlds_exact_raster():
     # The robot's spawn point is free; the centre pillar and the wall (inside at y = 2.54) are
     # occupied; behind the wall is unknown.
     assert cell(-2.0, -0.5) == 0 and cell(0.0, 0.14) == 100 and cell(0.0, 2.52) == 100 and cell(0.0, 2.65) == -1
+    # ... and it is what the documented generator makes.
+    from zros.slam.evaluation import ground_truth_map
+    made = ground_truth_map(load_world('turtlebot3_world'))
+    assert np.array_equal(made.data, grid.data) and made.origin == grid.origin

@@ -1,0 +1,153 @@
+"""zros.slam without Zenoh: each piece on a case whose answer is known, then the whole pipeline on
+a short scripted drive in the simulator with biased odometry, against the world's exact raster."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from zros.slam import PoseGraphFileError, Slam, SlamParameters, scan_points
+from zros.slam.geometry import compose, inverse, relative
+from zros.slam.grid import LogOddsGrid
+from zros.slam.match_grid import MatchGrid
+from zros.slam.matcher import SearchWindow, match_scan
+from zros.slam.pose_graph import PoseGraph
+
+
+def test_geometry_compose_inverse_relative():
+    a, b = np.array([1.0, 2.0, 0.5]), np.array([-0.3, 0.7, -2.0])
+    assert np.allclose(compose(a, inverse(a)), 0.0, atol=1e-12)
+    assert np.allclose(compose(a, relative(a, b)), b)
+
+
+def test_scan_points_follow_rep_117():
+    ranges = [1.0, math.inf, math.nan, 0.05, 5.0, -math.inf]
+    scan = scan_points(ranges, 0.0, math.pi / 2, range_min=0.12, range_max=3.5, sensor_pose=(-0.032, 0.0, 0.0),
+                       missing_data_ray_length=3.0)
+    assert np.allclose(scan.hits, [[0.968, 0.0]], atol=1e-6)            # only the 1 m return is a hit
+    # +inf and a range beyond range_max: free for 3 m; NaN, -inf and too close tell nothing.
+    assert np.allclose(scan.misses, [[-0.032, 3.0], [2.968, 0.0]], atol=1e-6)
+
+
+def test_log_odds_grid_marks_the_hit_and_the_free_ray_and_removes_it_again():
+    grid = LogOddsGrid(0.1)
+    scan = scan_points([1.0], 0.0, 0.1, range_min=0.1, range_max=3.5)
+    for _ in range(4):                      # one pass-through (p 0.4) is not yet 'free' (p < 0.196); four are
+        grid.add_scan(np.zeros(3), scan)
+    occupancy = grid.occupancy(margin=0)
+    data, (ox, oy, _) = occupancy.data, occupancy.origin
+    row = int(math.floor((0.0 - oy) / 0.1))
+    assert data[row].tolist().count(100) == 1 and (data == 100).sum() == 1
+    hit_col = data[row].tolist().index(100)
+    assert ox + hit_col * 0.1 == pytest.approx(1.0)
+    assert (data[row, :hit_col] == 0).all()                           # the ray before it is free
+    for _ in range(4):
+        grid.add_scan(np.zeros(3), scan, weight=-1.0)
+    assert np.abs(grid.cells).max() < 1e-5                           # float32 rounding only
+
+
+def test_pose_graph_closes_a_drifted_square():
+    truth = np.array([[0, 0, 0], [2, 0, math.pi / 2], [2, 2, math.pi], [0, 2, -math.pi / 2], [0, 0, 0]], float)
+    drift = np.array([0.05, 0.0, 0.03])                    # every odometry step is off by this
+    graph = PoseGraph()
+    info = np.diag([100.0, 100.0, 400.0])
+    pose = truth[0]
+    graph.add_node(pose)
+    for i in range(1, 5):
+        step = compose(relative(truth[i - 1], truth[i]), drift)
+        pose = compose(pose, step)
+        graph.add_node(pose)
+        graph.add_edge(i - 1, i, step, info)
+    before = np.hypot(*(graph.poses[4, :2] - truth[4, :2]))
+    graph.add_edge(0, 4, np.zeros(3), np.diag([1e4, 1e4, 1e4]), robust=True)      # the loop closure
+    result = graph.optimize()
+    after = np.hypot(*(graph.poses[4, :2] - truth[4, :2]))
+    assert before > 0.15 and after < 0.02 and result.final_cost < result.initial_cost
+
+
+def test_matcher_finds_a_known_offset():
+    # An L-shaped room corner and a pillar, as points every 2 cm.
+    t = np.arange(0.0, 3.0, 0.02)
+    reference = np.vstack([np.column_stack([t, np.zeros_like(t)]), np.column_stack([np.zeros_like(t), t]),
+                           np.column_stack([1.5 + 0.15 * np.cos(t * 2), 1.5 + 0.15 * np.sin(t * 2)])])
+    grid = MatchGrid(reference, 0.025, sigma=0.05)
+    true_pose = np.array([0.8, 0.6, 0.3])
+    points = relative(true_pose, np.column_stack([reference, np.zeros(len(reference))]))[:, :2]
+    guess = true_pose + np.array([0.09, -0.07, 0.12])
+    result = match_scan(grid, points, guess, SearchWindow(0.15, 0.2))
+    assert np.hypot(*(result.pose[:2] - true_pose[:2])) < 0.01 and abs(result.pose[2] - true_pose[2]) < 0.01
+    assert result.score > 0.9
+
+
+def test_parameters_are_checked_by_name():
+    with pytest.raises(ValueError, match='resolution must be > 0'):
+        SlamParameters(resolution=0.0)
+    with pytest.raises(ValueError, match='scan_buffer_size'):
+        SlamParameters(scan_buffer_size=0)
+
+
+def _drive(seconds: float, *, bias: float = 0.03, seed: int = 2):
+    """A scripted drive in turtlebot3_world: scans every 0.2 s with odometry whose heading drifts
+    `bias` rad per metre. Returns the Slam, the spawn pose, and the true, odometry and SLAM poses."""
+    from zros.sim import LDS_01, Simulation, load_world
+    world = load_world('turtlebot3_world')
+    sim = Simulation(world, seed=seed)
+    robot = sim.add_robot('burger', (world.spawn.x, world.spawn.y, world.spawn.yaw))
+    slam = Slam(SlamParameters())
+    spawn = np.array([world.spawn.x, world.spawn.y, world.spawn.yaw])
+    truths, odoms, estimates = [], [], []
+    travelled, last = 0.0, None
+    odom_pose = np.zeros(3)
+    for k in range(int(seconds / 0.2)):
+        robot.command(0.2, 0.45 * math.sin(k * 0.05))
+        sim.step(0.2)
+        o = robot.odometry()
+        raw = np.array([o.x, o.y, o.yaw])
+        if last is not None:
+            step = relative(last, raw)
+            travelled = math.hypot(step[0], step[1])
+            odom_pose = compose(odom_pose, step + np.array([0.0, 0.0, bias * travelled]))
+        last = raw
+        ranges = robot.scan()
+        update = slam.process_scan(odom_pose, scan_points(ranges, LDS_01.angle_min, LDS_01.angle_increment,
+                                                         range_min=LDS_01.range_min, range_max=LDS_01.range_max,
+                                                         sensor_pose=(-0.032, 0.0, 0.0)))
+        p = robot.pose
+        truths.append(relative(spawn, np.array([p.x, p.y, p.yaw])))
+        odoms.append(odom_pose.copy())
+        estimates.append(update.pose)
+    return slam, world, spawn, np.array(truths), np.array(odoms), np.array(estimates)
+
+
+def test_a_short_drive_builds_a_map_whose_walls_match_the_truth(tmp_path):
+    from zros.sim import rasterize
+    from zros.slam.evaluation import trajectory_error
+    slam, world, spawn, truths, odoms, estimates = _drive(20.0)
+    slam_error = trajectory_error(estimates, truths)
+    odom_error = trajectory_error(odoms, truths)
+    assert slam_error.rmse < 0.03 and odom_error.final > 3 * slam_error.final, (slam_error, odom_error)
+    grid = slam.occupancy_map()
+    truth = rasterize(world, 0.05)
+    # Every occupied map cell within one cell of a true obstacle, nearly: no smear.
+    from scipy import ndimage
+    near = ndimage.binary_dilation(truth.cells, structure=np.ones((3, 3), dtype=bool))
+    rows, cols = np.nonzero(grid.data == 100)
+    local = np.column_stack([grid.origin[0] + (cols + 0.5) * 0.05, grid.origin[1] + (rows + 0.5) * 0.05])
+    world_xy = compose(spawn, np.column_stack([local, np.zeros(len(local))]))[:, :2]
+    cells = np.floor((world_xy - truth.origin) / 0.05).astype(int)
+    assert len(cells) > 150
+    assert near[cells[:, 1], cells[:, 0]].mean() > 0.97
+
+
+def test_serialize_and_deserialize_the_pose_graph(tmp_path):
+    slam, *_ = _drive(6.0)
+    path = slam.serialize(tmp_path / 'graph')
+    again = Slam(SlamParameters())
+    again.deserialize(tmp_path / 'graph')
+    assert path.name == 'graph.posegraph' and len(again.keyframes) == len(slam.keyframes)
+    assert np.allclose(again.trajectory(), slam.trajectory())
+    assert np.array_equal(again.occupancy_map().data, slam.occupancy_map().data)
+    (tmp_path / 'junk.posegraph').write_bytes(b'not a graph')
+    with pytest.raises(PoseGraphFileError, match='junk.posegraph'):
+        again.deserialize(tmp_path / 'junk.posegraph')

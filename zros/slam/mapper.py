@@ -1,0 +1,340 @@
+"""Online 2D SLAM: scan matching front end, pose graph back end, log-odds map. No Zenoh.
+
+For each scan (with the odometry pose at the scan's time):
+
+1. Front end. The pose predicted by odometry since the last scan is corrected by matching the
+   scan against a local map: the likelihood field of the last `scan_buffer_size` keyframes
+   (zros.slam.matcher: correlative branch-and-bound search in a small window, then Gauss-Newton;
+   a poor match is searched again in the loop closure's wider window before odometry is used).
+   So the map does not smear when odometry slips, and map -> odom absorbs the odometry's error.
+2. Keyframes. When the robot has moved `minimum_travel_distance` or turned
+   `minimum_travel_heading` since the last keyframe, the scan becomes a node of the pose graph,
+   linked to the previous keyframe by the matched relative pose.
+3. Loop closure. A new keyframe is matched, in a wider window, against a submap of old keyframes
+   (at least `loop_search_minimum_travel` of travel ago, within `loop_search_maximum_distance`).
+   A match scoring `loop_match_minimum_response` or more adds a robust edge, and the graph is
+   optimised (zros.slam.pose_graph): the whole trajectory bends to close the loop.
+4. Map. Keyframes are cast into a log-odds grid (zros.slam.grid) when the map is asked for;
+   keyframes the optimiser moved are taken out at their old pose and put back at the new one.
+
+Frames: poses are of the robot's base frame (base_footprint) in `map`; the map frame is where
+the first scan was taken (or `initial_pose`). `map_to_odom` is what a SLAM node publishes on TF.
+"""
+from __future__ import annotations
+
+import io
+import math
+from dataclasses import asdict, dataclass, fields
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+
+from zros.map_io import OccupancyMap
+from zros.slam.geometry import compose, inverse, relative, transform_points
+from zros.slam.grid import LogOddsGrid
+from zros.slam.match_grid import MatchGrid
+from zros.slam.matcher import SearchWindow, match_scan
+from zros.slam.pose_graph import PoseGraph
+from zros.slam.scan import ScanPoints, voxel_filter
+
+__all__ = ['SlamParameters', 'ScanUpdate', 'Slam', 'PoseGraphFileError']
+
+
+@dataclass(frozen=True)
+class SlamParameters:
+    """Every tunable, with its unit. Names follow slam_toolbox's where the meaning matches."""
+    resolution: float = 0.05                    # [m] map cell
+    max_laser_range: float = 20.0               # [m] returns farther than this are free rays only
+    missing_data_ray_length: float = 3.0        # [m] free ray given to beams with no return
+    minimum_travel_distance: float = 0.2        # [m] between keyframes
+    minimum_travel_heading: float = 0.2         # [rad] between keyframes
+    scan_buffer_size: int = 10                  # keyframes in the front end's local map
+    match_resolution: float = 0.025             # [m] cell of the matching grids
+    match_sigma: float = 0.05                   # [m] spread of the likelihood field
+    match_point_spacing: float = 0.05           # [m] scan points are thinned to one per square this size
+    correlation_search_space_dimension: float = 0.3   # [m] front end window, full width
+    coarse_search_angle_offset: float = 0.2     # [rad] front end window, each side
+    minimum_match_response: float = 0.3         # front end matches scoring less fall back to odometry
+    do_loop_closing: bool = True
+    loop_search_maximum_distance: float = 3.0   # [m] from the new keyframe to a candidate
+    loop_search_minimum_travel: float = 3.0     # [m] of travel since a candidate was made
+    loop_search_space_dimension: float = 1.0    # [m] loop closure window, full width
+    loop_search_angle_offset: float = 0.3       # [rad] loop closure window, each side
+    loop_match_minimum_response: float = 0.65   # loop closures scoring less are not added
+    loop_submap_size: int = 10                  # keyframes each side of the candidate in its submap
+    hit_probability: float = 0.7                # occupancy evidence of one return in a cell
+    miss_probability: float = 0.3               # evidence of one beam passing through a cell
+    occupied_thresh: float = 0.65               # published 100 above this probability
+    free_thresh: float = 0.196                  # published 0 below this probability
+    link_sigma_xy: float = 0.02                 # [m] keyframe link uncertainty
+    link_sigma_yaw: float = 0.01                # [rad]
+    loop_sigma_xy: float = 0.03                 # [m] loop closure uncertainty
+    loop_sigma_yaw: float = 0.02                # [rad]
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if f.type in ('float', 'int') and not (isinstance(value, (int, float)) and math.isfinite(value)):
+                raise ValueError(f'{f.name} must be a number, got {value!r}')
+        for name in ('resolution', 'match_resolution', 'match_sigma', 'match_point_spacing', 'max_laser_range',
+                     'correlation_search_space_dimension', 'link_sigma_xy', 'link_sigma_yaw', 'loop_sigma_xy',
+                     'loop_sigma_yaw'):
+            if not getattr(self, name) > 0:
+                raise ValueError(f'{name} must be > 0, got {getattr(self, name)}')
+        if self.scan_buffer_size < 1:
+            raise ValueError(f'scan_buffer_size must be >= 1, got {self.scan_buffer_size}')
+        if not 0.0 <= self.free_thresh < self.occupied_thresh <= 1.0:
+            raise ValueError('need 0 <= free_thresh < occupied_thresh <= 1')
+
+
+class ScanUpdate(NamedTuple):
+    """What one scan did. pose: base in map; map_to_odom: the correction (both (3,));
+    matched: the front end's match was used (not odometry alone); score: its response;
+    keyframe: the scan became a node; loop_closed: a loop closure edge was added."""
+    pose: np.ndarray
+    map_to_odom: np.ndarray
+    matched: bool
+    score: float
+    keyframe: bool
+    loop_closed: bool
+
+
+class PoseGraphFileError(ValueError):
+    """A serialized pose graph that cannot be read or written (the text names the file)."""
+
+
+class _KeyFrame(NamedTuple):
+    scan: ScanPoints
+    points: np.ndarray          # thinned hits for matching, base frame
+    odom: np.ndarray            # odometry pose when taken
+    travel: float               # [m] distance travelled before it, along the trajectory
+
+
+class Slam:
+    """The SLAM pipeline (module docstring). Not thread-safe: one caller at a time.
+
+    Args:
+        parameters: the tunables.
+        initial_pose: the first scan's pose in the map frame.
+    """
+
+    def __init__(self, parameters: SlamParameters | None = None, *,
+                 initial_pose: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> None:
+        self.parameters = parameters or SlamParameters()
+        p = self.parameters
+        self.graph = PoseGraph()
+        self.keyframes: list[_KeyFrame] = []
+        self.map_to_odom = np.zeros(3)
+        self.loop_closures = 0
+        self._grid = LogOddsGrid(p.resolution, hit_probability=p.hit_probability, miss_probability=p.miss_probability)
+        self._rendered: dict[int, np.ndarray] = {}
+        self._initial_pose = np.asarray(initial_pose, dtype=np.float64)
+        self._pose: np.ndarray | None = None        # last scan's pose in map
+        self._odom: np.ndarray | None = None        # and its odometry pose
+        self._anchor: int | None = None             # the keyframe the next one links to
+        self._session_start = 0                     # first keyframe of this session (after a load)
+        self._travel = 0.0
+        self._local: MatchGrid | None = None
+        self._front = SearchWindow(p.correlation_search_space_dimension / 2.0, p.coarse_search_angle_offset)
+        self._loop = SearchWindow(p.loop_search_space_dimension / 2.0, p.loop_search_angle_offset)
+        self._link_info = np.diag([p.link_sigma_xy ** -2, p.link_sigma_xy ** -2, p.link_sigma_yaw ** -2])
+        self._loop_info = np.diag([p.loop_sigma_xy ** -2, p.loop_sigma_xy ** -2, p.loop_sigma_yaw ** -2])
+
+    # -- the pipeline ---------------------------------------------------------------------------
+    def process_scan(self, odom_pose: np.ndarray, scan: ScanPoints) -> ScanUpdate:
+        """Take one scan (in the base frame, with the odometry pose at its time)."""
+        p = self.parameters
+        odom = np.asarray(odom_pose, dtype=np.float64)
+        points = voxel_filter(scan.hits, p.match_point_spacing)
+        matched, score = False, 0.0
+        if self._pose is None:                  # the first scan; after a load, find it in the old map
+            pose, window = self._initial_pose.copy(), self._loop
+        else:
+            pose, window = compose(self._pose, relative(self._odom, odom)), self._front
+        if self._local is not None and len(points) >= 3:
+            result = match_scan(self._local, points, pose, window, min_score=p.minimum_match_response)
+            if result.score < p.minimum_match_response and window is self._front:
+                # Odometry is off by more than the window (a bump, a spin on the spot): look wider.
+                result = match_scan(self._local, points, pose, self._loop, min_score=p.minimum_match_response)
+            score = result.score
+            if score >= p.minimum_match_response:
+                pose, matched = result.pose, True
+        if self._pose is not None:
+            self._travel += float(np.hypot(*(pose[:2] - self._pose[:2])))
+        self._pose, self._odom = pose, odom
+        keyframe = loop_closed = False
+        if self._is_keyframe(pose) and len(points) >= 3:
+            keyframe = True
+            loop_closed = self._add_keyframe(pose, odom, scan, points)
+        self.map_to_odom = compose(self._pose, inverse(odom))
+        return ScanUpdate(self._pose.copy(), self.map_to_odom.copy(), matched, score, keyframe, loop_closed)
+
+    def _is_keyframe(self, pose: np.ndarray) -> bool:
+        if self._anchor is None or len(self.keyframes) == self._session_start:
+            return True
+        p = self.parameters
+        last = self.graph.poses[len(self.keyframes) - 1]
+        moved = relative(last, pose)
+        return bool(math.hypot(moved[0], moved[1]) >= p.minimum_travel_distance
+                    or abs(moved[2]) >= p.minimum_travel_heading)
+
+    def _add_keyframe(self, pose: np.ndarray, odom: np.ndarray, scan: ScanPoints, points: np.ndarray) -> bool:
+        node = self.graph.add_node(pose)
+        self.keyframes.append(_KeyFrame(scan, points, odom.copy(), self._travel))
+        if self._anchor is not None:
+            self.graph.add_edge(self._anchor, node, relative(self.graph.poses[self._anchor], pose), self._link_info)
+        self._anchor = node
+        closed = self.parameters.do_loop_closing and self._close_loop(node, points)
+        if closed:
+            self.graph.optimize()
+            self._pose = self.graph.poses[node].copy()
+        self._local = self._match_grid(self._local_nodes(self._pose))
+        return closed
+
+    def _local_nodes(self, pose: np.ndarray) -> np.ndarray:
+        """The front end's local map: this session's last keyframes, topped up (after a load)
+        with the old keyframes nearest to the current pose."""
+        p = self.parameters
+        count = len(self.keyframes)
+        recent = np.arange(max(self._session_start, count - p.scan_buffer_size), count)
+        missing = p.scan_buffer_size - len(recent)
+        if missing > 0 and self._session_start > 0:
+            old = self.graph.poses[:self._session_start, :2]
+            nearest = np.argsort(np.hypot(*(old - pose[:2]).T))[:missing]
+            recent = np.concatenate([nearest, recent])
+        return recent
+
+    def _match_grid(self, nodes: np.ndarray) -> MatchGrid | None:
+        """The likelihood field of the given keyframes' points at their graph poses."""
+        clouds = [transform_points(self.graph.poses[n], self.keyframes[n].scan.hits) for n in nodes]
+        clouds = [c for c in clouds if len(c)]
+        if not clouds:
+            return None
+        p = self.parameters
+        return MatchGrid(np.vstack(clouds), p.match_resolution, sigma=p.match_sigma)
+
+    def _close_loop(self, node: int, points: np.ndarray) -> bool:
+        """Try one loop closure from `node` to the nearest old keyframe; True if an edge was added."""
+        p = self.parameters
+        poses = self.graph.poses
+        travel = np.array([k.travel for k in self.keyframes])
+        pose = poses[node]
+        distance = np.hypot(*(poses[:, :2] - pose[:2]).T)
+        old = (travel[node] - travel >= p.loop_search_minimum_travel) | (np.arange(len(travel)) < self._session_start)
+        old[node] = False
+        candidates = np.flatnonzero(old & (distance <= p.loop_search_maximum_distance))
+        if len(candidates) == 0:
+            return False
+        target = int(candidates[np.argmin(distance[candidates])])
+        around = np.arange(max(0, target - p.loop_submap_size), min(len(travel), target + p.loop_submap_size + 1))
+        grid = self._match_grid(around[old[around]])
+        if grid is None:
+            return False
+        result = match_scan(grid, points, pose, self._loop, min_score=p.loop_match_minimum_response)
+        if result.score < p.loop_match_minimum_response:
+            return False
+        self.graph.add_edge(target, node, relative(poses[target], result.pose), self._loop_info, robust=True)
+        self.loop_closures += 1
+        return True
+
+    # -- the map --------------------------------------------------------------------------------
+    def occupancy_map(self) -> OccupancyMap:
+        """The current map (trinary: 100, 0, -1), in the map frame. Keyframes moved by the pose
+        graph since the last call are re-cast; new ones are added."""
+        p = self.parameters
+        tolerance_xy, tolerance_yaw = p.resolution / 4.0, p.resolution / 4.0 / max(p.missing_data_ray_length, 1.0)
+        for node, keyframe in enumerate(self.keyframes):
+            pose = self.graph.poses[node]
+            old = self._rendered.get(node)
+            if old is not None:
+                moved = relative(old, pose)
+                if math.hypot(moved[0], moved[1]) <= tolerance_xy and abs(moved[2]) <= tolerance_yaw:
+                    continue
+                self._grid.add_scan(old, keyframe.scan, weight=-1.0)
+            self._grid.add_scan(pose, keyframe.scan)
+            self._rendered[node] = pose.copy()
+        return self._grid.occupancy(occupied_thresh=p.occupied_thresh, free_thresh=p.free_thresh)
+
+    @property
+    def pose(self) -> np.ndarray | None:
+        """The last scan's pose of the robot in the map, or None before the first scan."""
+        return None if self._pose is None else self._pose.copy()
+
+    def trajectory(self) -> np.ndarray:
+        """(N, 3) keyframe poses in the map, optimised."""
+        return self.graph.poses.copy()
+
+    # -- saving and loading the pose graph -------------------------------------------------------
+    def serialize(self, path: str | Path) -> Path:
+        """Write the pose graph (nodes, edges, keyframe scans, parameters) to `path` + '.posegraph'
+        (slam_toolbox's serialize_map); returns the file written."""
+        target = Path(str(Path(path).expanduser()) + '.posegraph')
+        edges = self.graph.edges
+        hits = [k.scan.hits for k in self.keyframes]
+        misses = [k.scan.misses for k in self.keyframes]
+        arrays = {
+            'format': np.array('zros-posegraph-1'),
+            'parameters': np.array(repr(asdict(self.parameters))),
+            'poses': self.graph.poses, 'odom': np.array([k.odom for k in self.keyframes]).reshape(-1, 3),
+            'travel': np.array([k.travel for k in self.keyframes]),
+            'origins': np.array([k.scan.origin for k in self.keyframes]).reshape(-1, 2),
+            'hit_counts': np.array([len(h) for h in hits], dtype=np.int64),
+            'hits': np.vstack(hits) if hits else np.zeros((0, 2), np.float32),
+            'miss_counts': np.array([len(m) for m in misses], dtype=np.int64),
+            'misses': np.vstack(misses) if misses else np.zeros((0, 2), np.float32),
+            'edge_nodes': np.array([(e.i, e.j) for e in edges], dtype=np.int64).reshape(-1, 2),
+            'edge_measurements': np.array([e.measurement for e in edges]).reshape(-1, 3),
+            'edge_information': np.array([e.information for e in edges]).reshape(-1, 3, 3),
+            'edge_robust': np.array([e.robust for e in edges], dtype=bool),
+        }
+        buffer = io.BytesIO()
+        np.savez_compressed(buffer, **arrays)
+        try:
+            target.write_bytes(buffer.getvalue())
+        except OSError as exc:
+            raise PoseGraphFileError(f'{target}: cannot write the pose graph: {exc.strerror or exc}') from None
+        return target
+
+    def deserialize(self, path: str | Path, *, pose: tuple[float, float, float] | None = None) -> Path:
+        """Replace the graph with a serialized one (`path` with or without '.posegraph') and go
+        on mapping from `pose` in its map (default: its first node, slam_toolbox's
+        START_AT_FIRST_NODE). Keeps this instance's parameters."""
+        source = Path(path).expanduser()
+        if not source.is_file() and source.suffix != '.posegraph':
+            source = Path(str(source) + '.posegraph')
+        try:
+            with np.load(source, allow_pickle=False) as data:
+                if str(data['format']) != 'zros-posegraph-1':
+                    raise PoseGraphFileError(f'{source}: not a zros pose graph')
+                arrays = {name: data[name] for name in data.files}
+        except OSError as exc:
+            raise PoseGraphFileError(f'{source}: cannot read the pose graph: {exc.strerror or exc}') from None
+        except (ValueError, KeyError) as exc:
+            raise PoseGraphFileError(f'{source}: not a zros pose graph ({exc})') from None
+        hits = np.split(arrays['hits'], np.cumsum(arrays['hit_counts'])[:-1])
+        misses = np.split(arrays['misses'], np.cumsum(arrays['miss_counts'])[:-1])
+        graph = PoseGraph()
+        for node_pose in arrays['poses']:
+            graph.add_node(node_pose)
+        for (i, j), z, info, robust in zip(arrays['edge_nodes'], arrays['edge_measurements'],
+                                           arrays['edge_information'], arrays['edge_robust']):
+            graph.add_edge(int(i), int(j), z, info, robust=bool(robust))
+        spacing = self.parameters.match_point_spacing
+        self.keyframes = [_KeyFrame(ScanPoints(origin, h, m), voxel_filter(h, spacing), odom, float(travel))
+                          for origin, h, m, odom, travel in zip(arrays['origins'], hits, misses, arrays['odom'],
+                                                                 arrays['travel'])]
+        self.graph = graph
+        self._grid.clear()
+        self._rendered.clear()
+        count = len(self.keyframes)
+        self._session_start = count
+        if pose is not None:
+            self._initial_pose = np.asarray(pose, dtype=np.float64)
+        elif count:
+            self._initial_pose = graph.poses[0].copy()
+        self._pose, self._odom = None, None
+        self._travel = (float(arrays['travel'].max()) if count else 0.0) + 2.0 * self.parameters.loop_search_minimum_travel
+        self._anchor = int(np.argmin(np.hypot(*(graph.poses[:, :2] - self._initial_pose[:2]).T))) if count else None
+        self._local = self._match_grid(self._local_nodes(self._initial_pose)) if count else None
+        return source
