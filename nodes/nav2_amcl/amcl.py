@@ -33,7 +33,8 @@ from zros.clock import Clock, ClockType
 from zros.duration import Duration
 from zros.errors import CliError
 from zros.executors import ExternalShutdownException
-from zros.lifecycle import LifecycleNode, State, TransitionCallbackReturn
+from zros.lifecycle import LifecycleNodeMixin, State, TransitionCallbackReturn
+from zros.node import Node
 from zros.parameter import Parameter
 from zros.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 from zros.tf2_ros import Buffer, TransformBroadcaster, TransformException, TransformListener
@@ -69,10 +70,10 @@ NODE_PARAMETERS: dict[str, Any] = {
 }
 
 
-class AmclNode(LifecycleNode):
+class AmclNode(LifecycleNodeMixin, Node):
 
     def __init__(self, **kwargs: Any) -> None:
-        super().__init__('amcl', **kwargs)
+        Node.__init__(self, 'amcl', **kwargs)
         defaults = {**AmclParameters().__dict__, **NODE_PARAMETERS}
         for name, value in defaults.items():
             try:
@@ -82,6 +83,9 @@ class AmclNode(LifecycleNode):
         self._wall = Clock(clock_type=ClockType.STEADY_TIME)
         self._entities: list[Any] = []
         self._reset_state()
+        # The lifecycle services last: a lifecycle manager calls them as soon as they appear,
+        # and a call that arrives before the node spins can go unanswered.
+        LifecycleNodeMixin.__init__(self)
         self.get_logger().info('Creating amcl (unconfigured: configure and activate it, or start it with '
                                'a lifecycle manager)')
 
