@@ -180,6 +180,7 @@ def test_frontiers_reachable_grouped_sorted_and_blacklisted():
     right = find_frontiers(occ, 0.05, (0.0, 0.0), (0.5, 1.0), min_frontier_size=0.5)
     assert len(right) == 1 and right[0].size == 30 and right[0].centroid[0] == pytest.approx(1.525)
     assert find_frontiers(occ, 0.05, (0.0, 0.0), (0.5, 1.0), min_frontier_size=2.0) == []
+    assert find_frontiers(np.full((40, 60), -1, np.int8), 0.05, (0.0, 0.0), (0.5, 1.0)) is None   # no scan yet
     blacklist = Blacklist(0.05)
     blacklist.add(right[0].centroid)
     assert blacklist.contains((right[0].centroid[0] + 0.2, right[0].centroid[1])) and not blacklist.contains((0, 0))

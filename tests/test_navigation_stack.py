@@ -257,3 +257,17 @@ def test_navigation_from_text_example_node(stack: Any, module_spawn: Any, tmp_pa
     out = node.output()
     assert out.count('Goal succeeded!') == 1 and out.count('Goal failed!') == 1, out
     assert 'All the 2 goals processed' in out
+
+
+def test_a_dead_controller_is_reported_by_the_manager(stack: Any) -> None:
+    """Last in this module: it takes the stack down."""
+    import os
+    import re
+    import signal
+    pid = int(re.search(r'\[controller_server-\d+\]: process started with pid \[(\d+)\]', stack.launch.output()).group(1))
+    os.kill(pid, signal.SIGKILL)
+    wait_until(lambda: 'CRITICAL FAILURE: SERVER controller_server IS DOWN' in stack.launch.output(), 20,
+               message=lambda: stack.launch.output()[-2000:])
+    from zros.lifecycle import LifecycleClient
+    wait_until(lambda: LifecycleClient(stack.node, 'bt_navigator').get_state().label != 'active', 20,
+               message='the rest of the stack reset')

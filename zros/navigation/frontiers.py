@@ -5,7 +5,7 @@ free space; 8-connected frontier cells form one frontier. explore_lite finds the
 breadth-first search from the robot; here the same set comes from connected-component labelling
 (scipy.ndimage.label), vectorised. The map is thresholded first: a cell is free when its
 occupancy is known and below `free_threshold` (SLAM maps carry graded values, on which
-explore_lite's exact-zero test stops early), occupied at or above `occupied_threshold`.
+explore_lite's exact-zero test stops early).
 
 Each frontier has a size (cells), a centroid, its cell closest to the robot (`middle`) and that
 distance; frontiers shorter than `min_frontier_size` [m] are dropped, and the rest are sorted by
@@ -22,6 +22,7 @@ from scipy import ndimage
 
 __all__ = ['Frontier', 'find_frontiers', 'Blacklist']
 
+_ROBOT_SEARCH_M = 0.5     # [m] how far from the robot its free space may start
 _FOUR = ndimage.generate_binary_structure(2, 1)
 _EIGHT = ndimage.generate_binary_structure(2, 2)
 
@@ -30,6 +31,8 @@ _EIGHT = ndimage.generate_binary_structure(2, 2)
 class Frontier:
     size: int                           # [cells]
     centroid: tuple[float, float]       # [m], map frame
+    goal: tuple[float, float]           # [m] the frontier cell nearest the centroid: on the frontier,
+                                        # where a centroid (of a ring-shaped frontier) may be in a wall
     middle: tuple[float, float]         # [m] the frontier cell closest to the robot
     min_distance: float                 # [m] from the robot to `middle`
     cost: float
@@ -38,9 +41,10 @@ class Frontier:
 
 def find_frontiers(occupancy: np.ndarray, resolution: float, origin: tuple[float, float],
                    robot_xy: tuple[float, float], *, min_frontier_size: float = 0.5, potential_scale: float = 1e-3,
-                   gain_scale: float = 1.0, free_threshold: int = 25, occupied_threshold: int = 65) -> list[Frontier]:
+                   gain_scale: float = 1.0, free_threshold: int = 25) -> list[Frontier] | None:
     """Frontiers of `occupancy` ((H, W) OccupancyGrid values, row 0 = lowest y) reachable from
-    `robot_xy` [m], cheapest first."""
+    `robot_xy` [m], cheapest first; None when the map has no free space near the robot yet (a
+    map made before the first scan), which is not the same as nothing left to explore."""
     occ = np.asarray(occupancy, np.int16)
     unknown = occ < 0
     free = (occ >= 0) & (occ < free_threshold)
@@ -48,15 +52,16 @@ def find_frontiers(occupancy: np.ndarray, resolution: float, origin: tuple[float
     rows, cols = occ.shape
     rc = np.floor((np.asarray(robot_xy) - origin) / resolution).astype(int)[::-1]
     if not (0 <= rc[0] < rows and 0 <= rc[1] < cols):
-        return []
+        return None
     labels, _ = ndimage.label(free, structure=_FOUR)
     start = labels[rc[0], rc[1]]
     if start == 0:
-        # The robot's own cell is not free (an inflated or graded cell): the nearest free cell.
+        # The robot's own cell is not free (a graded cell, or not mapped yet): the nearest free cell.
         idx = np.argwhere(free)
-        if len(idx) == 0:
-            return []
-        nearest = idx[np.argmin(np.hypot(idx[:, 0] - rc[0], idx[:, 1] - rc[1]))]
+        near = np.hypot(idx[:, 0] - rc[0], idx[:, 1] - rc[1]) if len(idx) else np.zeros(0)
+        if len(idx) == 0 or near.min() * resolution > _ROBOT_SEARCH_M:
+            return None
+        nearest = idx[np.argmin(near)]
         start = labels[nearest[0], nearest[1]]
     reachable = labels == start
     frontier_cells = unknown & ndimage.binary_dilation(reachable, structure=_FOUR)
@@ -79,7 +84,9 @@ def find_frontiers(occupancy: np.ndarray, resolution: float, origin: tuple[float
         pts = centres[a:b]
         i = int(np.argmin(dist[a:b]))
         cost = potential_scale * float(dist[a + i]) * resolution - gain_scale * size * resolution
-        frontiers.append(Frontier(int(size), tuple(pts.mean(axis=0)), tuple(pts[i]), float(dist[a + i]), cost, pts))
+        centroid = pts.mean(axis=0)
+        goal = pts[int(np.argmin(np.hypot(pts[:, 0] - centroid[0], pts[:, 1] - centroid[1])))]
+        frontiers.append(Frontier(int(size), tuple(centroid), tuple(goal), tuple(pts[i]), float(dist[a + i]), cost, pts))
     frontiers.sort(key=lambda f: f.cost)
     return frontiers
 
