@@ -240,6 +240,33 @@ def test_an_initial_pose_in_the_odom_frame_is_transformed_into_the_map(stack: Ha
     assert stack.error(after[-1])[0] < 0.1, stack.error(after[-1])
 
 
+def test_set_initial_pose_service_and_a_no_motion_update(stack: Harness) -> None:
+    from interfaces.nav2_msgs.srv import SetInitialPose
+    stack.wander = False
+    stack.drive(0.0, 0.0)
+    time.sleep(1.0)
+    with stack.lock:
+        x, y, yaw = stack.truth[-1][1:]
+    request = SetInitialPose.Request()
+    request.pose.header.frame_id = 'map'
+    request.pose.pose.pose.position.x, request.pose.pose.pose.position.y = x + 0.2, y - 0.1
+    request.pose.pose.pose.orientation.z, request.pose.pose.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+    request.pose.pose.covariance[0] = request.pose.pose.covariance[7] = 0.1
+    request.pose.pose.covariance[35] = 0.05
+    client = stack.node.create_client(SetInitialPose, 'set_initial_pose')
+    assert client.wait_for_service(timeout_sec=10)
+    count = len(stack.poses)
+    assert client.call(request, timeout_sec=10) is not None
+    stack.amcl.wait_for_output(f'Setting pose: x={x + 0.2:.3f}', 10)
+    wait_until(lambda: len(stack.poses) > count, 20, message='amcl_pose after set_initial_pose')
+    count = len(stack.poses)
+    time.sleep(2.0)
+    assert len(stack.poses) == count                 # standing still: no filter update, nothing new
+    stack.call_empty('request_nomotion_update')
+    wait_until(lambda: len(stack.poses) > count, 20, message='amcl_pose after request_nomotion_update')
+    stack.wander = True
+
+
 def test_a_late_subscriber_gets_the_last_amcl_pose(stack: Harness) -> None:
     from zros.qos import DurabilityPolicy, QoSProfile
     from interfaces.geometry_msgs.msg import PoseWithCovarianceStamped
