@@ -4,6 +4,7 @@ cv_bridge (numpy only)."""
 from __future__ import annotations
 
 import textwrap
+import time
 
 import numpy as np
 import pytest
@@ -107,7 +108,9 @@ def test_async_parameter_client_against_a_node_process(spawn, context, tmp_path)
     seen = []
     set_future = client.set_parameters([zros.Parameter('published_text', value='BME')], callback=seen.append)
     assert done(set_future).results[0].successful
-    executor.spin_once(timeout_sec=1)  # the done-callback runs on the executor
+    deadline = time.monotonic() + 10   # the done-callback runs on the executor, maybe after other work
+    while not seen and time.monotonic() < deadline:
+        executor.spin_once(timeout_sec=0.1)
     assert seen == [set_future]
     assert done(client.get_parameters(['published_text'])).values[0].string_value == 'BME'
     assert list(done(client.get_parameter_types(['timer_period'])).types) == [zros.Parameter.Type.DOUBLE]
