@@ -274,7 +274,9 @@ class BasicNavigator(Node):
         zros.spin_until_future_complete(self, self.result_future)
         self.status = self.result_future.result().status
         if self.status != GoalStatus.STATUS_SUCCEEDED:
-            self.warn(f'Getting path failed with status code: {self.status}')
+            failure = self.result_future.result().result
+            self.warn(f'Getting path failed with status code: {self.status}, '
+                      f'error code: {failure.error_code}, error msg: {failure.error_msg}')
             return None
         return self.result_future.result().result.path
 
