@@ -240,7 +240,7 @@ def test_basic_navigator_mission_script(stack: Any, module_spawn: Any) -> None:
     script = module_spawn.script(MISSION, name='mission')
     code = script.wait(180)
     out = script.output()
-    assert code == 0, out
+    assert code == 0, out + '\n--- the stack:\n' + stack.launch.output()[-4000:]
     assert 'amcl is not running (no amcl/get_state service)' in out and 'default wait: False' in out
     assert 'Nav2 is ready for use!' in out
     assert 'feedback: True result: SUCCEEDED' in out and 'costmap: True' in out
