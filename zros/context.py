@@ -136,9 +136,9 @@ class Context:
             if self._graph_service is not None:
                 self._graph_service.close()
                 self._graph_service = None
-            session, self._session = self._session, None
-        if session is not None:
-            _close_session(session)
+            opened, self._session = [self._session], None
+        if opened[0] is not None:
+            _close_session(opened)
         self._closed.set()
 
     def try_shutdown(self) -> None:
@@ -219,6 +219,7 @@ class Context:
 
 
 _default_context = Context()
+_CLOSER_NAME = 'zros-close'
 _exit_hooked: weakref.WeakSet = weakref.WeakSet()
 
 
@@ -226,22 +227,29 @@ def get_default_context() -> Context:
     return _default_context
 
 
-def _close_session(session: Any) -> None:
-    """Close a Zenoh session. Zenoh closes its links one after the other, so with 100 peers a
-    close takes a second or more; after a signal the process is about to end, and the close is
-    given `_SIGNAL_CLOSE_S` (what is left is ended with the process, which peers see as the
-    links closing). Every entity has been undeclared before, so the graph is already right."""
+def _close_session(opened: list) -> None:
+    """Close the Zenoh session in `opened` (its only reference). Zenoh closes its links one after
+    the other, so with 100 peers a close takes a second or more; after a signal the process is
+    about to end, and the close is given `_SIGNAL_CLOSE_S` (what is left is ended with the
+    process, which peers see as the links closing). Every entity has been undeclared before, so
+    the graph is already right.
+
+    The thread that closes the session also drops it, and after a signal that is a thread the
+    interpreter waits for: freeing a session blocks in Zenoh without the GIL, and a thread that
+    comes back for the GIL once the interpreter is finalizing aborts the whole process."""
     from zros.signals import signal_received
 
     def close() -> None:
+        session = opened.pop()
         try:
             session.close()
         except Exception:  # noqa: BLE001 - the session may already be closing at exit
             pass
+        del session
     if not signal_received():
         close()
         return
-    closer = threading.Thread(target=close, name='zros-close', daemon=True)
+    closer = threading.Thread(target=close, name=_CLOSER_NAME)
     closer.start()
     closer.join(_SIGNAL_CLOSE_S)
 
@@ -283,7 +291,8 @@ def exit_process(code: int) -> None:
         context.shutdown()
     main = threading.main_thread()
     own = [t for t in threading.enumerate() if t is not main and not t.daemon and t.is_alive()
-           and not t.name.endswith('(pyo3-closure)')]   # Zenoh's callback threads, done once closed
+           and not t.name.endswith('(pyo3-closure)')    # Zenoh's callback threads, done once closed
+           and t.name != _CLOSER_NAME]                  # exiting ends the close (see _close_session)
     if own:
         sys.exit(code)
     atexit._run_exitfuncs()
