@@ -220,7 +220,9 @@ print('default wait:', navigator.waitUntilNav2Active(timeout=2.0), flush=True)
 assert navigator.waitUntilNav2Active(localizer='')
 goal = PoseStamped()
 goal.header.frame_id = 'map'
-goal.pose.position.x, goal.pose.position.y = -1.2, 1.3
+# Between four pillars, 0.6 m clear of each (a goal a few cm from a pillar is lethal as soon as
+# the scans mark the pillar a cell off, as Nav2's planner would also say).
+goal.pose.position.x, goal.pose.position.y = -0.55, 0.55
 goal.pose.orientation.w = 1.0
 print('plan poses:', len(navigator.getPath(start, goal, use_start=True).poses), flush=True)
 navigator.goToPose(goal)
@@ -245,7 +247,7 @@ def test_basic_navigator_mission_script(stack: Any, module_spawn: Any) -> None:
     assert 'Nav2 is ready for use!' in out
     assert 'feedback: True result: SUCCEEDED' in out and 'costmap: True' in out
     x, y = _truth_xy(stack)
-    assert math.hypot(x + 1.2, y - 1.3) < 0.35
+    assert math.hypot(x + 0.55, y - 0.55) < 0.35
 
 
 def test_navigation_from_text_example_node(stack: Any, module_spawn: Any, tmp_path: Any) -> None:
