@@ -93,6 +93,9 @@ class Harness:
         self.cmd_pub.publish(msg)
 
     def truth_at(self, stamp: float) -> tuple[float, float, float]:
+        # Under load this process hears the ground truth late: wait until it has reached `stamp`.
+        wait_until(lambda: self.truth and self.truth[-1][0] >= stamp, 10,
+                   message=f'ground truth at {stamp:.2f} s')
         with self.lock:
             times = np.array([t[0] for t in self.truth])
             return self.truth[int(np.argmin(np.abs(times - stamp)))][1:]
