@@ -156,8 +156,12 @@ def test_play_reproduces_order_and_timing(domain, spawn, tmp_path, zros_cli):
     played_gaps = [(b - a) / 1e6 for a, b in zip(received, received[1:])]
     span, expected_span = sum(played_gaps), sum(gaps)
     assert abs(span - expected_span) <= 0.1 * expected_span, (played_gaps, gaps)
-    for got, want in zip(played_gaps, gaps):
-        assert abs(got - want) <= max(0.1 * want, 8.0), (played_gaps, gaps)  # 8 ms: a loaded 2-core machine
+    # Each message arrives on schedule (the player keeps to the bag's clock, so a late one does
+    # not delay the rest) within 30 ms of jitter on a loaded 2-core machine, and typically within 5.
+    arrivals = [(r - received[0]) / 1e6 for r in received[1:]]
+    due = [sum(gaps[:i + 1]) for i in range(len(gaps))]
+    assert max(abs(a - d) for a, d in zip(arrivals, due)) <= 30.0, (played_gaps, gaps)
+    assert sorted(abs(got - want) for got, want in zip(played_gaps, gaps))[len(gaps) // 2] <= 5.0, (played_gaps, gaps)
     time.sleep(0.3)
     assert other.output().strip() == '', other.output()  # --topics left /other out
 
