@@ -397,11 +397,12 @@ def test_init_with_explicit_domain_and_ros_args(domain):
 @pytest.mark.parametrize('executable', ['talker', 'listener'])
 def test_signal_stops_a_spinning_node_cleanly(spawn, wait_for, signum, executable):
     child = spawn.node('demo_nodes', executable)
-    # wait until the node is up and spinning (it is in the graph)
+    # Wait until the node is spinning: its /chatter endpoint, made just before spin(), is in the
+    # graph (the node itself is there earlier, and a Ctrl-C while it is built exits with 130).
     from zros.cli.common import cli_context, graph_entities
     with cli_context() as ctx:
-        wait_for(lambda: any(e.node_fqn == f'/{executable}' for e in graph_entities(ctx)), timeout=10,
-                 message=lambda: f'/{executable} in the graph:\n{child.output()}')
+        wait_for(lambda: any(e.node_fqn == f'/{executable}' and e.name == '/chatter' for e in graph_entities(ctx)),
+                 timeout=10, message=lambda: f'/{executable}\'s /chatter in the graph:\n{child.output()}')
     child.signal(signum)
     start = time.monotonic()
     code = child.wait(5)
