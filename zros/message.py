@@ -36,7 +36,8 @@ from zros.errors import DecodeError, MessageTypeError
 from zros.idl import ActionSpec, Field, FieldType, MessageSpec, ServiceSpec
 
 __all__ = ['Message', 'make_message_class', 'make_service_class', 'make_action_class', 'type_hash',
-           'ARRAY_TYPECODES', 'NUMPY_DTYPES', 'serialize', 'serialize_parts', 'packed_array', 'deserialize']
+           'ARRAY_TYPECODES', 'NUMPY_DTYPES', 'serialize', 'serialize_parts', 'packed_array', 'deserialize',
+           'encoder', 'decoder']
 
 #: array.array typecode of each numeric primitive, as rclpy uses them (`char` is uint8 in ROS 2).
 ARRAY_TYPECODES: dict[str, str] = {
@@ -666,6 +667,38 @@ def _read_header(buffer: memoryview) -> tuple[Any, int]:
             if fed >= len(buffer):
                 raise DecodeError('the payload ends inside the msgpack header') from None
             step *= 4
+
+
+def encoder(cls: type) -> Callable[[Message], bytes]:
+    """`serialize` for one class, for a hot path (a publisher): a type without numeric arrays
+    and without lists or bounded sequences (whose contents can change in place, so they are
+    checked per message) is packed straight from its generated encoder."""
+    if cls._HAS_TAIL or cls._ENCODE_CHECKS:
+        return serialize
+    encode_header = cls._ENC
+
+    def encode(msg: Message) -> bytes:
+        try:
+            return _packer()(encode_header(msg, None))
+        except (TypeError, AttributeError, ValueError, OverflowError) as exc:
+            raise MessageTypeError(f'cannot encode {cls._TYPE}: {exc}') from None
+    return encode
+
+
+def decoder(cls: type) -> Callable[[bytes], Message]:
+    """`deserialize` for one class, for a hot path (a subscription): as strict, but a payload
+    that fails is decoded again by `deserialize`, which raises DecodeError with the reason; a
+    type without numeric arrays is msgpack's unpackb and its generated decoder, nothing more."""
+    if cls._HAS_TAIL:
+        return lambda data: deserialize(data, cls)
+    decode_header, unpackb = cls._DEC1, msgpack.unpackb
+
+    def decode(data: bytes) -> Message:
+        try:
+            return decode_header(unpackb(data, use_list=False, raw=False))
+        except Exception:  # noqa: BLE001 - not a valid message: deserialize says why
+            return deserialize(data, cls)
+    return decode
 
 
 def deserialize(data: bytes | memoryview, cls: type) -> Message:

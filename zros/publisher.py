@@ -5,7 +5,7 @@ from typing import TYPE_CHECKING, Any
 
 from zros.entity import NodeEntity
 from zros.graph import EntityKind
-from zros.message import serialize
+from zros.message import encoder
 from zros.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from zros.shm import SHM_THRESHOLD, payload as shm_payload
 from zros.wire import AttachmentWriter
@@ -43,16 +43,17 @@ class Publisher(NodeEntity):
         else:
             self._zenoh = session.declare_publisher(key, **options)
         self._put = self._zenoh.put
+        self._encode = encoder(msg_type)
         self._stamp = AttachmentWriter(msg_type).next
         super().__init__(node, EntityKind.PUBLISHER, topic, msg_type, qos)
 
     def publish(self, msg: Any) -> None:
         """Send `msg` (an instance of this publisher's type, or its already serialized bytes,
         as rclpy allows) to every matching subscription."""
-        if isinstance(msg, (bytes, bytearray)):
+        if type(msg) is self.msg_type:
+            payload = self._encode(msg)
+        elif isinstance(msg, (bytes, bytearray)):
             payload = bytes(msg)
-        elif type(msg) is self.msg_type:
-            payload = serialize(msg)
         else:
             raise TypeError(
                 f"publisher on '{self.topic_name}' expects {self.msg_type._TYPE}, "

@@ -25,9 +25,10 @@ from typing import TYPE_CHECKING, Any, Callable
 from zros.entity import QueuedEntity
 from zros.errors import DecodeError
 from zros.graph import EntityKind
-from zros.message import deserialize
+from zros.message import decoder
 from zros.qos import DurabilityPolicy, QoSProfile
-from zros.wire import foreign_protocol, max_message_size, mismatch_reason, read_header, type_tail
+from zros.wire import (GID_AT, MAGIC, SEQ_AT, SEQ_TIME, TYPE_AT, foreign_protocol, max_message_size,
+                       mismatch_reason, read_header, type_tail)
 
 if TYPE_CHECKING:
     from zros.node import Node
@@ -88,6 +89,7 @@ class Subscription(QueuedEntity):
         self._take_lock = threading.Lock()   # the executor's take vs. a push-out
         self._drops_noted = 0
         self._tail = type_tail(msg_type)
+        self._decode = decoder(msg_type)
         self._max_size = max_message_size()
         self._last_seq: dict[bytes, int] = {}
         self._complained: set[bytes] = set()
@@ -135,30 +137,17 @@ class Subscription(QueuedEntity):
     # Executor thread. spin_once takes one sample per call, as rclpy takes one message per
     # callback; spin() lets a subscription run up to `budget` waiting samples in one go.
     def _execute(self, budget: int = 1) -> Any:
-        queue = self._queue
+        queue, take_lock = self._queue, self._take_lock
         pending = None
         for _ in range(budget):
-            with self._take_lock:   # pushed-out samples are older than the one taken here
-                try:
-                    item = queue.popleft()
-                except IndexError:
+            with take_lock:   # pushed-out samples are older than the one taken here
+                if not queue:
                     break
+                item = queue.popleft()
                 notes = self._take_notes() if self._evicted else None
-            lost = self.lost
             if notes:
-                for attachment in notes:
-                    header = read_header(attachment.to_bytes()) if attachment is not None else None
-                    if header is not None:
-                        self._count_gap(header[0], header[1])
-            sample, received = (item.sample, item.received) if self._with_info else (item, 0)
-            attachment = sample.attachment
-            attachment = attachment.to_bytes() if attachment is not None else b''
-            header = read_header(attachment)
-            if header is not None:
-                self._count_gap(header[0], header[1])
-            if lost != self.lost and self._events is not None:
-                self._events.on_sample()  # report the gap now, not at the next arrival
-            pending = self._deliver(sample, attachment, header, received)
+                self._count_notes(notes)
+            pending = self._deliver(item)
             if pending is not None:
                 break   # an async callback's coroutine: the executor runs it as a task first
         self._rearm()
@@ -174,6 +163,15 @@ class Subscription(QueuedEntity):
         self._drops_noted = self.dropped
         return notes
 
+    def _count_notes(self, notes: deque) -> None:
+        lost = self.lost
+        for attachment in notes:
+            header = read_header(attachment.to_bytes()) if attachment is not None else None
+            if header is not None:
+                self._count_gap(header[0], header[1])
+        if lost != self.lost and self._events is not None:
+            self._events.on_sample()  # report the gap now, not at the next arrival
+
     def _count_gap(self, gid: bytes, seq: int) -> None:
         """`lost`: gaps in each writer's sequence numbers, over every sample that reached this
         subscription (delivered or pushed out), in arrival order."""
@@ -183,37 +181,72 @@ class Subscription(QueuedEntity):
                 self.lost += seq - last - 1
             self._last_seq[gid] = seq
 
-    def _deliver(self, sample: Any, attachment: bytes, header: tuple | None, received: int) -> Any:
-        self.received += 1
-        if header is not None:
-            gid, seq, source_ns, tail = header
-            if tail != self._tail:
-                self._reject(gid, mismatch_reason(tail, self.msg_type, 'a publisher'))
-                return
+    def _note_gap(self, gid: bytes, seq: int) -> None:
+        """`_count_gap` for the sample being delivered; a new loss is reported at once."""
+        lost = self.lost
+        self._count_gap(gid, seq)
+        if lost != self.lost and self._events is not None:
+            self._events.on_sample()
+
+    def _deliver(self, item: Any) -> Any:
+        """Check, decode and hand one sample to the callback. The common case (a zros writer of
+        this type) reads the attachment in place; anything else takes `_check_sender`."""
+        if self._with_info:
+            sample, received = item.sample, item.received
         else:
-            seq, source_ns, gid = 0, 0, b''
-            old = foreign_protocol(attachment)
-            if old is not None:
-                self._reject(gid, old)
-                return
+            sample, received = item, 0
+        self.received += 1
+        attachment = sample.attachment
+        attachment = attachment.to_bytes() if attachment is not None else b''
+        if attachment[TYPE_AT:] == self._tail and attachment[:GID_AT] == MAGIC:
+            gid = attachment[GID_AT:SEQ_AT]
+            seq, source_ns = SEQ_TIME.unpack_from(attachment, SEQ_AT)
+            last = self._last_seq.get(gid)
+            if last is None or seq == last + 1:
+                self._last_seq[gid] = seq
+            else:
+                self._note_gap(gid, seq)
+        else:
+            checked = self._check_sender(attachment)
+            if checked is None:
+                return None
+            gid, seq, source_ns = checked
         payload = sample.payload
         if len(payload) > self._max_size:  # refused before it is copied or decoded
             self._reject(gid, f'a message of {len(payload)} bytes is larger than the limit of '
                               f'{self._max_size} bytes (ZROS_MAX_MESSAGE_SIZE)')
-            return
+            return None
         if self.raw:
             msg = payload.to_bytes()
         else:
             try:
-                msg = deserialize(payload.to_bytes(), self.msg_type)
+                msg = self._decode(payload.to_bytes())
             except DecodeError as exc:
                 self._reject(gid, str(exc))
-                return
+                return None
         if self._with_info:
             return self.callback(msg, {'source_timestamp': source_ns, 'received_timestamp': received,
                                        'publication_sequence_number': seq,
                                        'reception_sequence_number': self.received})
         return self.callback(msg)
+
+    def _check_sender(self, attachment: bytes) -> tuple[bytes, int, int] | None:
+        """(gid, sequence, source time) of a sample that is not the common case: another type
+        (rejected), another protocol version (rejected), or no zros attachment (a plain Zenoh
+        client: decoded strictly as this type). None when it is rejected."""
+        header = read_header(attachment)
+        if header is not None:
+            gid, seq, source_ns, tail = header
+            self._note_gap(gid, seq)
+            if tail != self._tail:
+                self._reject(gid, mismatch_reason(tail, self.msg_type, 'a publisher'))
+                return None
+            return gid, seq, source_ns
+        old = foreign_protocol(attachment)
+        if old is not None:
+            self._reject(b'', old)
+            return None
+        return b'', 0, 0
 
     def _reject(self, gid: bytes, reason: str) -> None:
         """Count a refused sample; log the first one of each publisher (senders without a zros

@@ -20,17 +20,18 @@ import time
 
 from zros.errors import ZrosError
 
-__all__ = ['MAGIC', 'PROTOCOL_VERSION', 'TYPE_AT', 'AttachmentWriter', 'read_header',
+__all__ = ['MAGIC', 'PROTOCOL_VERSION', 'GID_AT', 'SEQ_AT', 'SEQ_TIME', 'TYPE_AT', 'AttachmentWriter', 'read_header',
            'type_tail', 'describe_type', 'mismatch_reason', 'foreign_protocol', 'max_message_size', 'max_request_size',
            'parse_size', 'DEFAULT_MAX_MESSAGE_SIZE', 'DEFAULT_MAX_REQUEST_SIZE']
 
 PROTOCOL_VERSION = 2
 MAGIC = b'Z2'
 _OLD_MAGIC = re.compile(rb'Z[0-9]')
-_GID_AT = len(MAGIC)
-_SEQ_AT = _GID_AT + 16
-_SEQ_TIME = struct.Struct('<Qq')
-TYPE_AT = _SEQ_AT + _SEQ_TIME.size
+#: Where the writer's gid, its sequence number and source time (SEQ_TIME) and the type start.
+GID_AT = len(MAGIC)
+SEQ_AT = GID_AT + 16
+SEQ_TIME = struct.Struct('<Qq')
+TYPE_AT = SEQ_AT + SEQ_TIME.size
 
 #: What a subscription or a client accepts per message unless ZROS_MAX_MESSAGE_SIZE says
 #: otherwise: room for 4K RGB images and large point clouds, not for a runaway sender.
@@ -63,10 +64,10 @@ class AttachmentWriter:
 def read_header(attachment: bytes) -> tuple[bytes, int, int, bytes] | None:
     """(gid, sequence, source time ns, type tail), or None when the sample did not come from a
     zros writer of this protocol version. A plain tuple: this runs once per received message."""
-    if attachment[:_GID_AT] != MAGIC or len(attachment) < TYPE_AT:
+    if attachment[:GID_AT] != MAGIC or len(attachment) < TYPE_AT:
         return None
-    seq, source_ns = _SEQ_TIME.unpack_from(attachment, _SEQ_AT)
-    return attachment[_GID_AT:_SEQ_AT], seq, source_ns, attachment[TYPE_AT:]
+    seq, source_ns = SEQ_TIME.unpack_from(attachment, SEQ_AT)
+    return attachment[GID_AT:SEQ_AT], seq, source_ns, attachment[TYPE_AT:]
 
 
 def describe_type(tail: bytes) -> tuple[str, str]:
@@ -88,7 +89,7 @@ def mismatch_reason(tail: bytes, iface_type: type, sender: str) -> str:
 def foreign_protocol(attachment: bytes) -> str | None:
     """A one-line reason when `attachment` is a zros attachment of another protocol version
     (its payload cannot be read by this one), else None."""
-    if len(attachment) >= TYPE_AT and attachment[:_GID_AT] != MAGIC and _OLD_MAGIC.fullmatch(attachment[:_GID_AT]):
+    if len(attachment) >= TYPE_AT and attachment[:GID_AT] != MAGIC and _OLD_MAGIC.fullmatch(attachment[:GID_AT]):
         version = attachment[1:2].decode()
         return (f'the sender speaks zros protocol v{version}, this node speaks v{PROTOCOL_VERSION} '
                 '(run the same zros version on both sides)')
