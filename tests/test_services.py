@@ -47,6 +47,25 @@ def test_sync_and_async_calls_to_a_server_process(context, server_process, add_t
     assert 'Incoming request' in server_process.wait_for_output('a: 40 b: 2')
 
 
+def test_call_async_reply_is_decoded_by_the_thread_that_reads_it(context, server_process, add_two_ints):
+    """Zenoh's thread only completes the future; the executor that runs the done callback
+    decodes the reply (and a reply is decoded once, however many threads read it)."""
+    node, client = _client(context, add_two_ints)
+    decoded_on = []
+    outcome = client._outcome
+    client._outcome = lambda *args: decoded_on.append(threading.current_thread()) or outcome(*args)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(node)
+    future = client.call_async(add_two_ints.Request(a=1, b=2))
+    sums = []
+    future.add_done_callback(lambda f: sums.append(f.result().sum))
+    assert future.wait(10.0), 'no reply'
+    assert decoded_on == []   # completed, not yet decoded
+    executor.spin_once(timeout_sec=5.0)
+    assert sums == [3] and future.result().sum == 3
+    assert decoded_on == [threading.current_thread()]
+
+
 def test_client_demo_prints_the_result(spawn, server_process):
     client = spawn.node('demo_nodes', 'add_two_ints_client', '3', '4')
     assert client.wait(timeout=15) == 0

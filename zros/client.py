@@ -1,8 +1,8 @@
 """Service clients: a request is one Zenoh get; its reply completes a Future.
 
 Replies complete the future on Zenoh's thread, so a blocking `call()` works even from inside
-a callback of a single-threaded executor (rclpy deadlocks there). Done-callbacks still run on
-the node's executor. A call fails with ServiceCallError when the server raises or refuses the
+a callback of a single-threaded executor (rclpy deadlocks there); the reply is decoded by the
+thread that reads the future, not by Zenoh's. Done-callbacks still run on the node's executor. A call fails with ServiceCallError when the server raises or refuses the
 request, when it disappears (Zenoh finalizes the query at once), or after `timeout_sec`.
 
 A server is ready when the graph lists it and Zenoh's routing knows its queryable: the
@@ -145,27 +145,19 @@ class Client(NodeEntity):
                                 f'answering (or none is running) after {waited:.2f} s')
 
     def call_async(self, request: Any, *, timeout_sec: float | None = None) -> Future:
-        """Send `request`; the Future gets the Response, or a ServiceCallError."""
+        """Send `request`; the Future gets the Response, or a ServiceCallError. The reply is
+        decoded where the future is read (`result()`, `exception()`, an `await`, a done
+        callback: on the executor), not on Zenoh's thread (see _ReplyFuture)."""
         import zenoh
-        future = Future(node=self._node)
-        started = time.monotonic()
-
-        def on_reply(reply: Any) -> None:
-            if not future.done():
-                outcome = self._outcome(reply, started)
-                if isinstance(outcome, Exception):
-                    future.set_exception(outcome)
-                else:
-                    future.set_result(outcome)
-
+        future = _ReplyFuture(self, time.monotonic())
         # Known before the query is sent: with no server, Zenoh may call on_done before _send returns.
         timeout = _NO_TIMEOUT if timeout_sec is None else max(0.001, timeout_sec)
 
         def on_done() -> None:
             if not future.done():
-                future.set_exception(self._no_answer(started, timeout))
+                future.set_exception(self._no_answer(future._started, timeout))
 
-        self._send(request, timeout_sec, zenoh.handlers.Callback(on_reply, on_done))
+        self._send(request, timeout_sec, zenoh.handlers.Callback(future._arrive, on_done))
         return future
 
     def call(self, request: Any, timeout_sec: float | None = None) -> Any:
@@ -200,6 +192,48 @@ class Client(NodeEntity):
             except Exception:  # noqa: BLE001 - the session may be closing already
                 pass
         self._route_handles = ()
+
+
+class _ReplyFuture(Future):
+    """The future of a `call_async`. Zenoh's thread only stores the reply and completes the
+    future, so waiters wake as before (a thread blocked on it, `spin_until_future_complete`)
+    and a callback that waits for it without spinning still sees it complete; the reply is
+    decoded once, by the first thread that reads the outcome."""
+
+    def __init__(self, client: Client, started: float) -> None:
+        super().__init__(node=client._node)
+        self._client = client
+        self._started = started
+        self._reply: Any = None
+        self._decode_lock = threading.Lock()
+
+    def _arrive(self, reply: Any) -> None:  # Zenoh thread: no decoding here
+        if self.done():
+            return
+        self._reply = reply
+        self.set_result(None)
+
+    def _decode(self) -> None:
+        with self._decode_lock:
+            reply = self._reply
+            if reply is None:
+                return  # decoded by another thread meanwhile
+            outcome = self._client._outcome(reply, self._started)
+            if isinstance(outcome, Exception):
+                self._exception = outcome
+            else:
+                self._result = outcome
+            self._reply = None   # last: a reader that saw it pending waits for the lock
+
+    def result(self) -> Any:
+        if self._reply is not None:
+            self._decode()
+        return super().result()
+
+    def exception(self) -> BaseException | None:
+        if self._reply is not None:
+            self._decode()
+        return super().exception()
 
 
 class ServiceCallTimeout(ServiceCallError, TimeoutError):
