@@ -210,9 +210,9 @@ class Executor:
         try:
             pending = item._execute(batch) if batch > 1 and type(item) is Subscription else item._execute()
         finally:
-            if group is not None and not inspect.iscoroutine(pending):
+            if group is not None and (pending is None or not inspect.iscoroutine(pending)):
                 self._leave_group(group, item)
-        if inspect.iscoroutine(pending):
+        if pending is not None and inspect.iscoroutine(pending):
             Task(pending, executor=self, node=getattr(item, '_node', None), callback_group=group)()
 
     def _park(self, group: Any, item: Any) -> None:
@@ -229,6 +229,8 @@ class Executor:
             self.wake()   # a timer of this group may be due by now
 
     def _release_backlog(self, group: Any) -> None:
+        if not self._backlog:
+            return   # (a callback parked meanwhile sees its group free and releases itself)
         with self._backlog_lock:
             parked = self._backlog.pop(id(group), ())
         for item in parked:
