@@ -19,12 +19,11 @@ from typing import Any, Callable
 import numpy as np
 
 import zros
-from zros.exceptions import ROSInterruptException
 from zros.lifecycle import LifecycleNode
 from zros.navigation.controller import angle_diff
 from zros.navigation.costmap import INSCRIBED_INFLATED_OBSTACLE, NO_INFORMATION
 from zros.navigation.node_support import Nav2Params, duration_msg, lookup_pose, spin_nodes
-from zros.navigation.servers import GoalSlot, gated_action_server
+from zros.navigation.servers import GoalRunner, gated_action_server
 from zros.tf2_ros import Buffer, TransformListener
 
 from interfaces.geometry_msgs.msg import Twist
@@ -50,7 +49,7 @@ class BehaviorServer(LifecycleNode):
         prm.report_unused()
         self._costmap: Any = None
         self._costmap_lock = threading.Lock()
-        self.slot = GoalSlot()
+        self.goals = GoalRunner(self, stop=self._stop)
         self.cmd_pub = self.create_lifecycle_publisher(Twist, 'cmd_vel', 1)
         from zros.qos import DurabilityPolicy, QoSProfile
         self.create_subscription(Costmap, topic, self._on_costmap,
@@ -84,51 +83,30 @@ class BehaviorServer(LifecycleNode):
               error_base: int) -> Any:
         """Run `cycle(elapsed)` each period until it returns None (done); it returns (v, w) to
         command, and raises _Abort to fail."""
-        self.slot.take(handle)
+        self.goals.slot.take(handle)
         start = self.get_clock().now()
         limit = allowance.sec + allowance.nanosec / 1e9 if allowance is not None else math.inf
-        rate = self.create_rate(self.frequency)
-        try:
-            while True:
-                elapsed = (self.get_clock().now() - start).nanoseconds / 1e9
-                result.total_elapsed_time = duration_msg(elapsed)
-                if not self.slot.is_current(handle):
-                    handle.abort()
-                    return result
-                if handle.is_cancel_requested:
-                    self._stop()
-                    handle.canceled()
-                    return result
-                if limit > 0 and elapsed > limit:
-                    return self._fail(handle, result, error_base + 1, 'Exceeded time allowance before reaching the goal')
-                try:
-                    cmd = cycle(elapsed)
-                except _Abort as exc:
-                    return self._fail(handle, result, error_base + exc.offset, str(exc))
-                except Exception as exc:  # noqa: BLE001 - tf2's exceptions
-                    return self._fail(handle, result, error_base + 2, f'Could not get the robot pose: {exc}')
-                if cmd is None:
-                    self._stop()
-                    handle.succeed()
-                    return result
-                twist = Twist()
-                twist.linear.x, twist.angular.z = cmd
-                self.cmd_pub.publish(twist)
-                rate.sleep()
-        except ROSInterruptException:
-            handle.abort()
-            return result
-        finally:
-            rate.destroy()
-            self.slot.release(handle)
 
-    def _fail(self, handle: Any, result: Any, code: int, message: str) -> Any:
-        self._stop()
-        self.get_logger().warn(f'{message} (error code {code})')
-        if hasattr(result, 'error_code'):
-            result.error_code, result.error_msg = code, message
-        handle.abort()
-        return result
+        def step() -> Any:
+            elapsed = (self.get_clock().now() - start).nanoseconds / 1e9
+            result.total_elapsed_time = duration_msg(elapsed)
+            if limit > 0 and elapsed > limit:
+                return self.goals.fail(handle, result, error_base + 1, 'Exceeded time allowance before reaching the goal')
+            try:
+                cmd = cycle(elapsed)
+            except _Abort as exc:
+                return self.goals.fail(handle, result, error_base + exc.offset, str(exc))
+            except Exception as exc:  # noqa: BLE001 - tf2's exceptions
+                return self.goals.fail(handle, result, error_base + 2, f'Could not get the robot pose: {exc}')
+            if cmd is None:
+                self._stop()
+                handle.succeed()
+                return result
+            twist = Twist()
+            twist.linear.x, twist.angular.z = cmd
+            self.cmd_pub.publish(twist)
+            return None
+        return self.goals.loop(handle, result, self.frequency, step)
 
     def _stop(self) -> None:
         if self.current_state.label == 'active':
@@ -163,7 +141,7 @@ class BehaviorServer(LifecycleNode):
         if distance <= 0 or speed == 0:
             result = action.Result()
             base = 710 if backwards else 720
-            return self._fail(handle, result, base + (3 if backwards else 4), 'DriveOnHeading/BackUp: invalid distance or speed')
+            return self.goals.fail(handle, result, base + (3 if backwards else 4), 'DriveOnHeading/BackUp: invalid distance or speed')
         sign = -1.0 if backwards else math.copysign(1.0, goal.speed)
         state = {'start': None}
         feedback = action.Feedback()

@@ -23,13 +23,12 @@ from typing import Any
 import numpy as np
 
 import zros
-from zros.exceptions import ROSInterruptException
 from zros.lifecycle import LifecycleNode, State, TransitionCallbackReturn
 from zros.navigation.controller import (FollowError, GoalChecker, PathFollower, ProgressChecker, RegulatedPurePursuit,
                                         RPPParams)
 from zros.navigation.costmap_ros import CostmapNode
 from zros.navigation.node_support import Nav2Params, lookup_pose, path_points, spin_nodes
-from zros.navigation.servers import GoalSlot, gated_action_server
+from zros.navigation.servers import GoalRunner, gated_action_server
 from zros.tf2_ros import Buffer, TransformListener
 
 from interfaces.geometry_msgs.msg import Twist
@@ -81,7 +80,7 @@ class ControllerServer(LifecycleNode):
                                                           control_period=1.0 / self.frequency),
                                      self.goal_checker, self.progress)
         self.speed = 0.0
-        self.slot = GoalSlot()
+        self.goals = GoalRunner(self, stop=self._stop)
         self.cmd_pub = self.create_lifecycle_publisher(Twist, 'cmd_vel', 1)
         self.create_subscription(Odometry, odom_topic, self._on_odom, 10)
         gated_action_server(self, FollowPath, 'follow_path', self._follow)
@@ -101,68 +100,45 @@ class ControllerServer(LifecycleNode):
     def _follow(self, handle: Any) -> Any:
         goal = handle.request
         result = FollowPath.Result()
-        previous = self.slot.take(handle)
+        previous = self.goals.slot.take(handle)
         if goal.controller_id and goal.controller_id not in self.controller_ids:
-            return self._fail(handle, result, 101, f'FollowPath called with controller name {goal.controller_id}, '
+            return self.goals.fail(handle, result, 101, f'FollowPath called with controller name {goal.controller_id}, '
                                                    'which does not exist')
         if not goal.path.poses:
-            return self._fail(handle, result, 103, 'Path is empty.')
+            return self.goals.fail(handle, result, 103, 'Path is empty.')
         path, goal_yaw = path_points(goal.path)
         path_frame = goal.path.header.frame_id or 'map'
         same_goal = (previous is not None and self.follower.path.size
                      and np.hypot(*(self.follower.path[-1] - path[-1])) < _SAME_GOAL_M)
         self.follower.set_path(path, goal_yaw, keep_progress=bool(same_goal))
-        rate = self.create_rate(self.frequency)
         feedback = FollowPath.Feedback()
-        try:
-            while True:
-                if not self.slot.is_current(handle):
-                    handle.abort()
-                    result.error_msg = 'preempted by a new path'
-                    return result
-                if handle.is_cancel_requested:
-                    self._stop()
-                    handle.canceled()
-                    return result
-                if self.current_state.label != 'active':
-                    return self._fail(handle, result, 100, 'controller_server is not active')
-                try:
-                    pose = lookup_pose(self.tf_buffer, path_frame, self.robot_base_frame)
-                    local = lookup_pose(self.tf_buffer, self.costmap.global_frame, self.robot_base_frame)
-                except Exception as exc:  # noqa: BLE001 - tf2's exceptions
-                    return self._fail(handle, result, _TF_ERROR, f'Unable to transform robot pose into {path_frame}: {exc}')
-                now = self.get_clock().now().nanoseconds / 1e9
-                try:
-                    cmd = self.follower.step(pose, self.speed, now, _cost_in(self.costmap, pose, local))
-                except FollowError as exc:
-                    self._stop()
-                    return self._fail(handle, result, exc.code, str(exc))
-                if cmd is None:
-                    self._stop()
-                    self.get_logger().info('Reached the goal!')
-                    handle.succeed()
-                    return result
-                twist = Twist()
-                twist.linear.x, twist.angular.z = float(cmd[0]), float(cmd[1])
-                self.cmd_pub.publish(twist)
-                feedback.speed = float(self.speed)
-                feedback.distance_to_goal = float(self.follower.remaining_distance(pose[0], pose[1]))
-                handle.publish_feedback(feedback)
-                rate.sleep()
-        except ROSInterruptException:
-            handle.abort()
-            return result
-        finally:
-            rate.destroy()
-            self.slot.release(handle)
 
-    def _fail(self, handle: Any, result: Any, code: int, message: str) -> Any:
-        self.get_logger().warn(f'{message} (error code {code})')
-        result.error_code, result.error_msg = code, message
-        if self.slot.is_current(handle):
-            self._stop()
-        handle.abort()
-        return result
+        def step() -> Any:
+            if self.current_state.label != 'active':
+                return self.goals.fail(handle, result, 100, 'controller_server is not active')
+            try:
+                pose = lookup_pose(self.tf_buffer, path_frame, self.robot_base_frame)
+                local = lookup_pose(self.tf_buffer, self.costmap.global_frame, self.robot_base_frame)
+            except Exception as exc:  # noqa: BLE001 - tf2's exceptions
+                return self.goals.fail(handle, result, _TF_ERROR, f'Unable to transform robot pose into {path_frame}: {exc}')
+            now = self.get_clock().now().nanoseconds / 1e9
+            try:
+                cmd = self.follower.step(pose, self.speed, now, _cost_in(self.costmap, pose, local))
+            except FollowError as exc:
+                return self.goals.fail(handle, result, exc.code, str(exc))
+            if cmd is None:
+                self._stop()
+                self.get_logger().info('Reached the goal!')
+                handle.succeed()
+                return result
+            twist = Twist()
+            twist.linear.x, twist.angular.z = float(cmd[0]), float(cmd[1])
+            self.cmd_pub.publish(twist)
+            feedback.speed = float(self.speed)
+            feedback.distance_to_goal = float(self.follower.remaining_distance(pose[0], pose[1]))
+            handle.publish_feedback(feedback)
+            return None
+        return self.goals.loop(handle, result, self.frequency, step)
 
 
 def _cost_in(costmap: CostmapNode, pose: tuple, local: tuple) -> Any:

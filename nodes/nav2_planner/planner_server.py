@@ -23,7 +23,7 @@ from zros.lifecycle import LifecycleNode, State, TransitionCallbackReturn
 from zros.navigation.costmap_ros import CostmapNode
 from zros.navigation.node_support import Nav2Params, duration_msg, path_msg, spin_nodes, yaw_of
 from zros.navigation.planner import UNKNOWN, GridPlanner, PlanningError, path_yaws
-from zros.navigation.servers import gated_action_server
+from zros.navigation.servers import GoalRunner, gated_action_server
 from zros.tf2_ros import Buffer, TransformListener
 from zros.time import Time
 
@@ -54,6 +54,7 @@ class PlannerServer(LifecycleNode):
                                    on_update=self._costmap_updated)
         self.planner = GridPlanner(self.costmap.costmap, tolerance=self.tolerance, allow_unknown=self.allow_unknown)
         self.plan_pub = self.create_lifecycle_publisher(Path, 'plan', 1)
+        self.goals = GoalRunner(self)
         gated_action_server(self, ComputePathToPose, 'compute_path_to_pose', self._to_pose)
         gated_action_server(self, ComputePathThroughPoses, 'compute_path_through_poses', self._through_poses)
 
@@ -84,12 +85,12 @@ class PlannerServer(LifecycleNode):
     def _serve(self, handle: Any, result: Any, start: Any, goals: list, planner_id: str, code_offset: int = 0) -> Any:
         started = time.monotonic()
         if planner_id and planner_id not in self.plugin_ids:
-            return self._fail(handle, result, 201 + code_offset, f'planner id {planner_id} is invalid')
+            return self.goals.fail(handle, result, 201 + code_offset, f'planner id {planner_id} is invalid')
         deadline = time.monotonic() + _MAP_WAIT_S
         while not self.costmap.ready and time.monotonic() < deadline:
             time.sleep(0.05)
         if not self.costmap.ready:
-            return self._fail(handle, result, UNKNOWN + code_offset,
+            return self.goals.fail(handle, result, UNKNOWN + code_offset,
                               'The global costmap has no map yet (nothing received on /map)')
         frame = self.costmap.global_frame
         try:
@@ -99,7 +100,7 @@ class PlannerServer(LifecycleNode):
                 sx, sy, _ = self._in_frame(start, frame)
             targets = [self._in_frame(g, frame) for g in goals]
         except Exception as exc:  # noqa: BLE001 - tf2's exceptions
-            return self._fail(handle, result, _TF_ERROR + code_offset, f'Could not transform the poses into {frame}: {exc}')
+            return self.goals.fail(handle, result, _TF_ERROR + code_offset, f'Could not transform the poses into {frame}: {exc}')
         pieces = []
         try:
             with self.costmap.lock:
@@ -108,7 +109,7 @@ class PlannerServer(LifecycleNode):
                     pieces.append(piece if not pieces else piece[1:])
                     sx, sy = piece[-1]
         except PlanningError as exc:
-            return self._fail(handle, result, exc.code + code_offset, str(exc))
+            return self.goals.fail(handle, result, exc.code + code_offset, str(exc))
         points = np.concatenate(pieces)
         stamp = self.get_clock().now().to_msg()
         result.path = path_msg(points, path_yaws(points, targets[-1][2]), frame, stamp)
@@ -131,12 +132,6 @@ class PlannerServer(LifecycleNode):
         tyaw = yaw_of(t.rotation)
         c, s = np.cos(tyaw), np.sin(tyaw)
         return (t.translation.x + c * x - s * y, t.translation.y + s * x + c * y, tyaw + yaw)
-
-    def _fail(self, handle: Any, result: Any, code: int, message: str) -> Any:
-        self.get_logger().warn(f'{message} (error code {code})')
-        result.error_code, result.error_msg = code, message
-        handle.abort()
-        return result
 
 
 def main(args: list[str] | None = None) -> int:

@@ -15,10 +15,9 @@ from typing import Any
 
 import zros
 from zros.action import ActionClient
-from zros.exceptions import ROSInterruptException
 from zros.lifecycle import LifecycleNode
 from zros.navigation.node_support import Nav2Params, spin_nodes
-from zros.navigation.servers import GoalCall, GoalSlot, gated_action_server
+from zros.navigation.servers import GoalCall, GoalRunner, gated_action_server
 
 from interfaces.action_msgs.msg import GoalStatus
 from interfaces.nav2_msgs.action import FollowWaypoints, NavigateToPose
@@ -37,7 +36,7 @@ class WaypointFollower(LifecycleNode):
         self.pause_s = prm.get(f'{plugin}.waypoint_pause_duration', 0) / 1000.0
         self.pause_enabled = prm.get(f'{plugin}.enabled', True)
         prm.report_unused()
-        self.slot = GoalSlot()
+        self.goals = GoalRunner(self)
         self.nav_client = ActionClient(self, NavigateToPose, 'navigate_to_pose')
         gated_action_server(self, FollowWaypoints, 'follow_waypoints', self._follow)
 
@@ -45,51 +44,48 @@ class WaypointFollower(LifecycleNode):
         poses = list(handle.request.poses)
         result = FollowWaypoints.Result()
         feedback = FollowWaypoints.Feedback()
-        missed: list[int] = []
-        self.slot.take(handle)
+        self.goals.slot.take(handle)
         self.get_logger().info(f'Received follow waypoint request with {len(poses)} waypoints.')
-        rate = self.create_rate(self.loop_rate)
-        try:
-            for index, pose in enumerate(poses):
-                feedback.current_waypoint = index
-                handle.publish_feedback(feedback)
-                call = GoalCall(self.nav_client, NavigateToPose.Goal(pose=pose))
-                while not call.poll():
-                    if not self.slot.is_current(handle) or handle.is_cancel_requested:
-                        call.cancel()
-                        result.missed_waypoints = missed
-                        if handle.is_cancel_requested:
-                            handle.canceled()
-                        else:
-                            handle.abort()
-                        return result
-                    rate.sleep()
-                if call.status != GoalStatus.STATUS_SUCCEEDED:
-                    self.get_logger().warn(f'Failed to process waypoint {index} in waypoint list and '
-                                           f'stop on failure is {"enabled" if self.stop_on_failure else "disabled"}.')
-                    missed.append(index)
-                    if self.stop_on_failure:
-                        result.missed_waypoints = missed
-                        result.error_code = _TASK_EXECUTOR_FAILED
-                        result.error_msg = f'waypoint {index} failed: {getattr(call.result, "error_msg", "")}'
-                        handle.abort()
-                        return result
-                    continue
-                self.get_logger().info(f'Succeeded processing waypoint {index}, processing waypoint task execution')
-                if self.pause_enabled and self.pause_s > 0:
-                    end = self.get_clock().now().nanoseconds + int(self.pause_s * 1e9)
-                    while self.get_clock().now().nanoseconds < end:
-                        rate.sleep()
-        except ROSInterruptException:
-            handle.abort()
-            return result
-        finally:
-            rate.destroy()
-            self.slot.release(handle)
-        result.missed_waypoints = missed
-        self.get_logger().info(f'Completed all {len(poses)} waypoints requested.')
-        handle.succeed()
-        return result
+        # One waypoint at a time: drive to it (`call`), then pause there until `resume_ns`.
+        state: dict[str, Any] = {'index': -1, 'call': None, 'resume_ns': 0}
+
+        def next_waypoint() -> Any:
+            state['index'] += 1
+            if state['index'] == len(poses):
+                self.get_logger().info(f'Completed all {len(poses)} waypoints requested.')
+                handle.succeed()
+                return result
+            feedback.current_waypoint = state['index']
+            handle.publish_feedback(feedback)
+            state['call'] = GoalCall(self.nav_client, NavigateToPose.Goal(pose=poses[state['index']]))
+            return None
+
+        def step() -> Any:
+            call, index = state['call'], state['index']
+            if call is None:
+                if self.get_clock().now().nanoseconds < state['resume_ns']:
+                    return None
+                return next_waypoint()
+            if not call.poll():
+                return None
+            state['call'] = None
+            if call.status != GoalStatus.STATUS_SUCCEEDED:
+                self.get_logger().warn(f'Failed to process waypoint {index} in waypoint list and '
+                                       f'stop on failure is {"enabled" if self.stop_on_failure else "disabled"}.')
+                result.missed_waypoints.append(index)
+                if self.stop_on_failure:
+                    return self.goals.fail(handle, result, _TASK_EXECUTOR_FAILED,
+                                           f'waypoint {index} failed: {getattr(call.result, "error_msg", "")}')
+                return next_waypoint()
+            self.get_logger().info(f'Succeeded processing waypoint {index}, processing waypoint task execution')
+            if self.pause_enabled and self.pause_s > 0:
+                state['resume_ns'] = self.get_clock().now().nanoseconds + int(self.pause_s * 1e9)
+            return None
+
+        def cancel_navigation() -> None:
+            if state['call'] is not None:
+                state['call'].cancel()
+        return self.goals.loop(handle, result, self.loop_rate, step, on_interrupt=cancel_navigation)
 
 
 def main(args: list[str] | None = None) -> int:

@@ -1,19 +1,23 @@
 """What every navigation server node shares: lifecycle gating of goals, one goal at a time with
-preemption, and a non-blocking action call for servers that drive other servers.
+preemption, failing a goal with Nav2's error code, the goal loop, and a non-blocking action
+call for servers that drive other servers.
 
 Nav2's servers (nav2_util::SimpleActionServer) run one goal at a time; a new goal preempts the
 running one, which ends ABORTED. Here each goal's execute callback runs its own loop on the
-multi-threaded executor; `GoalSlot` tells a loop when a newer goal has taken over.
+multi-threaded executor; `GoalSlot` tells a loop when a newer goal has taken over, and
+`GoalRunner` is the loop every server runs (preemption, cancel, shutdown, failure).
 """
 from __future__ import annotations
 
 import threading
 from typing import Any, Callable
 
+from zros.exceptions import ROSInterruptException
+
 from zros.action import ActionServer, CancelResponse, GoalResponse
 from zros.callback_groups import ReentrantCallbackGroup
 
-__all__ = ['GoalSlot', 'gated_action_server', 'GoalCall']
+__all__ = ['GoalSlot', 'GoalRunner', 'gated_action_server', 'GoalCall']
 
 
 class GoalSlot:
@@ -42,6 +46,65 @@ class GoalSlot:
     def current(self) -> Any:
         with self._lock:
             return self._current
+
+
+class GoalRunner:
+    """A server's goals: its `slot`, failing a goal, and the loop a goal runs.
+
+    `stop` (e.g. publish a zero Twist) runs when the current goal is canceled or fails; a goal
+    that was preempted leaves the robot to the goal that replaced it.
+    """
+
+    def __init__(self, node: Any, stop: Callable[[], None] | None = None) -> None:
+        self.node = node
+        self.slot = GoalSlot()
+        self._stop = stop
+
+    def stop_if_current(self, handle: Any) -> None:
+        if self._stop is not None and (self.slot.current is None or self.slot.is_current(handle)):
+            self._stop()
+
+    def fail(self, handle: Any, result: Any, code: int, message: str) -> Any:
+        """Abort the goal with Nav2's error code and message (when its result has them), logged."""
+        self.node.get_logger().warn(f'{message} (error code {code})')
+        if hasattr(result, 'error_code'):
+            result.error_code, result.error_msg = code, message
+        self.stop_if_current(handle)
+        handle.abort()
+        return result
+
+    def loop(self, handle: Any, result: Any, frequency: float, step: Callable[[], Any],
+             on_interrupt: Callable[[], None] | None = None) -> Any:
+        """Call `step()` at `frequency` until it returns the goal's result (it has ended the goal);
+        a newer goal aborts this one, a cancel request stops the robot and cancels it, shutdown
+        aborts it (`on_interrupt` runs first in those cases: cancel what the goal started).
+        The slot is released however the loop ends."""
+        rate = self.node.create_rate(frequency)
+        try:
+            while True:
+                preempted = not self.slot.is_current(handle)
+                if preempted or handle.is_cancel_requested:
+                    if on_interrupt is not None:
+                        on_interrupt()
+                if preempted:
+                    if hasattr(result, 'error_msg'):
+                        result.error_msg = 'preempted by a new goal'
+                    handle.abort()
+                    return result
+                if handle.is_cancel_requested:
+                    self.stop_if_current(handle)
+                    handle.canceled()
+                    return result
+                done = step()
+                if done is not None:
+                    return done
+                rate.sleep()
+        except ROSInterruptException:
+            handle.abort()
+            return result
+        finally:
+            rate.destroy()
+            self.slot.release(handle)
 
 
 def gated_action_server(node: Any, action_type: type, name: str, execute: Callable[[Any], Any]) -> ActionServer:
