@@ -16,9 +16,10 @@ SimpleSmoother for the smoothing weights.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
-from scipy.sparse import coo_matrix
+from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from zros.navigation.costmap import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION, LayeredCostmap
@@ -40,8 +41,23 @@ COST_FACTOR = 0.8
 _UNKNOWN_COST = 253.0
 _INSCRIBED_COST = 5000.0    # escape-only: far dearer than any detour through free space
 
-# (d_row, d_col, length [cells]) of the edges each cell owns; the other four are their reverses.
-_EDGES = ((0, 1, 1.0), (1, 0, 1.0), (1, 1, np.sqrt(2.0)), (1, -1, np.sqrt(2.0)))
+# (d_row, d_col) of a cell's eight neighbours.
+_NEIGHBOURS = ((0, 1), (1, 0), (0, -1), (-1, 0), (1, 1), (1, -1), (-1, 1), (-1, -1))
+
+
+@lru_cache(maxsize=4)
+def _grid_edges(rows: int, cols: int) -> tuple[np.ndarray, np.ndarray]:
+    """The 8-connected grid's edges in CSR order: (rows*cols, 8) neighbour indices (a cell's own
+    index where the neighbour is off the grid) and (8,) lengths [cells]. Built once per map size,
+    so that a costmap update only recomputes the weights."""
+    r, c = np.divmod(np.arange(rows * cols), cols)
+    neighbours = np.empty((rows * cols, 8), np.int32)
+    for k, (dr, dc) in enumerate(_NEIGHBOURS):
+        nr, nc = r + dr, c + dc
+        inside = (nr >= 0) & (nr < rows) & (nc >= 0) & (nc < cols)
+        neighbours[:, k] = np.where(inside, nr * cols + nc, r * cols + c)
+    lengths = np.hypot(*np.array(_NEIGHBOURS, np.float64).T)
+    return neighbours, lengths
 
 
 class PlanningError(Exception):
@@ -78,22 +94,13 @@ class GridPlanner:
         cell[costs == INSCRIBED_INFLATED_OBSTACLE] = _INSCRIBED_COST
         cell[costs == LETHAL_OBSTACLE] = np.inf
         cell[costs == NO_INFORMATION] = _UNKNOWN_COST if self.allow_unknown else np.inf
-        rows, cols = costs.shape
-        index = np.arange(rows * cols).reshape(rows, cols)
-        src, dst, weight = [], [], []
-        for dr, dc, length in _EDGES:
-            r0, r1 = max(0, -dr), rows - max(0, dr)
-            c0, c1 = max(0, -dc), cols - max(0, dc)
-            a = index[r0:r1, c0:c1]
-            b = index[r0 + dr:r1 + dr, c0 + dc:c1 + dc]
-            w = length * 0.5 * (cell[r0:r1, c0:c1] + cell[r0 + dr:r1 + dr, c0 + dc:c1 + dc])
-            ok = np.isfinite(w)
-            src.append(a[ok])
-            dst.append(b[ok])
-            weight.append(w[ok])
-        src, dst, weight = np.concatenate(src), np.concatenate(dst), np.concatenate(weight)
-        matrix = coo_matrix((np.concatenate([weight, weight]), (np.concatenate([src, dst]), np.concatenate([dst, src]))),
-                            shape=(rows * cols, rows * cols)).tocsr()
+        neighbours, lengths = _grid_edges(*costs.shape)
+        flat = cell.ravel()
+        # An edge costs its length times the mean of its two cells; an edge into or out of a wall
+        # (or off the grid: a self-loop there) is infinite, which Dijkstra never takes.
+        weight = lengths * 0.5 * (flat[:, None] + flat[neighbours])
+        n = flat.size
+        matrix = csr_matrix((weight.ravel(), neighbours.ravel(), np.arange(0, 8 * n + 1, 8)), shape=(n, n))
         return _Graph(matrix, cell)
 
     def plan(self, start: tuple[float, float], goal: tuple[float, float]) -> np.ndarray:
