@@ -133,6 +133,17 @@ def test_checkers_and_collision_ahead():
     assert err.value.code == NO_VALID_CONTROL
 
 
+def test_once_at_the_goal_position_only_the_heading_is_turned_to():
+    """Localisation noise that puts the robot just outside xy_goal_tolerance again must not turn
+    it back towards the goal point (it would swing between the two headings for seconds)."""
+    follower = PathFollower(RegulatedPurePursuit(RPPParams()), GoalChecker(), ProgressChecker())
+    follower.set_path(np.array([[0.0, 0.0], [0.5, 0.0], [1.0, 0.0]]), math.pi / 2)
+    assert follower.step((0.76, 0.0, 0.0), 0.0, 0.0)[0] == 0.0          # within 0.25 m: turning
+    v, w = follower.step((0.74, 0.0, 0.0), 0.0, 0.1)                     # 0.26 m out, goal point ahead
+    assert v == 0.0 and w > 0.0                                          # still turning to +90 deg
+    assert follower.step((0.74, 0.0, math.pi / 2), 0.0, 0.2) is None
+
+
 def test_plan_and_follow_in_the_simulator_without_collisions():
     from zros.sim import Simulation, parse_world, rasterize
     world = parse_world("""

@@ -223,6 +223,11 @@ class GoalChecker:
     def reset(self) -> None:
         self._xy_reached = False
 
+    @property
+    def xy_reached(self) -> bool:
+        """The position counts as reached for good (stateful) and only the heading is left."""
+        return self._xy_reached
+
     def is_goal_reached(self, pose: tuple[float, float, float], goal: tuple[float, float, float]) -> bool:
         if not self._xy_reached:
             if math.hypot(pose[0] - goal[0], pose[1] - goal[1]) > self.xy_goal_tolerance:
@@ -294,8 +299,12 @@ class PathFollower:
         along = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(rest, axis=0), axis=1))])
         window = rest[along <= self.prune_distance + 1e-9]
         self._closest += int(np.argmin(np.hypot(window[:, 0] - x, window[:, 1] - y)))
+        # Once the stateful checker has the position, only the heading is left: rotate to it even
+        # if localisation noise puts the robot a hair outside the tolerance again (else it turns
+        # back towards the goal point, then to the heading, and so on).
+        tolerance = math.inf if self.goal_checker.xy_reached else self.goal_checker.xy_goal_tolerance
         try:
             return self.controller.compute(pose, speed, self.path[self._closest:], self.goal[2],
-                                           xy_goal_tolerance=self.goal_checker.xy_goal_tolerance, cost_at=cost_at)
+                                           xy_goal_tolerance=tolerance, cost_at=cost_at)
         except CollisionAhead as exc:
             raise FollowError(NO_VALID_CONTROL, str(exc)) from None
