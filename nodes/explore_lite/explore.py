@@ -13,6 +13,11 @@ seconds, is blacklisted. With no frontier left it says "All frontiers traversed/
 stopping." and, with `return_to_init`, drives back to where it started. `explore/resume`
 (std_msgs/Bool) stops and resumes; `explore/frontiers` (MarkerArray, namespace "frontiers")
 shows the frontiers when `visualize`. Parameters are explore_lite's.
+
+Started beside a SLAM node with the robot standing still, the map may show walls but no free
+space yet (zros's SLAM calls a cell free only once more than one keyframe saw through it). Then it turns the robot in place once, with the behavior server's `spin`, so that
+SLAM sees the room from several headings, and explores from there (explore_lite would say
+"All frontiers traversed" and stop).
 """
 from __future__ import annotations
 
@@ -32,7 +37,7 @@ from zros.tf2_ros import Buffer, TransformListener
 
 from interfaces.action_msgs.msg import GoalStatus
 from interfaces.map_msgs.msg import OccupancyGridUpdate
-from interfaces.nav2_msgs.action import NavigateToPose
+from interfaces.nav2_msgs.action import NavigateToPose, Spin
 from interfaces.nav_msgs.msg import OccupancyGrid
 from interfaces.std_msgs.msg import Bool
 from interfaces.visualization_msgs.msg import Marker, MarkerArray
@@ -69,6 +74,8 @@ class Explore(Node):
         self.done = False
         self.initial_pose: tuple[float, float, float] | None = None
         self.nav_client = ActionClient(self, NavigateToPose, 'navigate_to_pose')
+        self.spin_client = ActionClient(self, Spin, 'spin')
+        self.look_around: Any = None          # the spin's result future, once sent
         latched = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
         self.create_subscription(OccupancyGrid, costmap_topic, self._on_map, latched)
         self.create_subscription(OccupancyGridUpdate, updates_topic, self._on_update, 10)
@@ -114,7 +121,7 @@ class Explore(Node):
 
     # -- planning ------------------------------------------------------------------------------
     def make_plan(self) -> None:
-        if not self.active or self.done:
+        if not self.active or self.done or (self.look_around is not None and not self.look_around.done()):
             return
         with self.lock:
             if self.grid is None:
@@ -131,7 +138,7 @@ class Explore(Node):
                                    min_frontier_size=self.min_frontier_size, potential_scale=self.potential_scale,
                                    gain_scale=self.gain_scale)
         if frontiers is None:
-            self.get_logger().info('Waiting for the map to show free space around the robot', throttle_duration_sec=10.0)
+            self._look_around()
             return
         self.get_logger().debug(f'found {len(frontiers)} frontiers')
         if self.visualize:
@@ -156,6 +163,24 @@ class Explore(Node):
             return
         self.prev_goal = target.goal
         self._send(target.goal, frame)
+
+    def _look_around(self) -> None:
+        """No free space near the robot in the map: turn in place once (module docstring)."""
+        if self.look_around is not None or not self.spin_client.server_is_ready():
+            self.get_logger().info('Waiting for the map to show free space around the robot', throttle_duration_sec=10.0)
+            return
+        self.get_logger().info('No free space around the robot in the map yet: turning in place once so that '
+                               'SLAM sees around it')
+        goal = Spin.Goal(target_yaw=6.28)
+        goal.time_allowance.sec = 60
+        self.look_around = self.spin_client.send_goal_async(goal)
+        self.look_around.add_done_callback(self._on_spin_accepted)
+
+    def _on_spin_accepted(self, future: Any) -> None:
+        handle = future.result()
+        if handle is not None and handle.accepted:
+            self.look_around = handle.get_result_async()
+            self.look_around.add_done_callback(lambda f: self.make_plan())
 
     def _send(self, xy: tuple[float, float], frame: str, on_done: Any = None) -> None:
         goal = NavigateToPose.Goal()
