@@ -200,6 +200,72 @@ def test_waypoints_report_missed_ones(stack: Any) -> None:
     assert math.hypot(x + 1.0, y + 1.2) < 0.35
 
 
+def test_goal_pose_topic_drives_the_robot(stack: Any) -> None:
+    """What RViz's "Nav2 Goal" button does: one PoseStamped on /goal_pose."""
+    from interfaces.geometry_msgs.msg import PoseStamped
+    pub = stack.node.create_publisher(PoseStamped, '/goal_pose', 10)
+    try:
+        assert pub.wait_for_subscribers(1, timeout_sec=10), 'bt_navigator subscribes to /goal_pose'
+        pub.publish(_pose(-1.0, 1.0, 1.57))
+        wait_until(lambda: math.hypot(_truth_xy(stack)[0] + 1.0, _truth_xy(stack)[1] - 1.0) < 0.35, 90,
+                   message=lambda: f'robot at the goal_pose goal\n{stack.launch.output()[-3000:]}')
+    finally:
+        stack.node.destroy_publisher(pub)
+
+
+def test_navigate_through_poses_reaches_the_last_pose_with_feedback(stack: Any) -> None:
+    from interfaces.action_msgs.msg import GoalStatus
+    from interfaces.nav2_msgs.action import NavigateThroughPoses
+    feedback: list = []
+    goal = NavigateThroughPoses.Goal(poses=[_pose(0.9, -0.9), _pose(1.0, 0.8, 1.57)])
+    handle = _send(stack, NavigateThroughPoses, 'navigate_through_poses', goal, feedback)
+    response = _result(handle, 150)
+    assert response.status == GoalStatus.STATUS_SUCCEEDED, stack.launch.output()[-3000:]
+    x, y = _truth_xy(stack)
+    assert math.hypot(x - 1.0, y - 0.8) < 0.35
+    remaining = [f.number_of_poses_remaining for f in feedback]
+    assert remaining[0] == 2 and remaining[-1] == 1, remaining        # the first pose was passed
+    assert feedback[0].distance_remaining > feedback[-1].distance_remaining
+    assert feedback[-1].current_pose.header.frame_id == 'map'
+
+
+def test_a_stuck_robot_runs_the_recoveries_then_reaches_its_goal(stack: Any) -> None:
+    """Hold the robot where it is (teleporting it back, as a blocked wheel would): the progress
+    checker fails, bt_navigator clears the costmaps and then spins; let go and the goal succeeds."""
+    from interfaces.action_msgs.msg import GoalStatus
+    from interfaces.gazebo_msgs.srv import SetEntityState
+    from interfaces.nav2_msgs.action import NavigateToPose
+    teleport = stack.node.create_client(SetEntityState, '/set_entity_state')
+    assert teleport.wait_for_service(timeout_sec=10)
+    held = SetEntityState.Request()
+    held.state.name = 'burger'
+    held.state.pose = stack.truth['pose']
+    holding = threading.Event()
+    holding.set()
+
+    def hold() -> None:
+        while holding.is_set():
+            teleport.call_async(held)
+            time.sleep(0.05)
+    holder = threading.Thread(target=hold, daemon=True)
+    holder.start()
+    feedback: list = []
+    try:
+        handle = _send(stack, NavigateToPose, 'navigate_to_pose', NavigateToPose.Goal(pose=_pose(-1.0, -0.9)), feedback)
+        wait_until(lambda: any(f.number_of_recoveries >= 2 for f in feedback), 90,
+                   message=lambda: f'two recoveries\n{stack.launch.output()[-3000:]}')
+    finally:
+        holding.clear()
+        holder.join(timeout=5)
+    response = _result(handle, 120)
+    assert response.status == GoalStatus.STATUS_SUCCEEDED, stack.launch.output()[-3000:]
+    out = stack.launch.output()
+    assert 'Failed to make progress' in out and 'Turning 1.57 for spin behavior.' in out
+    x, y = _truth_xy(stack)
+    assert math.hypot(x + 1.0, y + 0.9) < 0.35
+    stack.node.destroy_client(teleport)
+
+
 MISSION = '''
 import sys
 import zros
