@@ -15,7 +15,7 @@ from conftest import background_node, wait_until
 
 WORLD = """
 name: explore_room
-spawn: {x: -1.2, y: -1.2, yaw: 0.0}
+spawn: {x: -1.0, y: -1.0, yaw: 0.0}
 obstacles:
 - ring: {center: [0, 0], sides: 4, inner_circumradius: 2.55, outer_circumradius: 2.83}
 - box: {center: [0.0, -0.4], size: [0.3, 2.8], yaw: 0.0}
