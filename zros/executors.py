@@ -412,7 +412,13 @@ class MultiThreadedExecutor(Executor):
 
     def _dispatch(self, item: Any) -> None:
         self._raise_pending_error()
-        self._pool.submit(self._run_safely, item)
+        try:
+            self._pool.submit(self._run_safely, item)
+        except RuntimeError:
+            # shutdown() closed the pool after spin took this item: a shut-down executor runs
+            # nothing more, so the item is dropped rather than raised out of spin.
+            if not self._is_shutdown:
+                raise
 
     def _run_safely(self, item: Any) -> None:
         try:
