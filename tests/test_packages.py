@@ -118,6 +118,25 @@ def test_pkg_verbs_find_a_package_on_the_node_path(tmp_path: Path, monkeypatch: 
     assert_clean_failure(run_cli('pkg', 'executables', 'nope'), "Package 'nope' not found")
 
 
+def test_a_created_project_on_the_node_path_is_its_packages_only(tmp_path: Path, monkeypatch: pytest.MonkeyPatch):
+    """The project folder of `zros pkg create` on ZROS_NODE_PATH (as its README says) holds one
+    package: its `tests/` folder is no package for `zros pkg`, `zros run` or the index."""
+    assert run_cli('pkg', 'create', 'my_pkg', '--node-name', 'my_node', '--destination-directory',
+                   tmp_path).returncode == 0
+    project = tmp_path / 'my_pkg'
+    (project / 'docs').mkdir()
+    monkeypatch.setenv('ZROS_NODE_PATH', str(project))
+    listed = run_cli('pkg', 'list').stdout.split()
+    assert 'my_pkg' in listed and 'tests' not in listed and 'docs' not in listed
+    assert run_cli('pkg', 'executables', 'my_pkg').stdout == 'my_pkg my_node\n'
+    assert run_cli('pkg', 'prefix', 'my_pkg', '--share').stdout == f'{project / "my_pkg"}\n'
+    packages_line = next(line for line in run_cli('run', '--help').stdout.splitlines() if line.startswith('packages: '))
+    assert 'my_pkg' in packages_line.split(': ', 1)[1].split(', ') and 'tests' not in packages_line
+    assert_clean_failure(run_cli('run', 'tests', 'test_my_node'), "Package 'tests' not found")
+    with pytest.raises(PackageNotFoundError):
+        get_package_share_directory('tests')
+
+
 def test_the_index_finds_shipped_and_message_packages():
     assert get_package_share_directory('demo_nodes') == str(REPO / 'nodes' / 'demo_nodes')
     assert get_package_share_directory('std_msgs') == str(REPO / 'interfaces' / 'std_msgs')

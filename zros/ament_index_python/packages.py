@@ -3,7 +3,10 @@
 zros has no install space, so a package's share directory (what `share/<pkg>/` is in ROS 2,
 holding `launch/`, `param/`, `map/`, `urdf/`, `rviz/`, ...) is a directory found here, first
 match wins:
-1. `<dir>/<pkg>/` under each `ZROS_NODE_PATH` directory (a package being worked on);
+1. `<dir>/<pkg>/` under each `ZROS_NODE_PATH` directory (a package being worked on); when `<dir>`
+   is a Python project (a `pyproject.toml`, as `zros pkg create` writes), only the packages its
+   `zros.packages` / `zros.nodes` entry points name, as `pip install -e <dir>` would make them
+   (its `tests/`, `docs/`, ... are no packages);
 2. an installed Python package that declares itself with an entry point in the group
    `zros.packages` (`my_pkg = "my_pkg"`) or provides nodes in `zros.nodes`
    (`"my_pkg/my_node" = "my_pkg.my_node:main"`): the directory of that Python package;
@@ -11,7 +14,9 @@ match wins:
 4. `interfaces/<pkg>/` shipped with zros, and packages on `ZROS_INTERFACE_PATH` (message-only
    packages such as `std_msgs`);
 5. `configs` (zros's example launch and parameter files) and `zros` (the directory above it).
-A package's prefix is the directory that holds its share directory.
+A package's prefix is the directory that holds its share directory. The executables of packages
+found by 1. and 3. are the `*.py` files in their folder (`executable_directories`); those of
+installed packages are their `zros.nodes` entry points.
 """
 from __future__ import annotations
 
@@ -25,7 +30,7 @@ from zros.errors import ZrosError
 
 __all__ = ['PackageNotFoundError', 'get_package_share_directory', 'get_package_share_path',
            'get_package_prefix', 'get_packages_with_prefixes', 'package_directories',
-           'interface_roots']
+           'executable_directories', 'interface_roots']
 
 _KINDS = ('msg', 'srv', 'action')
 _PACKAGE_NAME = re.compile(r'[A-Za-z][A-Za-z0-9_]*')
@@ -48,6 +53,43 @@ def _node_path_dirs() -> list[Path]:
     return [Path(p) for p in os.environ.get('ZROS_NODE_PATH', '').split(os.pathsep) if p]
 
 
+def _entry_point_packages(entry_points: dict) -> dict[str, str]:
+    """{package: top-level module} named by a project's `zros.packages` and `zros.nodes` entry
+    points (`{group: {name: 'module[:function]'}}`)."""
+    found: dict[str, str] = {}
+    for name, module in entry_points.get('zros.packages', {}).items():
+        found.setdefault(name, module.split('.')[0])
+    for name, target in entry_points.get('zros.nodes', {}).items():
+        module = target.split(':')[0]
+        if '.' in module:   # a package's module, not a lone top-level script
+            found.setdefault(name.split('/')[0], module.split('.')[0])
+    return found
+
+
+def _project_packages(root: Path) -> dict[str, Path] | None:
+    """The packages a Python project folder declares, or None when `root` holds no
+    pyproject.toml with zros entry points (then each subfolder is a package)."""
+    import tomllib
+    try:
+        with open(root / 'pyproject.toml', 'rb') as handle:
+            entry_points = tomllib.load(handle).get('project', {}).get('entry-points', {})
+    except (OSError, tomllib.TOMLDecodeError):
+        return None
+    declared = _entry_point_packages(entry_points)
+    if not declared:
+        return None
+    return {name: (root / module).resolve() for name, module in sorted(declared.items()) if (root / module).is_dir()}
+
+
+def _node_path_packages() -> list[tuple[str, Path]]:
+    """(package, folder) for each directory of ZROS_NODE_PATH, in order (module docstring, 1.)."""
+    found = []
+    for root in _node_path_dirs():
+        declared = _project_packages(root)
+        found.extend((declared if declared is not None else _package_dirs_under(root)).items())
+    return found
+
+
 def _module_directory(module: str) -> Path | None:
     """The directory of a top-level Python package, found without importing it."""
     try:
@@ -65,16 +107,12 @@ def _installed_packages() -> dict[str, Path]:
     process's business)."""
     from importlib import metadata
     found: dict[str, Path] = {}
-    for ep in metadata.entry_points(group='zros.packages'):
-        folder = _module_directory(ep.value)
+    declared = _entry_point_packages({group: {ep.name: ep.value for ep in metadata.entry_points(group=group)}
+                                      for group in ('zros.packages', 'zros.nodes')})
+    for name, module in declared.items():
+        folder = _module_directory(module)
         if folder is not None:
-            found.setdefault(ep.name, folder)
-    for ep in metadata.entry_points(group='zros.nodes'):
-        package = ep.name.split('/')[0]
-        if package not in found and '.' in ep.module:
-            folder = _module_directory(ep.module)
-            if folder is not None:
-                found[package] = folder
+            found[name] = folder
     return found
 
 
@@ -84,33 +122,43 @@ def _shipped_root(name: str) -> Path:
     return Path(list(module.__path__)[0]).resolve()
 
 
-def package_directories() -> dict[str, Path]:
-    """Every package and its share directory, in lookup order (module docstring)."""
-    found: dict[str, Path] = {}
-    for root in _node_path_dirs():
-        for name, folder in _package_dirs_under(root).items():
-            found.setdefault(name, folder)
+def _index() -> dict[str, tuple[Path, bool]]:
+    """{package: (share directory, whether its executables are the `*.py` files in it)}, in
+    lookup order (module docstring)."""
+    found: dict[str, tuple[Path, bool]] = {}
+    for name, folder in _node_path_packages():
+        found.setdefault(name, (folder, True))
     for name, folder in _installed_packages().items():
-        found.setdefault(name, folder)
+        found.setdefault(name, (folder, False))
     for name, folder in _package_dirs_under(_shipped_root('nodes')).items():
-        found.setdefault(name, folder)
+        found.setdefault(name, (folder, True))
     from zros import typesupport
     for root in typesupport.search_roots():
         for name, folder in _package_dirs_under(root).items():
             if name not in found and any((folder / kind).is_dir() for kind in _KINDS):
-                found[name] = folder
+                found[name] = (folder, False)
     configs = _shipped_root('configs')
-    found.setdefault('configs', configs)
-    found.setdefault('zros', configs.parent)
+    found.setdefault('configs', (configs, False))
+    found.setdefault('zros', (configs.parent, False))
     return found
+
+
+def package_directories() -> dict[str, Path]:
+    """Every package and its share directory, in lookup order (module docstring)."""
+    return {name: folder for name, (folder, _) in _index().items()}
+
+
+def executable_directories() -> dict[str, Path]:
+    """The packages whose executables are the `*.py` files in their folder (those on
+    ZROS_NODE_PATH and shipped with zros), and that folder; `zros run` reads it."""
+    return {name: folder for name, (folder, scripts) in _index().items() if scripts}
 
 
 def interface_roots() -> list[Path]:
     """Directories laid out as `<pkg>/{msg,srv,action}` that hold the interfaces of packages
     on ZROS_NODE_PATH and of installed packages (for zros.typesupport's search path)."""
     roots: list[Path] = []
-    candidates = [(name, folder) for root in _node_path_dirs() for name, folder in _package_dirs_under(root).items()]
-    candidates += list(_installed_packages().items())
+    candidates = _node_path_packages() + list(_installed_packages().items())
     for name, folder in candidates:
         if folder.name == name and any((folder / kind).is_dir() for kind in _KINDS) and folder.parent not in roots:
             roots.append(folder.parent)

@@ -3,9 +3,9 @@
 Executables are looked up in this order:
 1. entry points in the group `zros.nodes` named `PKG/EXECUTABLE` (how an installed
    package registers its own nodes, see README.md, "Running nodes");
-2. modules `nodes.PKG.EXECUTABLE` shipped with zros (the `nodes/` directory);
-3. `PKG/EXECUTABLE.py` under each directory of `ZROS_NODE_PATH` (loaded with zros.import_hook
-   installed, so unmodified rclpy code runs as it is).
+2. `EXECUTABLE.py` in the folder the package index (zros.ament_index_python.packages) finds for
+   PKG: on `ZROS_NODE_PATH` (loaded with zros.import_hook installed, so unmodified rclpy code
+   runs as it is), else shipped with zros (the module `nodes.PKG.EXECUTABLE`).
 The module's `main()` is called with sys.argv set to [EXECUTABLE, args...], the way
 ros2 run's executables see their arguments (`--ros-args` included).
 
@@ -19,7 +19,6 @@ from __future__ import annotations
 import argparse
 import importlib
 import importlib.util
-import os
 import sys
 from importlib import metadata
 from pathlib import Path
@@ -36,35 +35,32 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('argv', nargs=argparse.REMAINDER, help='arguments for the executable (and --ros-args ...)')
 
 
-def _node_path_dirs() -> list[Path]:
-    return [Path(p) for p in os.environ.get('ZROS_NODE_PATH', '').split(os.pathsep) if p]
-
-
 def _builtin_nodes_dir() -> Path:
     import nodes
-    return Path(list(nodes.__path__)[0])
+    return Path(list(nodes.__path__)[0]).resolve()
 
 
 def list_packages() -> list[str]:
+    """The packages that may have executables: those of the package index
+    (zros.ament_index_python.packages) with executables in their folder, and those with entry points."""
+    from zros.ament_index_python.packages import executable_directories
     found = {ep.name.split('/')[0] for ep in metadata.entry_points(group='zros.nodes')}
-    for root in [_builtin_nodes_dir(), *_node_path_dirs()]:
-        if root.is_dir():
-            found.update(p.name for p in root.iterdir() if p.is_dir() and not p.name.startswith(('_', '.')))
-    return sorted(found)
+    return sorted(found.union(executable_directories()))
 
 
 def list_executables(package: str) -> list[str]:
+    from zros.ament_index_python.packages import executable_directories
     found = {ep.name.split('/', 1)[1] for ep in metadata.entry_points(group='zros.nodes')
              if ep.name.startswith(package + '/')}
-    for root in [_builtin_nodes_dir(), *_node_path_dirs()]:
-        folder = root / package
-        if folder.is_dir():
-            found.update(p.stem for p in folder.glob('*.py') if not p.stem.startswith('_'))
+    folder = executable_directories().get(package)
+    if folder is not None:
+        found.update(p.stem for p in folder.glob('*.py') if not p.stem.startswith('_'))
     return sorted(found)
 
 
 def find_executable(package: str, executable: str) -> Callable[[], Any]:
     """The callable that runs PKG/EXECUTABLE; CliError (one line) when there is none."""
+    from zros.ament_index_python.packages import executable_directories
     from zros.errors import CliError
     for ep in metadata.entry_points(group='zros.nodes'):
         if ep.name == f'{package}/{executable}':
@@ -74,14 +70,13 @@ def find_executable(package: str, executable: str) -> Callable[[], Any]:
     if executable not in list_executables(package):
         choices = ', '.join(list_executables(package)) or 'none'
         raise CliError(f"No executable '{executable}' found in package '{package}' (available: {choices})")
-    if (_builtin_nodes_dir() / package / f'{executable}.py').is_file():
+    folder = executable_directories()[package]
+    if folder.parent == _builtin_nodes_dir():
         module = importlib.import_module(f'nodes.{package}.{executable}')
     else:
-        path = next(root / package / f'{executable}.py' for root in _node_path_dirs()
-                    if (root / package / f'{executable}.py').is_file())
         from zros.import_hook import install
         install()  # the user's own nodes may be unmodified rclpy code
-        spec = importlib.util.spec_from_file_location(f'zros_node_{package}_{executable}', path)
+        spec = importlib.util.spec_from_file_location(f'zros_node_{package}_{executable}', folder / f'{executable}.py')
         module = importlib.util.module_from_spec(spec)
         spec.loader.exec_module(module)
     main = getattr(module, 'main', None)
