@@ -9,11 +9,12 @@ import subprocess
 import sys
 import time
 
-from conftest import REPO
+from conftest import REPO, wait_until
 
 from interfaces.geometry_msgs.msg import PoseStamped
 from interfaces.std_msgs.msg import String
 from zros.message import deserialize, serialize
+from zros.node import Node
 
 CLI = [sys.executable, '-m', 'zros.cli.main']
 
@@ -130,24 +131,28 @@ def write_bag(directory, gaps_ms):
     return t
 
 
-def echo_child(spawn, topic, msg_type, *extra):
+def echo_child(spawn, probe, topic, msg_type, *extra):
+    """`zros topic echo --csv` of `topic`, returned once the graph (as `probe`, a node, sees it)
+    shows its subscription: what is played before would be lost."""
+    before = probe.count_subscribers(topic)
     child = spawn(*CLI, 'topic', 'echo', topic, msg_type, '--csv', *extra, name='echo' + topic.replace('/', '_'))
+    wait_until(lambda: probe.count_subscribers(topic) > before, 20.0,
+               message=lambda: f'the subscription of {child.argv}; output so far:\n{child.output()}')
     return child
 
 
 def wait_lines(child, count, timeout=15.0):
-    from conftest import wait_until
     return wait_until(lambda: (lambda lines: lines if len(lines) >= count else None)(
         [line for line in child.output().splitlines() if line and not line.startswith('[')]), timeout,
         message=lambda: f'{count} lines from {child.argv}; got:\n{child.output()}')
 
 
-def test_play_reproduces_order_and_timing(domain, spawn, tmp_path, zros_cli):
+def test_play_reproduces_order_and_timing(context, spawn, tmp_path, zros_cli):
     gaps = [40, 80, 20, 150, 60, 100, 30, 200, 50, 120, 70, 90, 40, 160, 60]
     write_bag(tmp_path / 'timed', gaps)
-    echo = echo_child(spawn, '/played', 'std_msgs/msg/String', '-i')
-    other = echo_child(spawn, '/other', 'std_msgs/msg/String')
-    time.sleep(1.0)  # both echoes subscribed
+    probe = Node('bag_probe', context=context)
+    echo = echo_child(spawn, probe, '/played', 'std_msgs/msg/String', '-i')
+    other = echo_child(spawn, probe, '/other', 'std_msgs/msg/String')
     result = zros_cli('bag', 'play', str(tmp_path / 'timed'), '--topics', '/played', timeout=30)
     assert result.returncode == 0, result
     lines = wait_lines(echo, len(gaps) + 1)
@@ -167,15 +172,15 @@ def test_play_reproduces_order_and_timing(domain, spawn, tmp_path, zros_cli):
 
     # --rate 2 plays twice as fast
     echo.kill()
-    echo = echo_child(spawn, '/played', 'std_msgs/msg/String', '-i')
-    time.sleep(1.0)
+    wait_until(lambda: probe.count_subscribers('/played') == 0, 20.0, message='the killed echo to leave the graph')
+    echo = echo_child(spawn, probe, '/played', 'std_msgs/msg/String', '-i')
     assert zros_cli('bag', 'play', str(tmp_path / 'timed'), '--rate', '2', timeout=30).returncode == 0
     received = [int(line.split(',')[1]) for line in wait_lines(echo, len(gaps) + 1)]
     fast_span = (received[-1] - received[0]) / 1e6
     assert abs(fast_span - expected_span / 2) <= 0.1 * expected_span / 2, fast_span
 
 
-def test_record_then_play_then_echo_sees_the_same_messages(domain, spawn, tmp_path, zros_cli):
+def test_record_then_play_then_echo_sees_the_same_messages(context, spawn, tmp_path, zros_cli):
     source = spawn.script(PUBLISHER, name='source')
     source.wait_for_output('ready', timeout=15)
     bag = tmp_path / 'roundtrip'
@@ -185,17 +190,15 @@ def test_record_then_play_then_echo_sees_the_same_messages(domain, spawn, tmp_pa
     _, messages = read_mcap(the_mcap(bag))
     recorded = [deserialize(m.data, String).data for _, _, _, m in messages]
     assert len(recorded) >= 50
-    echo = echo_child(spawn, '/bagged', 'std_msgs/msg/String')
-    time.sleep(1.0)
+    echo = echo_child(spawn, Node('bag_probe', context=context), '/bagged', 'std_msgs/msg/String')
     assert zros_cli('bag', 'play', str(bag), timeout=30).returncode == 0
     assert wait_lines(echo, len(recorded)) == recorded
 
 
-def test_play_clock(domain, spawn, tmp_path, zros_cli):
+def test_play_clock(context, spawn, tmp_path, zros_cli):
     last = write_bag(tmp_path / 'clocked', [100] * 10)  # 1 s of bag time
     first = last - 1_000_000_000
-    clock = echo_child(spawn, '/clock', 'rosgraph_msgs/msg/Clock')
-    time.sleep(1.0)
+    clock = echo_child(spawn, Node('bag_probe', context=context), '/clock', 'rosgraph_msgs/msg/Clock')
     result = zros_cli('bag', 'play', str(tmp_path / 'clocked'), '--clock', '20', timeout=30)
     assert result.returncode == 0, result
     lines = wait_lines(clock, 10)
