@@ -14,6 +14,7 @@ from rosbags.typesys import Stores, get_typestore
 
 from conftest import assert_clean_failure
 from test_bag import CLI, PUBLISHER, echo_child, wait_lines, write_bag
+from zros.node import Node
 
 # ROS 2's own hash of std_msgs/msg/String (ros2cli's test_cli.py expects the same).
 STRING_RIHS01 = 'RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18'
@@ -124,17 +125,16 @@ def write_foreign_bag(path, storage):
 
 
 @pytest.mark.parametrize('storage', [StoragePlugin.MCAP, StoragePlugin.SQLITE3], ids=['mcap', 'db3'])
-def test_play_a_rosbag2_bag_into_zros(domain, spawn, tmp_path, zros_cli, storage):
+def test_play_a_rosbag2_bag_into_zros(context, spawn, tmp_path, zros_cli, storage):
     bag = tmp_path / 'from_robot'
     write_foreign_bag(bag, storage)
     info = zros_cli('bag', 'info', str(bag))
     assert info.returncode == 0, info
     assert 'Storage id:        ' + ('mcap' if storage == StoragePlugin.MCAP else 'sqlite3') in info.stdout
     assert 'Messages:          12' in info.stdout and 'Serialization Format: cdr' in info.stdout, info
-    chatter = echo_child(spawn, '/chatter', 'std_msgs/msg/String')
-    cmd = echo_child(spawn, '/cmd_vel', 'geometry_msgs/msg/Twist')
-    import time
-    time.sleep(1.0)  # both echoes subscribed
+    probe = Node('bag_probe', context=context)
+    chatter = echo_child(spawn, probe, '/chatter', 'std_msgs/msg/String')
+    cmd = echo_child(spawn, probe, '/cmd_vel', 'geometry_msgs/msg/Twist')
     target = bag if storage == StoragePlugin.MCAP else next(bag.glob('*.db3'))  # a directory or a bare .db3
     result = zros_cli('bag', 'play', str(target), timeout=30)
     assert result.returncode == 0 and 'Traceback' not in result.stderr, result

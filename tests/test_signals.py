@@ -120,6 +120,31 @@ print('spin ended with', ended, flush=True)
     assert "spin ended with ['ExternalShutdownException']" in child.output()
 
 
+def test_sigterm_while_a_node_is_being_built_stops_it_quietly(spawn, tmp_path, monkeypatch):
+    """A launch may stop a node before its constructor has finished (it is in the graph
+    already): the entities it creates after the signal meet a closed session, and `zros run`
+    ends it without a traceback."""
+    (tmp_path / 'starting').mkdir()
+    (tmp_path / 'starting' / 'slow_node.py').write_text(SCRIPT_HEAD + '''
+from interfaces.std_msgs.msg import String
+from interfaces.std_srvs.srv import Empty
+
+
+def main():
+    zros.init()
+    node = zros.create_node('slow_node')
+    print('building', flush=True)
+    time.sleep(1.0)   # the rest of a long constructor; SIGTERM arrives meanwhile
+    node.create_subscription(String, 'chatter', print, 10)
+    node.create_service(Empty, 'reset', lambda request, response: response)
+    zros.spin(node)
+''')
+    monkeypatch.setenv('ZROS_NODE_PATH', str(tmp_path))
+    child = spawn(*_zros('run', 'starting', 'slow_node'), name='slow_node')
+    child.wait_for_output('building', timeout=15)
+    assert _stops(child, signal.SIGTERM) == 0
+
+
 def test_a_handler_installed_before_init_is_still_called(spawn):
     child = spawn(*_ignoring_sigint(sys.executable, '-c', SCRIPT_HEAD + '''
 signal.signal(signal.SIGINT, lambda signum, frame: print('own handler', flush=True))

@@ -87,7 +87,7 @@ def find_executable(package: str, executable: str) -> Callable[[], Any]:
 
 def main_passthrough(argv: list[str]) -> int:
     from zros.config import apply_session_options, split_session_options
-    from zros.errors import CliError
+    from zros.errors import CliError, ZrosError
     options, argv = split_session_options(argv)
     if not argv or argv[0] in ('-h', '--help'):
         print(__doc__.strip())
@@ -100,7 +100,7 @@ def main_passthrough(argv: list[str]) -> int:
                        + (', '.join(list_executables(argv[0])) or 'none'))
     package, executable, rest = argv[0], argv[1], argv[2:]
     # The node's signal handling from the start, as zros.init() installs it (zros.signals).
-    from zros.signals import install_signal_handlers
+    from zros.signals import install_signal_handlers, signal_received
     install_signal_handlers()
     entry = find_executable(package, executable)
     if options:
@@ -110,4 +110,12 @@ def main_passthrough(argv: list[str]) -> int:
         result = entry()
     except KeyboardInterrupt:
         return 130
+    except ZrosError:
+        raise   # its one line says what happened (e.g. stopped while waiting for the router)
+    except Exception:
+        if not signal_received():
+            raise
+        # SIGTERM shut zros down while the node was still being built (before its main's
+        # try/except around spin): what failed under it is the stop that was asked for.
+        return 0
     return result if isinstance(result, int) else 0
