@@ -40,7 +40,6 @@ import platform
 import re
 import shutil
 import signal
-import socket
 import statistics
 import subprocess
 import sys
@@ -49,29 +48,12 @@ import time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
-if str(REPO) not in sys.path:
-    sys.path.insert(0, str(REPO))
+sys.path[:0] = [p for p in (str(REPO), str(Path(__file__).resolve().parent)) if p not in sys.path]
 
-HUB_BASE_PORT = 7447
-DOMAIN_BASE = 201
+from pubsub import pick_domain  # noqa: E402
+from zros.config import hub_port_free  # noqa: E402
+
 TIMEOUT_S = 120.0   # plus 2 s per node: 100 interpreters start slowly on 2 CPUs
-
-
-def _port_free(port: int) -> bool:
-    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as probe:
-        probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-        try:
-            probe.bind(('127.0.0.1', port))
-        except OSError:
-            return False
-    return True
-
-
-def _free_domain() -> int:
-    for domain in range(DOMAIN_BASE, 233):
-        if _port_free(HUB_BASE_PORT + domain):
-            return domain
-    raise RuntimeError('no free zros domain')
 
 
 def _node_names(nodes: int, pairs: bool) -> list[tuple[str, str]]:
@@ -167,7 +149,7 @@ def run_once(nodes: int, workdir: Path, *, pairs: bool = False, graph_reads: int
     from zros.context import Context
     from zros.graph import fetch_entities
 
-    domain = _free_domain()
+    domain = pick_domain()
     env = dict(os.environ, ZROS_DOMAIN_ID=str(domain))
     for name in ('ZROS_CONNECT', 'ZROS_DISCOVERY', 'ZROS_CONFIG'):
         env.pop(name, None)
@@ -183,7 +165,7 @@ def run_once(nodes: int, workdir: Path, *, pairs: bool = False, graph_reads: int
         context = None
         pids: list[int] = []
         try:
-            while _port_free(HUB_BASE_PORT + domain):      # the supervisor becomes the hub first
+            while hub_port_free(domain):      # the supervisor becomes the hub first
                 if time.monotonic() - t0 > TIMEOUT_S + 2 * nodes or popen.poll() is not None:
                     raise RuntimeError('the supervisor did not open the hub:\n' + out_path.read_text())
                 time.sleep(0.005)

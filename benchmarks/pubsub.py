@@ -47,7 +47,6 @@ import os
 import platform
 import queue
 import signal
-import socket
 import struct
 import subprocess
 import sys
@@ -656,17 +655,9 @@ class Child:
             self.proc.wait()
 
 
-def hub_port_free(domain: int) -> bool:
-    from zros.config import HUB_BASE_PORT
-    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as probe:
-        try:
-            probe.bind(('127.0.0.1', HUB_BASE_PORT + domain))
-        except OSError:
-            return False
-    return True
-
-
 def pick_domain(after: int = DOMAIN_BASE - 1) -> int:
+    """The first domain after `after` whose loopback hub port is free (every benchmark's)."""
+    from zros.config import hub_port_free
     for domain in range(after + 1, 233):
         if hub_port_free(domain):
             return domain

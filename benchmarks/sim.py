@@ -32,7 +32,6 @@ import math
 import os
 import platform
 import signal
-import socket
 import statistics
 import subprocess
 import sys
@@ -42,11 +41,10 @@ from pathlib import Path
 import numpy as np
 
 REPO = Path(__file__).resolve().parents[1]
-if str(REPO) not in sys.path:
-    sys.path.insert(0, str(REPO))
+sys.path[:0] = [p for p in (str(REPO), str(Path(__file__).resolve().parent)) if p not in sys.path]
 
-HUB_BASE_PORT = 7447
-DOMAIN_BASE = 201
+from pubsub import pick_domain  # noqa: E402
+
 CLK_TCK = os.sysconf('SC_CLK_TCK')
 
 GOALS = {'rtf_headless': 20.0, 'lidar_ms': 1.0, 'cpu_1x_percent': 10.0}
@@ -103,23 +101,6 @@ def bench_headless(sim_seconds: float) -> dict:
 
 
 # -- the node, as processes ------------------------------------------------------------------------
-def _port_free(port: int) -> bool:
-    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as probe:
-        probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-        try:
-            probe.bind(('127.0.0.1', port))
-        except OSError:
-            return False
-    return True
-
-
-def _free_domain() -> int:
-    for domain in range(DOMAIN_BASE, 233):
-        if _port_free(HUB_BASE_PORT + domain):
-            return domain
-    raise RuntimeError('no free zros domain')
-
-
 def _cpu_seconds(pid: int) -> float:
     fields = Path(f'/proc/{pid}/stat').read_text().rsplit(')', 1)[1].split()
     return (int(fields[11]) + int(fields[12])) / CLK_TCK
@@ -149,7 +130,7 @@ def bench_node(rtf: float, seconds: float) -> dict:
     from zros.context import Context
     from zros.node import Node
     from interfaces.rosgraph_msgs.msg import Clock
-    domain = _free_domain()
+    domain = pick_domain()
     env = dict(os.environ, ZROS_DOMAIN_ID=str(domain), TURTLEBOT3_MODEL='burger')
     for name in ('ZROS_CONNECT', 'ZROS_DISCOVERY', 'ZROS_CONFIG'):
         env.pop(name, None)

@@ -6,7 +6,6 @@ from __future__ import annotations
 import os
 import re
 import signal
-import socket
 import subprocess
 import sys
 import textwrap
@@ -15,11 +14,11 @@ from pathlib import Path
 
 import pytest
 
+from zros.config import hub_port_free
 from zros.testing import wait_until
 
 REPO = Path(__file__).resolve().parents[1]
 PY = sys.executable
-HUB_BASE_PORT = 7447
 
 
 def _gone(pid: int) -> bool:
@@ -102,16 +101,6 @@ def launch(tmp_path: Path, domain: int):
         process.kill()
 
 
-def _port_bound(port: int) -> bool:
-    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as probe:
-        probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-        try:
-            probe.bind(('127.0.0.1', port))
-        except OSError:
-            return True
-    return False
-
-
 def _graph(context):
     from zros.graph import fetch_entities
     return fetch_entities(context.session, context.domain_id, timeout=1.0)
@@ -136,7 +125,7 @@ def test_launch_nodes_graph_params_and_sigint(launch, make_context, zros_cli):
             remap: [{from: chatter, to: /robot/$(var topic)}]
         ''')
     run.wait_for('process started with pid', count=3)
-    assert _port_bound(HUB_BASE_PORT + int(os.environ['ZROS_DOMAIN_ID'])), 'the supervisor should be the hub'
+    assert not hub_port_free(int(os.environ['ZROS_DOMAIN_ID'])), 'the supervisor should be the hub'
     context = make_context()
     expected = {'/robot/talker', '/robot/ears', '/param_talker'}
 

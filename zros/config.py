@@ -54,7 +54,7 @@ from zros.errors import ZrosError
 
 __all__ = ['SessionSettings', 'settings_from_env', 'security_config_file', 'HUB_BASE_PORT', 'open_session', 'build_config',
            'validate_endpoint', 'DISCOVERY_MODES', 'SETTINGS_ENV', 'SESSION_OPTIONS', 'add_session_options',
-           'apply_session_options', 'split_session_options']
+           'apply_session_options', 'split_session_options', 'hub_port_free']
 
 HUB_BASE_PORT = 7447
 DISCOVERY_MODES = ('localhost', 'subnet', 'off')
@@ -354,8 +354,10 @@ def split_session_options(argv: list[str]) -> tuple[dict[str, object], list[str]
     return values, rest
 
 
-def _hub_port_free(port: int) -> bool:
-    """A cheap local check before asking Zenoh to bind the hub port (a lost race is handled).
+def hub_port_free(domain: int) -> bool:
+    """Whether no process listens on the loopback hub port of `domain` (no hub is up): a cheap
+    local check before asking Zenoh to bind it (a lost race is handled), and what tests and
+    benchmarks pick a quiet domain by.
 
     SO_REUSEADDR as Zenoh's own listener sets it: connections of a hub that just exited linger
     in TIME_WAIT on the port, and without it the port would look taken for a minute.
@@ -363,7 +365,7 @@ def _hub_port_free(port: int) -> bool:
     with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as probe:
         probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
         try:
-            probe.bind(('127.0.0.1', port))
+            probe.bind(('127.0.0.1', HUB_BASE_PORT + domain))
         except OSError:
             return False
     return True
@@ -445,7 +447,7 @@ def open_session(settings: SessionSettings, *, mesh: bool = True, connect_wait: 
     graph; a plain Zenoh router does not pass peers' tokens on, so there readers need the mesh."""
     import zenoh
     mesh = mesh or not settings.uses_hub
-    if settings.uses_hub and _hub_port_free(HUB_BASE_PORT + settings.domain_id):
+    if settings.uses_hub and hub_port_free(settings.domain_id):
         try:
             return zenoh.open(build_config(settings, as_hub=True, mesh=mesh)), True
         except zenoh.ZError:

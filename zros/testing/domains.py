@@ -5,14 +5,14 @@ from __future__ import annotations
 
 import fcntl
 import random
-import socket
 import tempfile
 from pathlib import Path
 from typing import IO
 
+from zros.config import HUB_BASE_PORT, hub_port_free
+
 __all__ = ['DomainLock', 'isolated_environment', 'DOMAIN_RANGE', 'HUB_BASE_PORT', 'NETWORK_SETTINGS', 'ALL_SETTINGS']
 
-HUB_BASE_PORT = 7447          # the loopback discovery hub of domain N listens on 7447 + N
 DOMAIN_RANGE = (100, 230)
 
 #: Settings that could send a test's traffic elsewhere: never inherited by a test.
@@ -24,15 +24,6 @@ ALL_SETTINGS = NETWORK_SETTINGS + ('ZROS_INTERFACE_PATH', 'ZROS_NODE_PATH', 'RCU
                                    'ROS_SECURITY_ENCLAVE_OVERRIDE')
 
 
-def _port_free(port: int) -> bool:
-    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as probe:
-        try:
-            probe.bind(('127.0.0.1', port))
-        except OSError:
-            return False
-    return True
-
-
 class DomainLock:
     """Holds one domain id (an flock'ed file) until `close()`; `domain` is the id."""
 
@@ -42,7 +33,7 @@ class DomainLock:
         candidates = list(range(DOMAIN_RANGE[0], DOMAIN_RANGE[1] + 1))
         random.shuffle(candidates)
         for domain in candidates:
-            if not _port_free(HUB_BASE_PORT + domain):
+            if not hub_port_free(domain):
                 continue
             handle: IO = open(lock_dir / f'{domain}.lock', 'w')
             try:
