@@ -39,8 +39,8 @@ import zros
 from zros.clock import Clock, ClockType
 from zros.duration import Duration
 from zros.errors import CliError
-from zros.executors import ExternalShutdownException
 from zros.map_io import MapFileError, map_to_msg, save_map, yaw_of_quaternion
+from zros.navigation.node_support import spin_nodes
 from zros.node import Node
 from zros.qos import DurabilityPolicy, QoSProfile, qos_profile_sensor_data
 from zros.slam import PoseGraphFileError, Slam, SlamParameters, scan_points
@@ -296,15 +296,8 @@ def _pose2d(transform: TransformStamped) -> tuple[float, float, float]:
 
 
 def main(args: list[str] | None = None) -> int:
-    try:
-        with zros.init(args=args):
-            node = SlamNode()
-            try:
-                zros.spin(node)
-            finally:
-                node.destroy_node()
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
+    with zros.init(args=args):
+        spin_nodes(SlamNode())
     return 0
 
 

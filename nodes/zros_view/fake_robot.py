@@ -18,7 +18,7 @@ import sys
 import numpy as np
 
 import zros
-from zros.executors import ExternalShutdownException
+from zros.navigation.node_support import spin_nodes
 from zros.node import Node
 from zros.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
@@ -228,15 +228,8 @@ class FakeRobot(Node):
 
 
 def main(args: list[str] | None = None) -> int:
-    try:
-        with zros.init(args=args):
-            node = FakeRobot()
-            try:
-                zros.spin(node)
-            finally:
-                node.destroy_node()
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
+    with zros.init(args=args):
+        spin_nodes(FakeRobot())
     return 0
 
 
