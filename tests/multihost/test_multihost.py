@@ -260,7 +260,10 @@ def test_large_arrays_across_hosts_without_shared_memory(net, procs):
 
     def lines(proc, word):
         return re.findall(rf'^{word} (\d+ \w+)$', proc.output(), re.M)
-    wait_until(lambda: len(lines(sub, 'got')) >= 5, 40, lambda: f'received: {sub.output()[-800:]}')
+    # The publisher prints each image's line after publishing it, so the subscriber's line can
+    # come first: wait for both.
+    wait_until(lambda: len(lines(sub, 'got')) >= 5 and len(lines(pub, 'published')) >= 5, 40,
+               lambda: f'received: {sub.output()[-800:]}\npublished: {pub.output()[-800:]}')
     assert lines(sub, 'got') == lines(pub, 'published')
 
 
