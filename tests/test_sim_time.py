@@ -60,8 +60,10 @@ def _times(output: str, label: str) -> list[int]:
     return [int(v) for v in re.findall(rf'^{label} (\d+)', output, re.M)]
 
 
-def _drive(publisher, start_s: float, end_s: float, speed: float = 10.0, step_s: float = 0.02) -> None:
-    """Publish /clock from start_s to end_s of simulated time at `speed` x real time."""
+def _drive(publisher, start_s: float, end_s: float, speed: float = 2.0, step_s: float = 0.02) -> None:
+    """Publish /clock from start_s to end_s of simulated time at `speed` x real time. The checks
+    allow a call a quarter of a simulated second after it fell due: at 2x that is 125 ms of real
+    time for the program to get a CPU (at 10x, 25 ms were too few on a loaded 2-core machine)."""
     t = start_s
     while t <= end_s + 1e-9:
         sec = int(t)
@@ -89,7 +91,7 @@ def test_timers_rates_and_sleeps_follow_the_clock(sim_program, wait_for):
     time.sleep(1.2)
     assert _times(child.output(), 'tick') == [] and _times(child.output(), 'rate') == []
 
-    _drive(publisher, 10.0, 12.0)                      # 2 s of simulated time in ~0.2 s
+    _drive(publisher, 10.0, 12.0)                      # 2 s of simulated time in ~1 s
     # Due at 10.0 (the first /clock), 10.5, 11.0, 11.5 and 12.0 of simulated time; each call
     # reads the clock when it runs, a few /clock steps after it fell due at most.
     wait_for(lambda: len(_times(child.output(), 'tick')) == 5, timeout=5, message=child.output)
