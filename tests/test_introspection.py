@@ -312,6 +312,14 @@ def test_verb_modules_import_lightly():
     assert result.stdout.strip() == '[]', result
 
 
+def test_a_command_imports_only_its_own_verb():
+    """`zros node list` builds the parser of its verb alone: starting a command is most of its cost."""
+    code = ('import sys; from zros.cli.main import VERBS, build_parser; build_parser("node"); '
+            "print(sorted({m for m, _ in VERBS.values()} & set(sys.modules)))")
+    result = subprocess.run([sys.executable, '-c', code], capture_output=True, text=True, timeout=20, cwd=REPO)
+    assert result.stdout.strip() == "['zros.cli.node']", result
+
+
 # -- errors: one line, non-zero, no traceback -----------------------------------------------------------------
 ERROR_CASES = [
     (('topic', 'hz', '/nobody_here', '--timeout', '0.5'), ('/nobody_here',)),

@@ -43,14 +43,18 @@ VERBS = {
 PASSTHROUGH = {'run': 'zros.cli.run', 'python': 'zros.cli.python'}
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(verb: str | None = None) -> argparse.ArgumentParser:
+    """The whole command line, or, given `verb`, one in which only that verb has its options:
+    the other verbs' modules are not imported (a command's start is most of what `zros node
+    list` costs, and the whole parser doubles it)."""
     parser = argparse.ArgumentParser(
         prog='zros', description='zros: ROS 2 style tools on Zenoh. Run "zros <verb> -h" for help on a verb.')
     parser.add_argument('--version', action='store_true', help='print the zros version and exit')
     sub = parser.add_subparsers(dest='verb', metavar='<verb>')
-    for verb, (module, help_text) in VERBS.items():
-        verb_parser = sub.add_parser(verb, help=help_text, description=help_text)
-        importlib.import_module(module).add_arguments(verb_parser)
+    for name, (module, help_text) in VERBS.items():
+        verb_parser = sub.add_parser(name, help=help_text, description=help_text)
+        if verb is None or name == verb:
+            importlib.import_module(module).add_arguments(verb_parser)
     return parser
 
 
@@ -66,7 +70,7 @@ def main(argv: list[str] | None = None) -> int:
         except ZrosError as exc:
             print(f'zros {argv[0]}: {exc}', file=sys.stderr)
             return 1
-    parser = build_parser()
+    parser = build_parser(next((word for word in argv if not word.startswith('-')), None))
     args = parser.parse_args(argv)
     if args.version:
         from zros import __version__
