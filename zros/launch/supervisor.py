@@ -88,6 +88,10 @@ class LaunchLog:
 
     Screen format is ros2 launch's: `[INFO] [talker-1]: process started with pid [N]` and
     `[talker-1] <line>`; launch.log lines carry a wall-clock timestamp in front.
+
+    Child output is collected and written by `flush()`, once per pass of the supervisor's loop:
+    a hundred nodes print thousands of lines a second, and a write and flush per line kept the
+    supervisor seconds behind. A supervisor message flushes what came before it, in order.
     """
 
     def __init__(self, log_dir: Path | None, *, debug: bool = False, screen: TextIO | None = None) -> None:
@@ -95,22 +99,17 @@ class LaunchLog:
         self._screen = screen or sys.stdout
         self._file = open(log_dir / 'launch.log', 'a', encoding='utf-8') if log_dir is not None else None
         self._lock = threading.Lock()
-
-    def _write_screen(self, text: str) -> None:
-        try:
-            self._screen.write(text)
-            self._screen.flush()
-        except (BrokenPipeError, ValueError, OSError):
-            pass
+        self._screen_pending: list[str] = []
+        self._file_pending: list[str] = []
 
     def message(self, level: str, name: str, text: str) -> None:
-        line = f'[{level}] [{name}]: {text}'
+        line = f'[{level}] [{name}]: {text}\n'
         with self._lock:
             if level != 'DEBUG' or self.debug_enabled:
-                self._write_screen(line + '\n')
+                self._screen_pending.append(line)
             if self._file is not None:
-                self._file.write(f'{time.time():.7f} {line}\n')
-                self._file.flush()
+                self._file_pending.append(f'{time.time():.7f} {line}')
+        self.flush()
 
     def info(self, name: str, text: str) -> None:
         self.message('INFO', name, text)
@@ -124,19 +123,31 @@ class LaunchLog:
     def debug(self, name: str, text: str) -> None:
         self.message('DEBUG', name, text)
 
-    def output(self, name: str, line: str, *, to_screen: bool, to_file: bool) -> None:
+    def output(self, name: str, lines: list[str], *, to_screen: bool, to_file: bool) -> None:
+        """Lines a process printed (written at the next `flush()`)."""
         with self._lock:
             if to_screen:
-                self._write_screen(f'[{name}] {line}\n')
+                self._screen_pending.extend(f'[{name}] {line}\n' for line in lines)
             if to_file and self._file is not None:
-                self._file.write(f'{time.time():.7f} [{name}] {line}\n')
+                stamp = f'{time.time():.7f}'
+                self._file_pending.extend(f'{stamp} [{name}] {line}\n' for line in lines)
 
     def flush(self) -> None:
         with self._lock:
-            if self._file is not None:
+            screen, self._screen_pending = ''.join(self._screen_pending), []
+            text, self._file_pending = ''.join(self._file_pending), []
+            if screen:
+                try:
+                    self._screen.write(screen)
+                    self._screen.flush()
+                except (BrokenPipeError, ValueError, OSError):
+                    pass
+            if text and self._file is not None:
+                self._file.write(text)
                 self._file.flush()
 
     def close(self) -> None:
+        self.flush()
         with self._lock:
             if self._file is not None:
                 self._file.close()
@@ -202,6 +213,9 @@ class Supervisor:
         self._wakeup_read = self._wakeup_write = -1
         self._context = None
         self._handlers: list[EventHandlerEffect] = []
+        self._child_exited = False      # SIGCHLD came in since the last `_reap()`
+        self._reaped_at = 0.0
+        self._unflushed: set[_Process] = set()   # per-process logs written since the last flush
 
     # -- life cycle ----------------------------------------------------------------------------
     def run(self) -> int:
@@ -254,8 +268,11 @@ class Supervisor:
         def on_signal(signum: int, frame: Any) -> None:
             self._signals.append(signum)
 
+        def on_child(signum: int, frame: Any) -> None:
+            self._child_exited = True
+
         for signum in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP, signal.SIGCHLD):
-            previous[signum] = signal.signal(signum, on_signal if signum != signal.SIGCHLD else _ignore)
+            previous[signum] = signal.signal(signum, on_signal if signum != signal.SIGCHLD else on_child)
         return previous
 
     def _restore_signals(self, previous: dict) -> None:
@@ -385,29 +402,35 @@ class Supervisor:
             if b'\n' in data:
                 *lines, rest = bytes(buffer).split(b'\n')
                 buffer[:] = rest
-                for line in lines:
-                    self._emit(process, stream is process.popen.stderr, line)
+                self._emit(process, stream is process.popen.stderr, lines)
 
     def _close_stream(self, process: _Process, stream: Any) -> None:
         fd = stream.fileno()
         rest = process.buffers.pop(fd, b'')
         if rest:
-            self._emit(process, stream is process.popen.stderr, bytes(rest))
+            self._emit(process, stream is process.popen.stderr, [bytes(rest)])
         try:
             self._selector.unregister(fd)
         except (KeyError, ValueError):
             pass
         stream.close()
 
-    def _emit(self, process: _Process, is_stderr: bool, raw: bytes) -> None:
-        line = raw.decode('utf-8', errors='replace').rstrip('\r')
+    def _emit(self, process: _Process, is_stderr: bool, raw: list[bytes]) -> None:
+        """Lines read from one of the process's pipes in one go (one write each way)."""
+        lines = [line.decode('utf-8', errors='replace').rstrip('\r') for line in raw]
         output = process.spec.output
         to_screen = output in ('screen', 'both') or (is_stderr and output == 'log')
-        self.log.output(process.name, line, to_screen=to_screen, to_file=output != 'own_log')
+        self.log.output(process.name, lines, to_screen=to_screen, to_file=output != 'own_log')
         if process.log is not None:
-            process.log.write(line + '\n')
+            process.log.write('\n'.join(lines) + '\n')
+            self._unflushed.add(process)
 
     def _reap(self) -> None:
+        """Collect the processes that exited. Run when SIGCHLD came in (and every
+        `_POLL_INTERVAL_S` in case one was missed), not on every pass: polling 100 children
+        for each burst of output lines was most of the supervisor's work."""
+        self._child_exited = False
+        self._reaped_at = time.monotonic()
         for process in self._processes:
             if process.popen is None or process.popen.returncode is not None:
                 continue
@@ -419,8 +442,7 @@ class Supervisor:
                     self._read(process, stream)
                     if not stream.closed:   # a grandchild still holds the pipe: stop reading it
                         self._close_stream(process, stream)
-            if process.log is not None:
-                process.log.flush()
+            self._flush_logs()
             self._on_exit(process, code)
 
     def _on_exit(self, process: _Process, code: int) -> None:
@@ -519,10 +541,18 @@ class Supervisor:
         # Escalation timers of processes that already exited keep nothing alive.
         return any(p.running for p in self._processes) or any(t[2] != 'escalate' for t in self._timers)
 
+    def _flush_logs(self) -> None:
+        self.log.flush()
+        for process in self._unflushed:
+            if process.log is not None:
+                process.log.flush()
+        self._unflushed.clear()
+
     def _loop(self) -> None:
         while True:
             self._handle_signals()
-            self._reap()
+            if self._child_exited or time.monotonic() - self._reaped_at >= _POLL_INTERVAL_S:
+                self._reap()
             now = time.monotonic()
             while self._timers and self._timers[0][0] <= now:
                 _, _, _, callback = heapq.heappop(self._timers)
@@ -540,14 +570,7 @@ class Supervisor:
                     process, stream = key.data
                     if not stream.closed:
                         self._read(process, stream)
-            self.log.flush()
-            for process in self._processes:
-                if process.log is not None:
-                    process.log.flush()
-
-
-def _ignore(signum: int, frame: Any) -> None:
-    """SIGCHLD handler: nothing to do, the wakeup pipe byte is the point."""
+            self._flush_logs()
 
 
 def _drain(fd: int) -> None:
