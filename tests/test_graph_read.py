@@ -2,7 +2,10 @@
 when an answer is partial (issue 20, item 3)."""
 from __future__ import annotations
 
+import signal
 import time
+
+import pytest
 
 from zros.graph import fetch_entities
 from zros.node import Node
@@ -39,3 +42,20 @@ def test_a_read_from_the_hub_is_complete(context, make_context):
     entities = fetch_entities(reader.session, reader.domain_id, timeout=2.0)
     assert entities.complete
     assert any(e.node_fqn == '/present' for e in entities)
+
+
+@pytest.mark.parametrize('signum', [signal.SIGINT, signal.SIGTERM], ids=['SIGINT', 'SIGTERM'])
+def test_a_node_stopped_by_a_signal_leaves_the_graph(context, spawn, signum):
+    """After a signal a node's entities are withdrawn by its session's close, not one by one;
+    every one of them must still leave the graph of the processes that stay."""
+    child = spawn.node('demo_nodes', 'talker')
+    child.wait_for_output('Publishing', timeout=20)    # constructed and spinning
+
+    def talker_entities(entities):
+        return [e for e in entities if e.node_fqn == '/talker']
+    assert context.graph.wait_for(lambda entities: any(e.name == '/chatter' for e in talker_entities(entities)), 10)
+    child.signal(signum)
+    assert child.wait(5) == 0, child.output()
+    assert context.graph.wait_for(lambda entities: not talker_entities(entities), 5), \
+        talker_entities(context.graph.entities())
+    assert not talker_entities(fetch_entities(context.session, context.domain_id, timeout=2.0))

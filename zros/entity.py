@@ -36,10 +36,7 @@ class NodeEntity:
 
     def _release(self) -> None:
         if self._zenoh is not None:
-            try:
-                self._zenoh.undeclare()
-            except Exception:  # noqa: BLE001 - the session may be closing already
-                pass
+            self._node.context._undeclare(self._zenoh)
 
 
 class QueuedEntity(NodeEntity):

@@ -168,10 +168,7 @@ class Node:
         if self._context.ok():
             self._context.graph.remove_local(entity)
         if token is not None:
-            try:
-                token.undeclare()
-            except Exception:  # noqa: BLE001 - the session may be closing already
-                pass
+            self._context._undeclare(token)
 
     def _add(self, entity: Any) -> Any:
         self._entities.append(entity)
@@ -542,10 +539,7 @@ class Node:
             self._parameters.attach_event_publisher(None)
         if self._context.ok():
             self._context.graph.remove_local(self._node_entity)
-        try:
-            self._node_token.undeclare()
-        except Exception:  # noqa: BLE001 - the session may be closing already
-            pass
+        self._context._undeclare(self._node_token)
         self._context._unregister_node(self)
 
     def __enter__(self) -> 'Node':
