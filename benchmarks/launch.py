@@ -15,18 +15,23 @@ and measures, from just before the supervisor process is spawned:
   supervisor holds the hub port, so the launch is the hub, as on a fresh machine);
 - `settled`: then, until the launch uses less than half a CPU over 2 s (every process has
   linked to every other and holds the whole graph);
+- CPU of each node and of the supervisor once settled, over `CPU_WINDOW_S` (an idle talker
+  publishes once a second; a listener of the pairs hears every talker and prints each message);
 - memory of each node once settled:
   RSS and PSS from /proc/<pid>/smaps_rollup (PSS splits shared pages, such as the Python
   binary and the zenoh library, between the processes that map them), and the supervisor's;
-- `shutdown`: from SIGINT to the supervisor until it and every node have exited, and how
-  many processes the supervisor had to escalate to SIGTERM or SIGKILL.
+- `shutdown`: from SIGINT to the supervisor until it and every node have exited, how much CPU
+  the nodes used in that time, and how many processes the supervisor had to escalate to
+  SIGTERM or SIGKILL.
 
 `--load` runs 50 and 100 nodes, half `talker` and half `listener` (every listener hears every
 talker), once each, and adds graph reads: `zros node list` and `zros topic list`, run as a user
 runs them (a fresh process each time) `--graph-reads` times each while the launch is up, timed
 wall-clock from spawn to exit, and checked for a complete answer (all N nodes, no "partial"
-warning; a read still running after 60 s counts as 60 s and incomplete), and the graph read
-alone from this script's open session (what the verbs cost beyond starting an interpreter).
+warning; a read still running after 60 s counts as 60 s and incomplete), with the CPU each
+used, and the graph read alone from this script's open session (what the verbs cost beyond
+starting an interpreter). Whether Python may cache byte-code (PYTHONDONTWRITEBYTECODE unset,
+as users have it) changes what every process costs to start: the header says which.
 Goals (issue 20): every read under 1 s, Ctrl-C to everything gone under 3 s, no escalation.
 `--nodes 50 100 --runs 1 --graph-reads 5` measures the same with talkers only: the graph's size
 without the N x N message load of the pairs.
@@ -38,6 +43,7 @@ import json
 import os
 import platform
 import re
+import resource
 import shutil
 import signal
 import statistics
@@ -54,6 +60,7 @@ from pubsub import pick_domain  # noqa: E402
 from zros.config import hub_port_free  # noqa: E402
 
 TIMEOUT_S = 120.0   # plus 2 s per node: 100 interpreters start slowly on 2 CPUs
+CPU_WINDOW_S = 5.0
 
 
 def _node_names(nodes: int, pairs: bool) -> list[tuple[str, str]]:
@@ -79,6 +86,7 @@ def _graph_reads(env: dict, expected: set[str], reads: int, session, domain: int
     graph read alone, made from this process's open session."""
     from zros.graph import fetch_entities
     times: dict[str, list[float]] = {'node': [], 'topic': []}
+    cpu: list[float] = []
     in_process: list[float] = []
     loads: list[float] = []
     complete = 0
@@ -88,6 +96,7 @@ def _graph_reads(env: dict, expected: set[str], reads: int, session, domain: int
         fetch_entities(session, domain, timeout=1.0)
         in_process.append(time.monotonic() - started)
         for verb in ('node', 'topic'):
+            before = resource.getrusage(resource.RUSAGE_CHILDREN)
             started = time.monotonic()
             try:
                 done = subprocess.run([sys.executable, '-m', 'zros', verb, 'list'], capture_output=True, text=True,
@@ -95,10 +104,12 @@ def _graph_reads(env: dict, expected: set[str], reads: int, session, domain: int
             except subprocess.TimeoutExpired:
                 done = None
             times[verb].append(time.monotonic() - started)
+            after = resource.getrusage(resource.RUSAGE_CHILDREN)   # (the launch is reaped only at the end)
+            cpu.append(after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime)
             if verb == 'node':
                 complete += (done is not None and done.returncode == 0 and expected <= set(done.stdout.split())
                              and 'partial' not in done.stderr)
-    return {'node_list_s': times['node'], 'topic_list_s': times['topic'], 'complete_reads': complete,
+    return {'node_list_s': times['node'], 'topic_list_s': times['topic'], 'complete_reads': complete, 'cli_cpu_s': cpu,
             'read_in_process_s': in_process, 'load_during_reads': statistics.mean(loads)}
 
 
@@ -110,17 +121,28 @@ def _memory_kib(pid: int) -> tuple[int, int]:
     return rss, pss
 
 
+def _cpu_of(pid: int) -> float | None:
+    """User + system CPU time used so far by a process; None once it is gone."""
+    try:
+        fields = Path(f'/proc/{pid}/stat').read_text().rsplit(')', 1)[1].split()
+    except (FileNotFoundError, ProcessLookupError):
+        return None
+    return (int(fields[11]) + int(fields[12])) / os.sysconf('SC_CLK_TCK')
+
+
 def _cpu_seconds(pids: list[int]) -> float:
     """User + system CPU time used so far by these processes (those still alive)."""
-    tick = os.sysconf('SC_CLK_TCK')
-    total = 0
-    for pid in pids:
-        try:
-            fields = Path(f'/proc/{pid}/stat').read_text().rsplit(')', 1)[1].split()
-        except (FileNotFoundError, ProcessLookupError):
-            continue
-        total += int(fields[11]) + int(fields[12])
-    return total / tick
+    return sum(cpu for cpu in map(_cpu_of, pids) if cpu is not None)
+
+
+def _cpu_shares(pids: list[int], supervisor: int) -> dict:
+    """Each node's and the supervisor's CPU over `CPU_WINDOW_S`, as a share of one CPU."""
+    before = {pid: _cpu_of(pid) or 0.0 for pid in [supervisor, *pids]}
+    time.sleep(CPU_WINDOW_S)
+    share = {pid: ((_cpu_of(pid) or before[pid]) - before[pid]) / CPU_WINDOW_S for pid in before}
+    nodes = [share[pid] for pid in pids]
+    return {'node_cpu_median': statistics.median(nodes), 'node_cpu_max': max(nodes), 'nodes_cpu_total': sum(nodes),
+            'supervisor_cpu': share[supervisor]}
 
 
 def _settle(pids: list[int], limit: float) -> float:
@@ -193,17 +215,22 @@ def run_once(nodes: int, workdir: Path, *, pairs: bool = False, graph_reads: int
                                        f'(missing: {missing}); the launch output is in {workdir}')
                 time.sleep(0.05)
             settle = _settle([popen.pid, *pids], 60.0 if pairs else TIMEOUT_S)   # pairs keep talking
+            shares = _cpu_shares(pids, popen.pid)
             memory = [_memory_kib(pid) for pid in pids]
             supervisor = _memory_kib(popen.pid)
             reads = _graph_reads(env, expected, graph_reads, context.session, domain) if graph_reads else {}
+            last_cpu = {pid: _cpu_of(pid) or 0.0 for pid in pids}
+            before_stop = dict(last_cpu)
             t1 = time.monotonic()
             popen.send_signal(signal.SIGINT)
-            popen.wait(timeout=30)
-            while not all(_gone(pid) for pid in pids):
+            while not all(_gone(pid) for pid in pids) or popen.poll() is None:
                 if time.monotonic() - t1 > 30:
-                    raise RuntimeError('nodes still running 30 s after SIGINT')
+                    raise RuntimeError('processes still running 30 s after SIGINT')
+                for pid in pids:   # the last reading before each exits
+                    last_cpu[pid] = _cpu_of(pid) or last_cpu[pid]
                 time.sleep(0.005)
             shutdown = time.monotonic() - t1
+            stop_cpu = sum(last_cpu[pid] - before_stop[pid] for pid in pids)
         finally:
             if context is not None:
                 context.shutdown()
@@ -216,11 +243,22 @@ def run_once(nodes: int, workdir: Path, *, pairs: bool = False, graph_reads: int
     text = out_path.read_text(errors='replace')
     return {
         'nodes': nodes, 'domain': domain, 'started_s': started, 'first_s': first, 'all_s': complete,
-        'settle_s': settle, 'shutdown_s': shutdown, 'escalations': text.count('escalating to'), **reads,
+        'settle_s': settle, 'shutdown_s': shutdown, 'stop_cpu_s': stop_cpu, 'escalations': text.count('escalating to'),
+        **shares, **reads,
         'rss_kib_mean': statistics.mean(m[0] for m in memory), 'pss_kib_mean': statistics.mean(m[1] for m in memory),
         'pss_kib_total': sum(m[1] for m in memory),
         'supervisor_rss_kib': supervisor[0], 'supervisor_pss_kib': supervisor[1],
     }
+
+
+def _machine() -> str:
+    """The machine line of a table, with whether Python caches byte-code (with
+    PYTHONDONTWRITEBYTECODE set and no cache written before, every process compiles zros)."""
+    cached = (REPO / 'zros' / '__pycache__').is_dir()
+    bytecode = ('off (PYTHONDONTWRITEBYTECODE=1' + (', an old cache is read)' if cached else ', none cached)')
+                if os.environ.get('PYTHONDONTWRITEBYTECODE') else 'cached')
+    return (f'machine: {platform.machine()}, {os.cpu_count()} CPUs, Python {platform.python_version()}, '
+            f'byte-code: {bytecode}')
 
 
 def _classic_table(results: list[dict], nodes: int, runs: int) -> None:
@@ -228,12 +266,15 @@ def _classic_table(results: list[dict], nodes: int, runs: int) -> None:
         return statistics.median(r[key] for r in results)
 
     print(f'\nzros launch benchmark: {nodes} talker nodes, {runs} runs (median; min-max)')
-    print(f'machine: {platform.machine()}, {os.cpu_count()} CPUs, Python {platform.python_version()}\n')
+    print(_machine() + '\n')
     rows = [
         ('all processes started (supervisor)', 'started_s', 's'),
         ('first node in the graph', 'first_s', 's'),
         (f'all {nodes} nodes in the graph', 'all_s', 's'),
         ('Ctrl-C until everything exited', 'shutdown_s', 's'),
+        ('CPU of all nodes while stopping', 'stop_cpu_s', 's'),
+        ('CPU per idle node', 'node_cpu_median', '%'),
+        ('CPU of the supervisor', 'supervisor_cpu', '%'),
         ('RSS per idle node', 'rss_kib_mean', 'MiB'),
         ('PSS per idle node', 'pss_kib_mean', 'MiB'),
         (f'PSS of all {nodes} nodes', 'pss_kib_total', 'MiB'),
@@ -243,7 +284,7 @@ def _classic_table(results: list[dict], nodes: int, runs: int) -> None:
     print(f"| {'measure':<36} | {'median':>10} | {'min - max':>17} |")
     print(f"|{'-' * 38}|{'-' * 12}|{'-' * 19}|")
     for label, key, unit in rows:
-        scale = 1024.0 if unit == 'MiB' else 1.0
+        scale = {'MiB': 1024.0, '%': 0.01}.get(unit, 1.0)
         values = [r[key] / scale for r in results]
         print(f'| {label:<36} | {med(key) / scale:>6.2f} {unit:<3} | {min(values):>7.2f} - {max(values):>7.2f} |')
 
@@ -252,8 +293,7 @@ def _load_table(results: list[dict], reads: int, pairs: bool) -> None:
     """One column per launch size, the goal beside each row, MISS where it is not met."""
     kind = 'talker/listener pairs (every listener hears every talker)' if pairs else 'talkers only'
     print(f'\nzros launch under load: {kind}, {reads} reads of each list verb')
-    print(f'machine: {platform.machine()}, {os.cpu_count()} CPUs, Python {platform.python_version()}, '
-          f'load average at the end: {os.getloadavg()[0]:.1f}\n')
+    print(f'{_machine()}, load average at the end: {os.getloadavg()[0]:.1f}\n')
 
     def times(key: str):
         return lambda r: f'{statistics.median(r[key]):.2f} s ({max(r[key]):.2f})', \
@@ -264,12 +304,18 @@ def _load_table(results: list[dict], reads: int, pairs: bool) -> None:
         ('graph read alone (open session), median (max)', *times('read_in_process_s'), '< 1 s every time'),
         ('node list answers complete', lambda r: f"{r['complete_reads']}/{reads}",
          lambda r: r['complete_reads'] == reads, 'all'),
+        ('CPU per list command, median (max)', *times('cli_cpu_s')[:1], None, ''),
         ('load average during the reads', lambda r: f"{r['load_during_reads']:.0f}", None, ''),
         ('all nodes in the graph after start', lambda r: f"{r['all_s']:.1f} s", None, ''),
         ('then settled (< 0.5 CPU) after', lambda r: f"{r['settle_s']:.1f} s", None, ''),
         ('Ctrl-C until everything exited', lambda r: f"{r['shutdown_s']:.2f} s", lambda r: r['shutdown_s'] < 3.0,
          '< 3 s'),
+        ('CPU of all nodes while stopping', lambda r: f"{r['stop_cpu_s']:.1f} s", None, ''),
         ('escalations to SIGTERM/SIGKILL', lambda r: str(r['escalations']), lambda r: r['escalations'] == 0, '0'),
+        ('CPU per node once settled, median (max)',
+         lambda r: f"{100 * r['node_cpu_median']:.1f} % ({100 * r['node_cpu_max']:.1f})", None, ''),
+        ('CPU of all nodes once settled', lambda r: f"{r['nodes_cpu_total']:.2f} CPUs", None, ''),
+        ('CPU of the supervisor once settled', lambda r: f"{100 * r['supervisor_cpu']:.1f} %", None, ''),
         ('PSS per idle node', lambda r: f"{r['pss_kib_mean'] / 1024:.1f} MiB", None, ''),
         ('RSS per idle node', lambda r: f"{r['rss_kib_mean'] / 1024:.1f} MiB", None, ''),
         ('PSS of all nodes', lambda r: f"{r['pss_kib_total'] / 1024:.0f} MiB", None, ''),
