@@ -80,11 +80,21 @@ def _launch_file(directory: Path, names: list[tuple[str, str]]) -> Path:
     return path
 
 
-def _graph_reads(env: dict, expected: set[str], reads: int, session, domain: int) -> dict:
+def _machine_busy() -> tuple[float, float]:
+    """(busy, total) CPU time of the whole machine so far, from /proc/stat (in ticks)."""
+    values = [int(v) for v in Path('/proc/stat').read_text().split('\n', 1)[0].split()[1:]]
+    idle = values[3] + values[4]    # idle + iowait
+    return sum(values) - idle, sum(values)
+
+
+def _graph_reads(env: dict, expected: set[str], reads: int, session, domain: int, launch: list[int]) -> dict:
     """Wall time of `zros node list` / `zros topic list` as fresh processes (a read that has not
     exited after 60 s counts as 60 s, incomplete), whether each answer was complete, and the
-    graph read alone, made from this process's open session."""
+    graph read alone, made from this process's open session; and how busy the machine was
+    meanwhile, and with what: the load average trails a launch's start by minutes, while the
+    share of the CPUs in use, and the launch's part of it, say what a command competed with."""
     from zros.graph import fetch_entities
+    machine_before, launch_before, t0 = _machine_busy(), _cpu_seconds(launch), time.monotonic()
     times: dict[str, list[float]] = {'node': [], 'topic': []}
     cpu: list[float] = []
     in_process: list[float] = []
@@ -109,8 +119,11 @@ def _graph_reads(env: dict, expected: set[str], reads: int, session, domain: int
             if verb == 'node':
                 complete += (done is not None and done.returncode == 0 and expected <= set(done.stdout.split())
                              and 'partial' not in done.stderr)
+    machine_after, elapsed = _machine_busy(), time.monotonic() - t0
     return {'node_list_s': times['node'], 'topic_list_s': times['topic'], 'complete_reads': complete, 'cli_cpu_s': cpu,
-            'read_in_process_s': in_process, 'load_during_reads': statistics.mean(loads)}
+            'read_in_process_s': in_process, 'load_during_reads': statistics.mean(loads),
+            'machine_busy': (machine_after[0] - machine_before[0]) / max(1, machine_after[1] - machine_before[1]),
+            'launch_cpus': (_cpu_seconds(launch) - launch_before) / elapsed}
 
 
 def _memory_kib(pid: int) -> tuple[int, int]:
@@ -218,7 +231,8 @@ def run_once(nodes: int, workdir: Path, *, pairs: bool = False, graph_reads: int
             shares = _cpu_shares(pids, popen.pid)
             memory = [_memory_kib(pid) for pid in pids]
             supervisor = _memory_kib(popen.pid)
-            reads = _graph_reads(env, expected, graph_reads, context.session, domain) if graph_reads else {}
+            reads = (_graph_reads(env, expected, graph_reads, context.session, domain, [popen.pid, *pids])
+                     if graph_reads else {})
             last_cpu = {pid: _cpu_of(pid) or 0.0 for pid in pids}
             before_stop = dict(last_cpu)
             t1 = time.monotonic()
@@ -306,6 +320,8 @@ def _load_table(results: list[dict], reads: int, pairs: bool) -> None:
          lambda r: r['complete_reads'] == reads, 'all'),
         ('CPU per list command, median (max)', *times('cli_cpu_s')[:1], None, ''),
         ('load average during the reads', lambda r: f"{r['load_during_reads']:.0f}", None, ''),
+        ('CPUs busy during the reads (of which the launch)',
+         lambda r: f"{100 * r['machine_busy']:.0f} % ({r['launch_cpus']:.2f} CPUs)", None, ''),
         ('all nodes in the graph after start', lambda r: f"{r['all_s']:.1f} s", None, ''),
         ('then settled (< 0.5 CPU) after', lambda r: f"{r['settle_s']:.1f} s", None, ''),
         ('Ctrl-C until everything exited', lambda r: f"{r['shutdown_s']:.2f} s", lambda r: r['shutdown_s'] < 3.0,
