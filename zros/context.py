@@ -133,16 +133,16 @@ class Context:
             # First stop following the graph: when a whole launch stops, every process would
             # otherwise run a Python callback for each token of every other one as they go.
             if self._graph is not None:
-                self._graph.close()
+                self._graph.close(self._undeclare)
                 self._graph = None
         for node in list(self._nodes):
             node.destroy_node()
         with self._lock:
             if self._stats_service is not None:
-                self._stats_service.close()
+                self._stats_service.close(self._undeclare)
                 self._stats_service = None
             if self._graph_service is not None:
-                self._graph_service.close()
+                self._graph_service.close(self._undeclare)
                 self._graph_service = None
             opened, self._session = [self._session], None
             withdrawn, self._withdrawn = self._withdrawn, []

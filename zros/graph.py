@@ -96,6 +96,13 @@ def parse_token(key: str) -> Entity | None:
 _LISTENER_INTERVAL_S = 0.05
 
 
+def _undeclare(declaration: Any) -> None:
+    try:
+        declaration.undeclare()
+    except Exception:  # noqa: BLE001 - the session may already be closing
+        pass
+
+
 def _graph_key(domain: int) -> str:
     return f'{liveliness_prefix(domain)}/graph'
 
@@ -216,11 +223,8 @@ class StatsService:
         finally:
             query.drop()
 
-    def close(self) -> None:
-        try:
-            self._queryable.undeclare()
-        except Exception:  # noqa: BLE001 - the session may already be closing
-            pass
+    def close(self, undeclare: Callable[[Any], None] | None = None) -> None:
+        (undeclare or _undeclare)(self._queryable)
 
 
 def fetch_subscription_stats(session, domain: int, timeout: float = 1.0) -> dict[tuple[str, int, int], list[int]]:
@@ -251,11 +255,8 @@ class GraphService:
         finally:
             query.drop()
 
-    def close(self) -> None:
-        try:
-            self._queryable.undeclare()
-        except Exception:  # noqa: BLE001 - the session may already be closing
-            pass
+    def close(self, undeclare: Callable[[Any], None] | None = None) -> None:
+        (undeclare or _undeclare)(self._queryable)
 
 
 class Graph:
@@ -379,11 +380,13 @@ class Graph:
         with self._changed:
             return self._changed.wait_for(lambda: predicate(list(self._entities.values())), timeout)
 
-    def close(self) -> None:
+    def close(self, undeclare: Callable[[Any], None] | None = None) -> None:
+        """Stop following the graph; `undeclare` releases the subscriber (the context's, which
+        after a signal leaves that to the session's close)."""
         self._closed = True
         self._changed_event.set()
         if self._subscriber is not None:
-            self._subscriber.undeclare()
+            (undeclare or _undeclare)(self._subscriber)
             self._subscriber = None
         with self._changed:
             self._listeners.clear()
