@@ -175,7 +175,7 @@ def _settle(pids: list[int], limit: float) -> float:
 def _gone(pid: int) -> bool:
     try:
         status = Path(f'/proc/{pid}/status').read_text()
-    except FileNotFoundError:
+    except (FileNotFoundError, ProcessLookupError):   # (gone between the open and the read)
         return True
     return re.search(r'^State:\s+[ZX]', status, re.M) is not None
 
