@@ -369,6 +369,8 @@ def main() -> int:
             result = run_once(nodes, workdir, pairs=pairs, graph_reads=reads)
             shutil.rmtree(workdir)   # kept, and named in the error, when a run fails
             results.append(result)
+            if args.json:   # after every run: a long series that fails later keeps what it measured
+                Path(args.json).write_text(json.dumps(results, indent=2))
             print(f"{nodes} nodes, run {run + 1}: all in the graph after {result['all_s']:.2f} s, "
                   f"stopped in {result['shutdown_s']:.2f} s", file=sys.stderr)
     if reads:
@@ -376,8 +378,6 @@ def main() -> int:
     else:
         for nodes in sizes:
             _classic_table([r for r in results if r['nodes'] == nodes], nodes, runs)
-    if args.json:
-        Path(args.json).write_text(json.dumps(results, indent=2))
     return 0
 
 
