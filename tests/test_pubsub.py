@@ -263,6 +263,42 @@ def test_queue_depth_keeps_newest_and_counts_drops(make_context, wait_for, attac
     assert sub.dropped == 95
 
 
+@pytest.mark.parametrize('callback_s', [0.0, 0.01], ids=['idle-executor', 'busy-executor'])
+def test_a_flood_into_a_spinning_keep_last_queue_is_all_accounted_for(make_context, wait_for, callback_s):
+    """A reliable flood into a depth-10 queue while the executor spins: an idle executor is
+    handed the full queue before anything is pushed out, a busy one is not waited for. Either
+    way every sample is delivered or counted as dropped, newest kept, nothing counted lost."""
+    pub_ctx, sub_ctx = make_context(), make_context()
+    node = Node('flooded', context=sub_ctx)
+    received = []
+
+    def on_message(msg):
+        received.append(msg.data)
+        if callback_s:
+            time.sleep(callback_s)
+    sub = node.create_subscription(Int32, '/flood', on_message, 10)
+    executor = SingleThreadedExecutor(context=sub_ctx)
+    executor.add_node(node)
+    spinner = threading.Thread(target=executor.spin, daemon=True)
+    spinner.start()
+    try:
+        publisher = Node('flooder', context=pub_ctx).create_publisher(Int32, '/flood', 10)
+        assert publisher.wait_for_subscribers(1, 5.0)
+        count = 3000
+        _burst_into(sub, publisher, count)
+        wait_for(lambda: received and received[-1] == count - 1, timeout=10,
+                 message=lambda: f'the last sample, have {received[-1:]} ({len(received)} delivered)')
+        assert sub.received + sub.dropped == count, (sub.received, sub.dropped)
+        assert len(received) == sub.received
+        assert received == sorted(set(received))   # in order, none twice
+        assert sub.lost == 0
+        if callback_s:
+            assert sub.dropped > 0   # a 10 ms callback cannot keep up: the flood is not slowed to it
+    finally:
+        executor.shutdown()
+        spinner.join(5)
+
+
 def test_losses_are_counted_across_the_samples_the_depth_rule_pushed_out(make_context, wait_for):
     """Samples pushed out by KEEP_LAST are queued undecoded and read only by the executor: a
     network loss among them still counts in `lost` (the depth rule's drops do not), for plain

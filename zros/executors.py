@@ -75,6 +75,10 @@ class Executor:
     runs; a user subclass overrides `spin_once` and takes work from `wait_for_ready_callbacks`.
     """
 
+    # Callbacks run on the thread that waits for work (a subclass that hands them to other
+    # threads says False): a full KEEP_LAST queue may then wait for this thread (Subscription).
+    _runs_on_waiting_thread = True
+
     def __init__(self, *, context: Any = None) -> None:
         from zros.context import get_default_context
         self._context = context or get_default_context()
@@ -86,6 +90,7 @@ class Executor:
         self._is_shutdown = False
         self._nodes_version = 0
         self._batch = 1
+        self._idle = False   # blocked on its queue, or just woken from it: no callback running
         self._timers_key: tuple[int, int] | None = None
         self._timers: list = []
         self._backlog: dict[int, list[Any]] = {}    # id(group) -> work waiting for that group
@@ -178,7 +183,11 @@ class Executor:
                 wait = min(wait, max(0.0, deadline - time.monotonic()))
             try:
                 # A zero wait still takes work already queued (spin_once(timeout_sec=0) polls).
-                item = self._queue.get(timeout=wait) if wait > 0 else self._queue.get_nowait()
+                self._idle = True
+                try:
+                    item = self._queue.get(timeout=wait) if wait > 0 else self._queue.get_nowait()
+                finally:
+                    self._idle = False
             except queue.Empty:
                 if deadline is not None and time.monotonic() >= deadline:
                     return None
@@ -394,6 +403,8 @@ class MultiThreadedExecutor(Executor):
     callback leaves the group, so no pool thread ever blocks on a group. An exception in a
     callback is raised again on the spinning thread, as rclpy does.
     """
+
+    _runs_on_waiting_thread = False
 
     def __init__(self, num_threads: int | None = None, *, context: Any = None) -> None:
         super().__init__(context=context)

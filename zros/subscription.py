@@ -66,6 +66,10 @@ def _wants_info(callback: Callable) -> bool:
     return len(positional) >= 2 or any(p.kind == p.VAR_POSITIONAL for p in params)
 
 
+# How long Zenoh's thread waits for an idle executor to take a full KEEP_LAST queue.
+_HAND_OFF_S = 0.002
+
+
 class Subscription(QueuedEntity):
     """Made by `Node.create_subscription`."""
 
@@ -87,6 +91,8 @@ class Subscription(QueuedEntity):
         self._queue: deque = deque(maxlen=qos.queue_depth)  # Zenoh samples, undecoded
         self._evicted: deque = deque(maxlen=_EVICTED_NOTES)  # attachments of pushed-out samples
         self._take_lock = threading.Lock()   # the executor's take vs. a push-out
+        self._taken = threading.Event()       # _hand_off: the executor took from the queue
+        self._handing_off = False
         self._drops_noted = 0
         self._tail = type_tail(msg_type)
         self._decode = decoder(msg_type)
@@ -114,7 +120,10 @@ class Subscription(QueuedEntity):
     def _on_sample(self, sample: Any) -> None:
         queue = self._queue
         if len(queue) == queue.maxlen:
-            self._push_out()
+            if self._scheduled:
+                self._hand_off()
+            if len(queue) == queue.maxlen:
+                self._push_out()
         queue.append(sample)
         if not self._scheduled:
             self._schedule()
@@ -124,6 +133,24 @@ class Subscription(QueuedEntity):
     def _on_sample_timed(self, sample: Any) -> None:
         """`_on_sample` for a callback that takes MessageInfo: the arrival time goes along."""
         self._on_sample(_Timed(sample, time.time_ns()))
+
+    def _hand_off(self) -> None:
+        """A full queue whose executor is idle, woken for this queue: let it take the queue
+        before pushing anything out. Under a flood this thread would otherwise keep the
+        interpreter lock, and the executor would get it back only after the switch interval
+        (5 ms): a depth-10 queue delivered 10 messages per 5 ms and dropped the rest. Waiting
+        here (at most _HAND_OFF_S) gives it the lock at once; a busy executor is not waited for."""
+        executor = self._node._executor
+        if executor is None or not executor._idle or not executor._runs_on_waiting_thread:
+            return
+        group = self.callback_group
+        if group is not None and not group.can_execute(self):
+            return
+        self._taken.clear()
+        self._handing_off = True
+        if len(self._queue) == self._queue.maxlen:
+            self._taken.wait(_HAND_OFF_S)
+        self._handing_off = False
 
     def _push_out(self) -> None:
         """KEEP_LAST: drop the oldest waiting sample, counted in `dropped`; its attachment is
@@ -145,6 +172,9 @@ class Subscription(QueuedEntity):
                     break
                 item = queue.popleft()
                 notes = self._take_notes() if self._evicted else None
+            if self._handing_off:
+                self._handing_off = False
+                self._taken.set()
             if notes:
                 self._count_notes(notes)
             pending = self._deliver(item)
