@@ -29,7 +29,7 @@ if TYPE_CHECKING:
     from zros.node import Node
 
 __all__ = ['Executor', 'SingleThreadedExecutor', 'MultiThreadedExecutor', 'ExternalShutdownException',
-           'ShutdownException', 'TimeoutException', 'ConditionReachedException']
+           'ShutdownException', 'TimeoutException', 'ConditionReachedException', 'spin_nodes']
 
 
 class ExternalShutdownException(Exception):
@@ -456,3 +456,15 @@ class MultiThreadedExecutor(Executor):
         result = super().shutdown(timeout_sec)
         self._pool.shutdown(wait=timeout_sec is None or timeout_sec > 0, cancel_futures=True)
         return result
+
+
+def spin_nodes(*nodes: Node, num_threads: int = 6) -> None:
+    """Spin `nodes` on one MultiThreadedExecutor until shutdown: for a node main whose callbacks
+    block (a goal's loop, a service that waits for a topic) or that runs a helper node beside its
+    own (a costmap). A zros addition to rclpy's API; as with `zros.spin`, Ctrl-C raises
+    KeyboardInterrupt and a shutdown from elsewhere ExternalShutdownException, which the main
+    catches around `with zros.init()` so that a signal during start-up ends it quietly too."""
+    executor = MultiThreadedExecutor(num_threads=num_threads)
+    for node in nodes:
+        executor.add_node(node)
+    executor.spin()

@@ -29,8 +29,9 @@ import numpy as np
 
 import zros
 from zros.action import ActionClient
+from zros.executors import ExternalShutdownException, spin_nodes
 from zros.navigation.frontiers import Blacklist, find_frontiers
-from zros.navigation.node_support import Nav2Params, lookup_pose, spin_nodes
+from zros.navigation.node_support import Nav2Params, lookup_pose
 from zros.node import Node
 from zros.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from zros.tf2_ros import Buffer, TransformListener
@@ -254,8 +255,11 @@ class Explore(Node):
 
 
 def main(args: list[str] | None = None) -> int:
-    with zros.init(args=args):
-        spin_nodes(Explore(), num_threads=2)
+    try:
+        with zros.init(args=args):
+            spin_nodes(Explore(), num_threads=2)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
     return 0
 
 

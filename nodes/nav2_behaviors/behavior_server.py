@@ -19,10 +19,11 @@ from typing import Any, Callable
 import numpy as np
 
 import zros
+from zros.executors import ExternalShutdownException, spin_nodes
 from zros.lifecycle import LifecycleNode
 from zros.navigation.controller import angle_diff
 from zros.navigation.costmap import INSCRIBED_INFLATED_OBSTACLE, NO_INFORMATION
-from zros.navigation.node_support import Nav2Params, duration_msg, lookup_pose, spin_nodes
+from zros.navigation.node_support import Nav2Params, duration_msg, lookup_pose
 from zros.navigation.servers import GoalRunner, gated_action_server
 from zros.tf2_ros import Buffer, TransformListener
 
@@ -182,8 +183,11 @@ class _Abort(Exception):
 
 
 def main(args: list[str] | None = None) -> int:
-    with zros.init(args=args):
-        spin_nodes(BehaviorServer())
+    try:
+        with zros.init(args=args):
+            spin_nodes(BehaviorServer())
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
     return 0
 
 

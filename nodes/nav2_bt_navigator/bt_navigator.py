@@ -26,8 +26,9 @@ import numpy as np
 import zros
 from zros.action import ActionClient
 from zros.exceptions import ROSInterruptException
+from zros.executors import ExternalShutdownException, spin_nodes
 from zros.lifecycle import LifecycleNode, State, TransitionCallbackReturn
-from zros.navigation.node_support import Nav2Params, duration_msg, lookup_pose, quaternion_of, spin_nodes
+from zros.navigation.node_support import Nav2Params, duration_msg, lookup_pose, quaternion_of
 from zros.navigation.servers import GoalCall, GoalSlot, gated_action_server
 from zros.tf2_ros import Buffer, TransformListener
 
@@ -323,8 +324,11 @@ class BtNavigator(LifecycleNode):
 
 
 def main(args: list[str] | None = None) -> int:
-    with zros.init(args=args):
-        spin_nodes(BtNavigator(), num_threads=8)
+    try:
+        with zros.init(args=args):
+            spin_nodes(BtNavigator(), num_threads=8)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
     return 0
 
 

@@ -23,11 +23,12 @@ from typing import Any
 import numpy as np
 
 import zros
+from zros.executors import ExternalShutdownException, spin_nodes
 from zros.lifecycle import LifecycleNode, State, TransitionCallbackReturn
 from zros.navigation.controller import (FollowError, GoalChecker, PathFollower, ProgressChecker, RegulatedPurePursuit,
                                         RPPParams)
 from zros.navigation.costmap_ros import CostmapNode
-from zros.navigation.node_support import Nav2Params, lookup_pose, path_points, spin_nodes
+from zros.navigation.node_support import Nav2Params, lookup_pose, path_points
 from zros.navigation.servers import GoalRunner, gated_action_server
 from zros.tf2_ros import Buffer, TransformListener
 
@@ -155,9 +156,12 @@ def _cost_in(costmap: CostmapNode, pose: tuple, local: tuple) -> Any:
 
 
 def main(args: list[str] | None = None) -> int:
-    with zros.init(args=args):
-        node = ControllerServer()
-        spin_nodes(node, node.costmap)
+    try:
+        with zros.init(args=args):
+            node = ControllerServer()
+            spin_nodes(node, node.costmap)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
     return 0
 
 

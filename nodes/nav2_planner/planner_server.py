@@ -19,9 +19,10 @@ from typing import Any
 import numpy as np
 
 import zros
+from zros.executors import ExternalShutdownException, spin_nodes
 from zros.lifecycle import LifecycleNode, State, TransitionCallbackReturn
 from zros.navigation.costmap_ros import CostmapNode
-from zros.navigation.node_support import Nav2Params, duration_msg, path_msg, spin_nodes, yaw_of
+from zros.navigation.node_support import Nav2Params, duration_msg, path_msg, yaw_of
 from zros.navigation.planner import UNKNOWN, GridPlanner, PlanningError, path_yaws
 from zros.navigation.servers import GoalRunner, gated_action_server
 from zros.tf2_ros import Buffer, TransformListener
@@ -135,9 +136,12 @@ class PlannerServer(LifecycleNode):
 
 
 def main(args: list[str] | None = None) -> int:
-    with zros.init(args=args):
-        node = PlannerServer()
-        spin_nodes(node, node.costmap)
+    try:
+        with zros.init(args=args):
+            node = PlannerServer()
+            spin_nodes(node, node.costmap)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
     return 0
 
 

@@ -15,8 +15,9 @@ from typing import Any
 
 import zros
 from zros.action import ActionClient
+from zros.executors import ExternalShutdownException, spin_nodes
 from zros.lifecycle import LifecycleNode
-from zros.navigation.node_support import Nav2Params, spin_nodes
+from zros.navigation.node_support import Nav2Params
 from zros.navigation.servers import GoalCall, GoalRunner, gated_action_server
 
 from interfaces.action_msgs.msg import GoalStatus
@@ -89,8 +90,11 @@ class WaypointFollower(LifecycleNode):
 
 
 def main(args: list[str] | None = None) -> int:
-    with zros.init(args=args):
-        spin_nodes(WaypointFollower())
+    try:
+        with zros.init(args=args):
+            spin_nodes(WaypointFollower())
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
     return 0
 
 

@@ -39,8 +39,8 @@ import zros
 from zros.clock import Clock, ClockType
 from zros.duration import Duration
 from zros.errors import CliError
+from zros.executors import ExternalShutdownException, spin_nodes
 from zros.map_io import MapFileError, map_to_msg, save_map, yaw_of_quaternion
-from zros.navigation.node_support import spin_nodes
 from zros.node import Node
 from zros.qos import DurabilityPolicy, QoSProfile, qos_profile_sensor_data
 from zros.slam import PoseGraphFileError, Slam, SlamParameters, scan_points
@@ -296,8 +296,11 @@ def _pose2d(transform: TransformStamped) -> tuple[float, float, float]:
 
 
 def main(args: list[str] | None = None) -> int:
-    with zros.init(args=args):
-        spin_nodes(SlamNode())
+    try:
+        with zros.init(args=args):
+            spin_nodes(SlamNode())
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
     return 0
 
 

@@ -18,7 +18,7 @@ import sys
 import numpy as np
 
 import zros
-from zros.navigation.node_support import spin_nodes
+from zros.executors import ExternalShutdownException, spin_nodes
 from zros.node import Node
 from zros.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
@@ -228,8 +228,11 @@ class FakeRobot(Node):
 
 
 def main(args: list[str] | None = None) -> int:
-    with zros.init(args=args):
-        spin_nodes(FakeRobot())
+    try:
+        with zros.init(args=args):
+            spin_nodes(FakeRobot())
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
     return 0
 
 

@@ -14,7 +14,7 @@ import numpy as np
 from zros.time import Time
 
 __all__ = ['Nav2Params', 'yaw_of', 'quaternion_of', 'lookup_pose', 'path_msg', 'path_points',
-           'duration_msg', 'spin_nodes']
+           'duration_msg']
 
 
 class Nav2Params:
@@ -112,15 +112,3 @@ def duration_msg(seconds: float) -> Any:
     seconds = max(0.0, float(seconds))
     sec = int(seconds)
     return Duration(sec=sec, nanosec=int((seconds - sec) * 1e9))
-
-
-def spin_nodes(*nodes: Any, num_threads: int = 6) -> None:
-    """Spin nodes on one multi-threaded executor until shutdown (a goal's loop blocks one thread)."""
-    from zros.executors import ExternalShutdownException, MultiThreadedExecutor
-    executor = MultiThreadedExecutor(num_threads=num_threads)
-    for node in nodes:
-        executor.add_node(node)
-    try:
-        executor.spin()
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
