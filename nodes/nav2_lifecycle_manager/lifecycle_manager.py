@@ -26,7 +26,7 @@ import zros
 from zros.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
 from zros.clock import Clock, ClockType
 from zros.errors import ServiceCallError
-from zros.executors import ExternalShutdownException, MultiThreadedExecutor
+from zros.executors import ExternalShutdownException, spin_nodes
 from zros.graph import EntityKind
 from zros.lifecycle import LifecycleClient
 from zros.node import Node
@@ -236,10 +236,7 @@ class LifecycleManager(Node):
 def main(args: list[str] | None = None) -> int:
     try:
         with zros.init(args=args):
-            node = LifecycleManager()
-            executor = MultiThreadedExecutor(num_threads=2)
-            executor.add_node(node)
-            executor.spin()
+            spin_nodes(LifecycleManager(), num_threads=2)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     return 0

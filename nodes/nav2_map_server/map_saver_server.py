@@ -17,7 +17,7 @@ from typing import Any
 
 import zros
 from zros.callback_groups import ReentrantCallbackGroup
-from zros.executors import ExternalShutdownException, MultiThreadedExecutor
+from zros.executors import ExternalShutdownException, spin_nodes
 from zros.lifecycle import LifecycleNode, State, TransitionCallbackReturn
 from zros.map_io import DEFAULT_FREE_THRESH, DEFAULT_OCCUPIED_THRESH
 
@@ -76,9 +76,7 @@ def main(args: list[str] | None = None) -> int:
             if node.get_parameter('autostart').value:
                 node.trigger_configure()
                 node.trigger_activate()
-            executor = MultiThreadedExecutor()      # the service waits for a map on another thread
-            executor.add_node(node)
-            executor.spin()
+            spin_nodes(node)        # the service waits for a map on another thread
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     return 0
