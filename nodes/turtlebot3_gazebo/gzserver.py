@@ -30,7 +30,7 @@ from typing import Any
 
 import zros
 from zros.errors import CliError
-from zros.executors import ExternalShutdownException, MultiThreadedExecutor
+from zros.executors import ExternalShutdownException, spin_nodes
 from zros.node import Node
 from zros.qos import QoSProfile
 from zros.sim import (LDS_01, TURTLEBOT3_IMU, LidarSpec, Pose2D, SimError, SimRobot, Simulation, load_world, rasterize,
@@ -449,8 +449,7 @@ def _yaw(q: Any) -> float:
 def main(args: list[str] | None = None) -> None:
     try:
         with zros.init(args=args):
-            node = GazeboNode()
-            zros.spin(node, executor=MultiThreadedExecutor(num_threads=4))
+            spin_nodes(GazeboNode(), num_threads=4)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
 

@@ -21,7 +21,7 @@ from typing import Any
 import zros
 from zros.action import ActionServer, CancelResponse, GoalResponse
 from zros.callback_groups import ReentrantCallbackGroup
-from zros.executors import ExternalShutdownException, MultiThreadedExecutor
+from zros.executors import ExternalShutdownException, spin_nodes
 from zros.node import Node
 from zros.qos import qos_profile_sensor_data
 
@@ -337,8 +337,7 @@ class TurtlesimNode(Node):
 def main(args: list[str] | None = None) -> None:
     try:
         with zros.init(args=args):
-            node = TurtlesimNode()
-            zros.spin(node, executor=MultiThreadedExecutor(num_threads=EXECUTOR_THREADS))
+            spin_nodes(TurtlesimNode(), num_threads=EXECUTOR_THREADS)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
 
