@@ -407,6 +407,18 @@ def build_config(settings: SessionSettings, *, as_hub: bool, mesh: bool = True):
         put('scouting/gossip/enabled', False)
     elif unset('scouting/gossip/enabled'):
         put('scouting/gossip/enabled', True)
+    if settings.uses_hub:
+        # One dialler per pair of processes. When both dial, the pair's session carries two
+        # links, and a lease that expires on one side only (a process starved of CPU for 10 s
+        # by a 100-node launch) can leave the pair split for good: the reconnection joins the
+        # stale session and the declarations are never sent again (eclipse-zenoh/zenoh#2806).
+        # On loopback anyone can dial anyone, so: every process dials the hub, the hub dials
+        # nobody, and of two other processes the one with the greater id dials. (Across
+        # machines both sides may dial, as one of them may not be reachable.)
+        if unset('scouting/gossip/autoconnect_strategy'):
+            put('scouting/gossip/autoconnect_strategy', {'peer': {'to_peer': 'greater-zid'}})
+        if as_hub and unset('scouting/gossip/autoconnect'):
+            put('scouting/gossip/autoconnect', {'peer': []})
     put('timestamping/enabled', True)
     from zros.shm import zenoh_settings
     for key, value in zenoh_settings().items():  # the shared-memory pool (zros.shm)

@@ -31,6 +31,11 @@ def test_default_is_the_loopback_hub():
     assert joiner['listen']['endpoints'] == ['tcp/127.0.0.1:0']
     assert joiner['connect']['endpoints'] == ['tcp/127.0.0.1:7450']
     assert joiner['scouting']['multicast']['enabled'] is False and joiner['timestamping']['enabled'] is True
+    # one side dials each loopback link (eclipse-zenoh/zenoh#2806): the hub nobody, peers by id
+    assert hub['scouting']['gossip']['autoconnect'] == {'peer': []}
+    assert joiner['scouting']['gossip']['autoconnect'] is None
+    for config in (hub, joiner):
+        assert config['scouting']['gossip']['autoconnect_strategy'] == {'peer': {'to_peer': 'greater-zid'}}
 
 
 def test_connect_listen_and_discovery():
@@ -40,6 +45,7 @@ def test_connect_listen_and_discovery():
     assert settings.reasons['connect'] == 'ZROS_CONNECT' and settings.reasons['domain_id'] == 'ZROS_DOMAIN_ID'
     config = zconfig(env)
     assert config['listen']['endpoints'] == ['tcp/0.0.0.0:0']     # reachable by the router's other hosts
+    assert config['scouting']['gossip']['autoconnect_strategy'] is None   # either side may dial
     assert config['connect']['endpoints'] == list(settings.connect)
     assert zconfig({'ZROS_CONNECT': 'tcp/10.0.0.1:7447', 'ZROS_LISTEN': 'tcp/10.0.0.2:7447'})['listen'][
         'endpoints'] == ['tcp/10.0.0.2:7447']
