@@ -26,7 +26,7 @@ obstacles:
 
 @pytest.fixture(scope='module')
 def stack(module_spawn: Any, tmp_path_factory: Any) -> Any:
-    from zros.executors import MultiThreadedExecutor
+    from zros.executors import ExternalShutdownException, MultiThreadedExecutor
     from zros.node import Node
     from zros.qos import DurabilityPolicy, QoSProfile
     from zros.sim import parse_world, rasterize
@@ -53,7 +53,13 @@ def stack(module_spawn: Any, tmp_path_factory: Any) -> Any:
     _perfect_localization(node, truth)
     executor = MultiThreadedExecutor(num_threads=4, context=context)
     executor.add_node(node)
-    threading.Thread(target=executor.spin, daemon=True).start()
+
+    def spin() -> None:
+        try:
+            executor.spin()
+        except ExternalShutdownException:
+            pass   # the context went down before the executor noticed its own shutdown
+    threading.Thread(target=spin, daemon=True).start()
     from zros.lifecycle import LifecycleClient
     nav = LifecycleClient(node, 'bt_navigator')
 
