@@ -885,7 +885,6 @@ def copy_stages(case: str, repeat: int = 20) -> dict:
     import msgpack
     import zenoh
 
-    from zros import shm
     from zros.message import deserialize, serialize
     msg = zros_msg(case)
     v1 = {'header': {'stamp': {'sec': 0, 'nanosec': 0}, 'frame_id': 'camera'}, 'height': msg.height,
@@ -905,8 +904,7 @@ def copy_stages(case: str, repeat: int = 20) -> dict:
     return {
         'size': len(payload),
         'zros': [('serialize (header + one copy of the pixels)', ms(lambda: serialize(msg))),
-                 ('into the shared-memory pool (same machine)', ms(lambda: shm.payload(payload))),
-                 ('or into a Zenoh buffer (network path)', ms(lambda: zenoh.ZBytes(payload))),
+                 ('into a Zenoh buffer (Zenoh then copies it into its shared-memory pool)', ms(lambda: zenoh.ZBytes(payload))),
                  ('to_bytes on receive', ms(in_zenoh.to_bytes)),
                  ('decode into array.array', ms(lambda: deserialize(payload, type(msg))))],
         'v1': [('msgpack.packb of the field map', ms(lambda: msgpack.packb(v1))),

@@ -79,7 +79,8 @@ def test_large_arrays_through_shared_memory(monkeypatch, spawn, context, raw_ses
     monkeypatch.setenv('ZROS_SHM_POOL_SIZE', '16M')  # the publisher's: its buffers are reused
     received, raw = _receive(context, spawn, wait_for, raw_session)
     _check(received)
-    assert all(raw), f'payloads in shared memory: {raw}'
+    # Zenoh sets its pool up on the first large put, which goes the ordinary way
+    assert all(raw[1:]), f'payloads in shared memory: {raw}'
 
 
 def test_a_subscriber_without_shared_memory_still_receives(monkeypatch, spawn, make_context, wait_for):
@@ -101,3 +102,56 @@ def test_shared_memory_settings(monkeypatch):
     monkeypatch.delenv('ZROS_SHM_POOL_SIZE')
     config = build_config(SessionSettings(), as_hub=False)
     assert json.loads(config.get_json('transport/shared_memory/transport_optimization/pool_size')) == 64 << 20
+
+
+
+FLOOD_PUBLISHER = '''
+import sys, time
+import zros
+from zros.node import Node
+from interfaces.sensor_msgs.msg import Image
+
+zros.init([])
+node = Node('flood_publisher')
+pub = node.create_publisher(Image, '/flood64k', 10)
+if not pub.wait_for_subscribers(1, 15):
+    sys.exit('no subscriber')
+msg = Image(height=256, width=256, encoding='mono8', step=256, data=bytes(65536))
+count, end = 0, time.monotonic() + 2.0
+while time.monotonic() < end:
+    msg.header.stamp.sec = count
+    pub.publish(msg)
+    count += 1
+print('sent', count, flush=True)
+time.sleep(30)   # its pool goes with the process: messages still in flight would go with it
+'''
+
+
+def test_a_flood_through_shared_memory_loses_nothing(monkeypatch, spawn, context, wait_for):
+    """2 s of 64 KiB messages as fast as a publisher can, into a depth-10 subscription that
+    keeps up only in part: every message is delivered or counted as dropped by the depth rule,
+    none lost. (Buffers of a pool of zros's own were garbage-collected while they still waited
+    in the socket, and a reliable stream lost hundreds.)"""
+    import re
+    import threading
+    monkeypatch.setenv('ZROS_SHM_POOL_SIZE', '256M')   # the publisher's, as for a camera pipeline
+    node = Node('flood_subscriber', context=context)
+    got: list[int] = []
+    sub = node.create_subscription(Image, '/flood64k', lambda msg: got.append(msg.header.stamp.sec), 10)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(node)
+    spinner = threading.Thread(target=executor.spin, daemon=True)
+    spinner.start()
+    try:
+        publisher = spawn.script(FLOOD_PUBLISHER, name='flood_publisher')
+        sent = wait_for(lambda: re.search(r'^sent (\d+)$', publisher.output(), re.M), timeout=30,
+                        message=lambda: publisher.output())
+        count = int(sent.group(1))
+        wait_for(lambda: got and got[-1] == count - 1, timeout=20,
+                 message=lambda: f'the last message ({count - 1}), have {got[-1:]}; lost {sub.lost}')
+        assert sub.lost == 0, f'{sub.lost} of {count} lost'
+        assert sub.received + sub.dropped == count
+        assert got == sorted(set(got))
+    finally:
+        executor.shutdown()
+        spinner.join(5)

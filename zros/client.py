@@ -21,7 +21,6 @@ from zros.errors import DecodeError, ServiceCallError
 from zros.graph import EntityKind
 from zros.message import deserialize, serialize
 from zros.qos import QoSProfile
-from zros.shm import payload as shm_payload
 from zros.task import Future
 from zros.wire import AttachmentWriter, max_message_size
 
@@ -114,7 +113,7 @@ class Client(NodeEntity):
         timeout = _NO_TIMEOUT if timeout_sec is None else max(0.001, timeout_sec)
         receiver = self._node.context.session.get(
             f'{self._key}?{parameters}' if parameters else self._key, handler,
-            payload=shm_payload(serialize(request)), attachment=self._stamp(),
+            payload=serialize(request), attachment=self._stamp(),
             timeout=timeout, consolidation=zenoh.ConsolidationMode.NONE)
         return timeout, receiver
 

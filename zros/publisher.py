@@ -7,7 +7,6 @@ from zros.entity import NodeEntity
 from zros.graph import EntityKind
 from zros.message import encoder
 from zros.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
-from zros.shm import SHM_THRESHOLD, payload as shm_payload
 from zros.wire import AttachmentWriter
 
 if TYPE_CHECKING:
@@ -60,8 +59,6 @@ class Publisher(NodeEntity):
                 f"got {getattr(type(msg), '_TYPE', type(msg).__name__)}")
         if self._destroyed:
             raise RuntimeError(f"publisher on '{self.topic_name}' has been destroyed")
-        if len(payload) >= SHM_THRESHOLD:
-            payload = shm_payload(payload)
         self._put(payload, attachment=self._stamp())
         if self._events is not None:
             self._events.on_publish()

@@ -19,7 +19,6 @@ from zros.errors import DecodeError
 from zros.graph import EntityKind
 from zros.message import deserialize, serialize
 from zros.qos import QoSProfile
-from zros.shm import payload as shm_payload
 from zros.wire import describe_type, foreign_protocol, max_request_size, mismatch_reason, read_header, type_tail
 
 if TYPE_CHECKING:
@@ -61,7 +60,7 @@ class DeferredResponse:
         self._query = None
         try:
             if kind == 'ok':
-                query.reply(query.key_expr, shm_payload(serialize(value)))
+                query.reply(query.key_expr, serialize(value))
             else:
                 query.reply_err(str(value).encode())
         finally:
@@ -204,7 +203,7 @@ class Service(QueuedEntity):
             self._node.get_logger().error(text)
             query.reply_err(text.encode())
             return None
-        query.reply(query.key_expr, shm_payload(serialize(response)))
+        query.reply(query.key_expr, serialize(response))
         return self._follow_up(query, response) if self._follow_up is not None else None
 
     def _release(self) -> None:
