@@ -71,9 +71,13 @@ def test_localization_launch_brings_up_map_server_and_amcl_and_localizes(spawn: 
             x, y, _ = truth[-1]
             return math.hypot(poses[-1].pose.pose.position.x - x, poses[-1].pose.pose.position.y - y)
         wait_until(lambda: error() < 0.15, 60, message=lambda: f'amcl_pose within 0.15 m: {error():.2f} m off')
-        x, y, _ = truth[-1]
-        t = buffer.lookup_transform('map', 'base_footprint', Time(), timeout=10.0)
-        assert math.hypot(t.transform.translation.x - x, t.transform.translation.y - y) < 0.15
+
+        def tf_error() -> float:   # what TF users see agrees too (each filter update moves it a little)
+            t = buffer.lookup_transform('map', 'base_footprint', Time(), timeout=10.0)
+            x, y, _ = truth[-1]
+            return math.hypot(t.transform.translation.x - x, t.transform.translation.y - y)
+        wait_until(lambda: tf_error() < 0.15, 30, message=lambda: f'map -> base_footprint within 0.15 m: '
+                                                              f'{tf_error():.2f} m off')
         executor.shutdown(timeout_sec=2)
     finally:
         ctx.shutdown()
