@@ -2,8 +2,9 @@
 
 Replies complete the future on Zenoh's thread, so a blocking `call()` works even from inside
 a callback of a single-threaded executor (rclpy deadlocks there); the reply is decoded by the
-thread that reads the future, not by Zenoh's. Done-callbacks still run on the node's executor. A call fails with ServiceCallError when the server raises or refuses the
-request, when it disappears (Zenoh finalizes the query at once), or after `timeout_sec`.
+thread that reads the future, not by Zenoh's. Done-callbacks still run on the node's executor.
+A call fails with ServiceCallError when the server raises or refuses the request, when it
+disappears (Zenoh finalizes the query at once), or after `timeout_sec`.
 
 A server is ready when the graph lists it and Zenoh's routing knows its queryable: the
 liveliness token that puts a server in the graph can arrive before the queryable's declaration

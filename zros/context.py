@@ -158,10 +158,8 @@ class Context:
             if signal_received() and self._session is not None:
                 self._withdrawn.append(declaration)
                 return
-        try:
-            declaration.undeclare()
-        except Exception:  # noqa: BLE001 - the session may be closing already
-            pass
+        from zros.graph import undeclare_quietly
+        undeclare_quietly(declaration)
 
     def try_shutdown(self) -> None:
         self.shutdown()

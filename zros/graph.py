@@ -28,7 +28,7 @@ from zros.keys import liveliness_prefix, mangle, unmangle
 __all__ = [
     'Entity', 'EntityKind', 'EntityList', 'entity_token', 'parse_token', 'Graph', 'fetch_entities', 'GraphService',
     'StatsService', 'fetch_subscription_stats',
-    'node_names_and_namespaces', 'names_and_types', 'endpoints',
+    'node_names_and_namespaces', 'names_and_types', 'endpoints', 'undeclare_quietly',
 ]
 
 
@@ -96,7 +96,11 @@ def parse_token(key: str) -> Entity | None:
 _LISTENER_INTERVAL_S = 0.05
 
 
-def _undeclare(declaration: Any) -> None:
+def undeclare_quietly(declaration: Any) -> None:
+    """Undeclare a Zenoh declaration (None: nothing to do); errors of a session that is
+    already closing are ignored."""
+    if declaration is None:
+        return
     try:
         declaration.undeclare()
     except Exception:  # noqa: BLE001 - the session may already be closing
@@ -224,7 +228,7 @@ class StatsService:
             query.drop()
 
     def close(self, undeclare: Callable[[Any], None] | None = None) -> None:
-        (undeclare or _undeclare)(self._queryable)
+        (undeclare or undeclare_quietly)(self._queryable)
 
 
 def fetch_subscription_stats(session, domain: int, timeout: float = 1.0) -> dict[tuple[str, int, int], list[int]]:
@@ -256,7 +260,7 @@ class GraphService:
             query.drop()
 
     def close(self, undeclare: Callable[[Any], None] | None = None) -> None:
-        (undeclare or _undeclare)(self._queryable)
+        (undeclare or undeclare_quietly)(self._queryable)
 
 
 class Graph:
@@ -386,7 +390,7 @@ class Graph:
         self._closed = True
         self._changed_event.set()
         if self._subscriber is not None:
-            (undeclare or _undeclare)(self._subscriber)
+            (undeclare or undeclare_quietly)(self._subscriber)
             self._subscriber = None
         with self._changed:
             self._listeners.clear()

@@ -18,6 +18,7 @@ import weakref
 from typing import Any
 
 from zros.errors import DecodeError
+from zros.graph import undeclare_quietly
 from zros.logging import get_logger
 from zros.message import deserialize
 from zros.wire import mismatch_reason, read_header, type_tail
@@ -94,7 +95,7 @@ class TfHub:
             if self._targets[static]:
                 return
             subscriber = self._subscribers.pop(static, None)
-        _undeclare(subscriber)
+        undeclare_quietly(subscriber)
 
     def close(self) -> None:
         with self._lock:
@@ -102,7 +103,7 @@ class TfHub:
             self._subscribers.clear()
             self._targets = {False: (), True: ()}
         for subscriber in subscribers:
-            _undeclare(subscriber)
+            undeclare_quietly(subscriber)
         with _hubs_lock:
             _hubs.pop(self._context, None)
 
@@ -164,12 +165,3 @@ class TfHub:
         if writer not in self._complained:
             self._complained.add(writer)
             _logger.error(f"dropping messages on '{topic}': {reason} (reported once per publisher)")
-
-
-def _undeclare(subscriber: Any) -> None:
-    if subscriber is None:
-        return
-    try:
-        subscriber.undeclare()
-    except Exception:  # noqa: BLE001 - the session may be closing already
-        pass
