@@ -30,7 +30,8 @@ runs them (a fresh process each time) `--graph-reads` times each while the launc
 wall-clock from spawn to exit, and checked for a complete answer (all N nodes, no "partial"
 warning; a read still running after 60 s counts as 60 s and incomplete), with the CPU each
 used, and the graph read alone from this script's open session (what the verbs cost beyond
-starting an interpreter). Whether Python may cache byte-code (PYTHONDONTWRITEBYTECODE unset,
+starting an interpreter); then, over 10 s, how many listeners print every talker's messages
+(a link Zenoh left half open silently loses one talker for one listener). Whether Python may cache byte-code (PYTHONDONTWRITEBYTECODE unset,
 as users have it) changes what every process costs to start: the header says which.
 Goals (issue 20): every read under 1 s, Ctrl-C to everything gone under 3 s, no escalation.
 `--nodes 50 100 --runs 1 --graph-reads 5` measures the same with talkers only: the graph's size
@@ -85,6 +86,32 @@ def _machine_busy() -> tuple[float, float]:
     values = [int(v) for v in Path('/proc/stat').read_text().split('\n', 1)[0].split()[1:]]
     idle = values[3] + values[4]    # idle + iowait
     return sum(values) - idle, sum(values)
+
+
+#: How long the pairs' deliveries are counted, and the share of the talkers' messages a
+#: listener must print in that time to count as hearing every talker (a 1 Hz timer's jitter).
+DELIVERY_WINDOW_S = 10.0
+DELIVERY_SHARE = 0.9
+
+
+def _deliveries(out_path: Path, names: list[tuple[str, str]]) -> dict:
+    """How many listeners hear every talker: each listener's `I heard` lines in the launch output
+    over DELIVERY_WINDOW_S against the talkers' rate (1 Hz each). A link that Zenoh left half
+    open shows here: its listener misses that talker's messages, with no error anywhere."""
+    talkers = sum(1 for executable, _ in names if executable == 'talker')
+    listeners = [name for executable, name in names if executable == 'listener']
+    start = out_path.stat().st_size
+    time.sleep(DELIVERY_WINDOW_S)
+    with open(out_path, 'rb') as out:
+        out.seek(start)
+        text = out.read().decode(errors='replace')
+    heard = {name: 0 for name in listeners}
+    for name in re.findall(r'\[(listener_\d+)\]: I heard', text):
+        if name in heard:
+            heard[name] += 1
+    rates = [count / DELIVERY_WINDOW_S for count in heard.values()]
+    return {'listeners': len(listeners), 'hearing_all': sum(r >= DELIVERY_SHARE * talkers for r in rates),
+            'heard_min_per_s': min(rates), 'talkers': talkers}
 
 
 def _graph_reads(env: dict, expected: set[str], reads: int, session, domain: int, launch: list[int]) -> dict:
@@ -233,6 +260,7 @@ def run_once(nodes: int, workdir: Path, *, pairs: bool = False, graph_reads: int
             supervisor = _memory_kib(popen.pid)
             reads = (_graph_reads(env, expected, graph_reads, context.session, domain, [popen.pid, *pids])
                      if graph_reads else {})
+            heard = _deliveries(out_path, _node_names(nodes, pairs)) if pairs else {}
             last_cpu = {pid: _cpu_of(pid) or 0.0 for pid in pids}
             before_stop = dict(last_cpu)
             t1 = time.monotonic()
@@ -258,7 +286,7 @@ def run_once(nodes: int, workdir: Path, *, pairs: bool = False, graph_reads: int
     return {
         'nodes': nodes, 'domain': domain, 'started_s': started, 'first_s': first, 'all_s': complete,
         'settle_s': settle, 'shutdown_s': shutdown, 'stop_cpu_s': stop_cpu, 'escalations': text.count('escalating to'),
-        **shares, **reads,
+        **shares, **reads, **heard,
         'rss_kib_mean': statistics.mean(m[0] for m in memory), 'pss_kib_mean': statistics.mean(m[1] for m in memory),
         'pss_kib_total': sum(m[1] for m in memory),
         'supervisor_rss_kib': supervisor[0], 'supervisor_pss_kib': supervisor[1],
@@ -318,6 +346,9 @@ def _load_table(results: list[dict], reads: int, pairs: bool) -> None:
         ('graph read alone (open session), median (max)', *times('read_in_process_s'), '< 1 s every time'),
         ('node list answers complete', lambda r: f"{r['complete_reads']}/{reads}",
          lambda r: r['complete_reads'] == reads, 'all'),
+        *([('listeners hearing every talker (slowest, msg/s)',
+            lambda r: f"{r['hearing_all']}/{r['listeners']} ({r['heard_min_per_s']:.1f} of {r['talkers']})",
+            lambda r: r['hearing_all'] == r['listeners'], 'all')] if pairs else []),
         ('CPU per list command, median (max)', *times('cli_cpu_s')[:1], None, ''),
         ('load average during the reads', lambda r: f"{r['load_during_reads']:.0f}", None, ''),
         ('CPUs busy during the reads (of which the launch)',

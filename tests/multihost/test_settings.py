@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from zros.config import (apply_session_options, build_config, settings_from_env, split_session_options,
-                         validate_endpoint)
+from zros.config import (LOOPBACK_LEASE_MS, apply_session_options, build_config, settings_from_env,
+                         split_session_options, validate_endpoint)
 from zros.errors import ZrosError
 
 REPO = Path(__file__).resolve().parents[2]
@@ -105,6 +105,12 @@ def test_config_file(tmp_path):
     hub = zconfig({'ZROS_CONFIG': str(tuning)}, as_hub=True)
     assert hub['listen']['endpoints'] == ['tcp/127.0.0.1:7447'] and hub['transport']['link']['tx']['lease'] == 3000
     assert zconfig({'ZROS_CONFIG': str(tuning)})['listen']['endpoints'] == ['tcp/127.0.0.1:0']
+    # Without one, loopback links get the longer lease; links across machines keep Zenoh's.
+    assert zconfig({})['transport']['link']['tx']['lease'] == LOOPBACK_LEASE_MS
+    assert zconfig({'ZROS_CONNECT': 'tcp/10.0.0.9:7447'})['transport']['link']['tx']['lease'] == 10000
+    # And a handshake may take as long (Zenoh's 10 s timeout can leave a link half open).
+    unicast = zconfig({})['transport']['unicast']
+    assert unicast['accept_timeout'] == unicast['open_timeout'] == LOOPBACK_LEASE_MS
     multicast = tmp_path / 'multicast.json5'
     multicast.write_text('{ scouting: { multicast: { enabled: true } } }')
     assert settings_from_env({'ZROS_CONFIG': str(multicast)}).discovery == 'subnet'
