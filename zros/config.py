@@ -431,8 +431,8 @@ def build_config(settings: SessionSettings, *, as_hub: bool, mesh: bool = True):
             put('transport/link/tx/lease', LOOPBACK_LEASE_MS)
         # As long for a link's handshake. Zenoh cancels a handshake that outlasts the timeout
         # (10 s) wherever it is, even after the link has started sending but before it reads:
-        # the link then stays up, half open, and no lease ends it. Under a 100-node start the
-        # hub lost 1 to 8 nodes from its graph this way, for good.
+        # the link then stays up, half open, and no lease ends it. Under a 100-node start,
+        # listeners never heard some talkers and the hub's graph lacked running nodes, for good.
         for key in ('transport/unicast/accept_timeout', 'transport/unicast/open_timeout'):
             if unset(key):
                 put(key, LOOPBACK_LEASE_MS)
