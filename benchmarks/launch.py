@@ -31,8 +31,9 @@ wall-clock from spawn to exit, and checked for a complete answer (all N nodes, n
 warning; a read still running after 60 s counts as 60 s and incomplete), with the CPU each
 used, and the graph read alone from this script's open session (what the verbs cost beyond
 starting an interpreter); then, over 10 s, how many listeners print every talker's messages
-(a link Zenoh left half open silently loses one talker for one listener). Whether Python may cache byte-code (PYTHONDONTWRITEBYTECODE unset,
-as users have it) changes what every process costs to start: the header says which.
+(a link Zenoh left half open silently loses one talker for one listener). Whether Python may
+cache byte-code (PYTHONDONTWRITEBYTECODE unset, as users have it) changes what every process
+costs to start: the header says which.
 Goals (issue 20): every read under 1 s, Ctrl-C to everything gone under 3 s, no escalation.
 `--nodes 50 100 --runs 1 --graph-reads 5` measures the same with talkers only: the graph's size
 without the N x N message load of the pairs.
@@ -242,8 +243,8 @@ def run_once(nodes: int, workdir: Path, *, pairs: bool = False, graph_reads: int
                     pids = [int(p) for p in re.findall(r'process started with pid \[(\d+)\]', text)]
                     if len(pids) >= nodes:
                         started = now
-                names = {e.node_fqn for e in fetch_entities(context.session, domain, timeout=0.5) if e.kind == 'NN'}
-                seen = names & expected
+                visible = {e.node_fqn for e in fetch_entities(context.session, domain, timeout=0.5) if e.kind == 'NN'}
+                seen = visible & expected
                 if seen and first is None:
                     first = time.monotonic() - t0
                 if seen == expected:
@@ -260,7 +261,7 @@ def run_once(nodes: int, workdir: Path, *, pairs: bool = False, graph_reads: int
             supervisor = _memory_kib(popen.pid)
             reads = (_graph_reads(env, expected, graph_reads, context.session, domain, [popen.pid, *pids])
                      if graph_reads else {})
-            heard = _deliveries(out_path, _node_names(nodes, pairs)) if pairs else {}
+            heard = _deliveries(out_path, names) if pairs else {}
             last_cpu = {pid: _cpu_of(pid) or 0.0 for pid in pids}
             before_stop = dict(last_cpu)
             t1 = time.monotonic()
