@@ -299,6 +299,39 @@ def test_a_flood_into_a_spinning_keep_last_queue_is_all_accounted_for(make_conte
         spinner.join(5)
 
 
+def test_a_callback_that_raises_mid_burst_loses_nothing(make_context, wait_for):
+    """spin() delivers a waiting burst in one go; when the callback raises, the exception
+    leaves spin and the samples after it wait for the next spin, in order, none dropped."""
+    pub_ctx, sub_ctx = make_context(), make_context()
+    node = Node('fragile', context=sub_ctx)
+    received = []
+
+    def on_message(msg):
+        received.append(msg.data)
+        if msg.data == 4:
+            raise ValueError('four')
+    sub = node.create_subscription(Int32, '/fragile', on_message, 50)
+    executor = _executor(sub_ctx, node)
+    publisher = Node('steady', context=pub_ctx).create_publisher(Int32, '/fragile', 10)
+    assert publisher.wait_for_subscribers(1, 5.0)
+    _burst_into(sub, publisher, 20)
+    wait_for(lambda: len(sub._queue) == 20, timeout=5, message='the burst waiting in the queue')
+    watchdog = threading.Timer(5.0, executor.shutdown)
+    watchdog.start()
+    try:
+        with pytest.raises(ValueError, match='four'):
+            executor.spin()
+        assert received == [0, 1, 2, 3, 4]
+        deadline = time.monotonic() + 5
+        while len(received) < 20 and time.monotonic() < deadline:
+            executor.spin_once(timeout_sec=0.1)
+    finally:
+        watchdog.cancel()
+        executor.shutdown()
+    assert received == list(range(20))
+    assert (sub.received, sub.dropped, sub.lost) == (20, 0, 0)
+
+
 def test_losses_are_counted_across_the_samples_the_depth_rule_pushed_out(make_context, wait_for):
     """Samples pushed out by KEEP_LAST are queued undecoded and read only by the executor: a
     network loss among them still counts in `lost` (the depth rule's drops do not), for plain

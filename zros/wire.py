@@ -20,7 +20,7 @@ import time
 
 from zros.errors import ZrosError
 
-__all__ = ['MAGIC', 'PROTOCOL_VERSION', 'GID_AT', 'SEQ_AT', 'SEQ_TIME', 'TYPE_AT', 'AttachmentWriter', 'read_header',
+__all__ = ['MAGIC', 'PROTOCOL_VERSION', 'GID_AT', 'SEQ_AT', 'SEQ_TIME', 'WRITER_STAMP', 'TYPE_AT', 'AttachmentWriter', 'read_header',
            'type_tail', 'describe_type', 'mismatch_reason', 'foreign_protocol', 'max_message_size', 'max_request_size',
            'parse_size', 'DEFAULT_MAX_MESSAGE_SIZE', 'DEFAULT_MAX_REQUEST_SIZE']
 
@@ -31,6 +31,8 @@ _OLD_MAGIC = re.compile(rb'Z[0-9]')
 GID_AT = len(MAGIC)
 SEQ_AT = GID_AT + 16
 SEQ_TIME = struct.Struct('<Qq')
+#: gid, sequence number and source time in one read, from GID_AT.
+WRITER_STAMP = struct.Struct('<16sQq')
 TYPE_AT = SEQ_AT + SEQ_TIME.size
 
 #: What a subscription or a client accepts per message unless ZROS_MAX_MESSAGE_SIZE says
