@@ -332,6 +332,39 @@ def test_a_callback_that_raises_mid_burst_loses_nothing(make_context, wait_for):
     assert (sub.received, sub.dropped, sub.lost) == (20, 0, 0)
 
 
+def test_samples_waiting_behind_a_running_callback_keep_only_the_newest(make_context, wait_for):
+    """While spin() runs the callback for the first sample of a waiting burst, `depth` newer
+    samples arrive: the rest of the burst is pushed out by the KEEP_LAST rule and counted in
+    `dropped`, not `lost`."""
+    pub_ctx, sub_ctx = make_context(), make_context()
+    node = Node('overtaken', context=sub_ctx)
+    publisher = Node('bursty', context=pub_ctx).create_publisher(Int32, '/overtaken', 10)
+    received = []
+
+    def on_message(msg):
+        received.append(msg.data)
+        if msg.data == 0:
+            for i in (3, 4, 5):
+                publisher.publish(Int32(data=i))
+            wait_for(lambda: len(sub._queue) == 3, timeout=5, message='three newer samples waiting')
+    sub = node.create_subscription(Int32, '/overtaken', on_message, 3)
+    assert publisher.wait_for_subscribers(1, 5.0)
+    for i in (0, 1, 2):
+        publisher.publish(Int32(data=i))
+    wait_for(lambda: len(sub._queue) == 3, timeout=5, message='the burst waiting in the queue')
+    executor = _executor(sub_ctx, node)
+    spinner = threading.Thread(target=executor.spin, daemon=True)
+    spinner.start()
+    try:
+        wait_for(lambda: len(received) == 4, timeout=5, message=lambda: f'4 deliveries, have {received}')
+        time.sleep(0.2)
+    finally:
+        executor.shutdown()
+        spinner.join(5)
+    assert received == [0, 3, 4, 5]
+    assert (sub.received, sub.dropped, sub.lost) == (4, 2, 0)
+
+
 def test_losses_are_counted_across_the_samples_the_depth_rule_pushed_out(make_context, wait_for):
     """Samples pushed out by KEEP_LAST are queued undecoded and read only by the executor: a
     network loss among them still counts in `lost` (the depth rule's drops do not), for plain

@@ -27,7 +27,7 @@ from zros.errors import DecodeError
 from zros.graph import EntityKind
 from zros.message import decoder
 from zros.qos import DurabilityPolicy, QoSProfile
-from zros.wire import (GID_AT, MAGIC, SEQ_AT, SEQ_TIME, TYPE_AT, WRITER_STAMP, foreign_protocol, max_message_size,
+from zros.wire import (GID_AT, MAGIC, TYPE_AT, WRITER_STAMP, foreign_protocol, max_message_size,
                        mismatch_reason, read_header, type_tail)
 
 if TYPE_CHECKING:
@@ -163,92 +163,29 @@ class Subscription(QueuedEntity):
                 self.dropped += 1
 
     # Executor thread. spin_once takes one sample per call, as rclpy takes one message per
-    # callback; spin() lets a subscription take up to `budget` waiting samples at once (one lock,
-    # one trip through the executor's queue) and deliver them in order.
+    # callback; spin() lets a subscription run up to `budget` waiting samples in one go, taking
+    # each as its turn comes (a sample still waiting can be pushed out by a newer one).
     def _execute(self, budget: int = 1) -> Any:
-        queue = self._queue
-        with self._take_lock:   # pushed-out samples are older than the ones taken here
-            count = min(budget, len(queue))
-            popleft = queue.popleft
-            batch = [popleft() for _ in range(count)]
-            notes = self._take_notes() if self._evicted else None
-        if self._handing_off:
-            self._handing_off = False
-            self._taken.set()
-        if notes:
-            self._count_notes(notes)
+        queue, take_lock = self._queue, self._take_lock
+        deliver = self._deliver_plain if self._plain else self._deliver
         try:
-            if batch:
-                return self._deliver_batch(batch) if self._plain else self._deliver_each(batch)
+            for _ in range(budget):
+                with take_lock:   # pushed-out samples are older than the one taken here
+                    if not queue:
+                        return None
+                    item = queue.popleft()
+                    notes = self._take_notes() if self._evicted else None
+                if self._handing_off:
+                    self._handing_off = False
+                    self._taken.set()
+                if notes:
+                    self._count_notes(notes)
+                pending = deliver(item)
+                if pending is not None:
+                    return pending   # an async callback's coroutine: the executor runs it as a task first
             return None
         finally:
-            self._rearm()   # also after a callback raised: what is left (and what comes) still runs
-
-    def _deliver_each(self, batch: list) -> Any:
-        index = -1
-        try:
-            for index, item in enumerate(batch):
-                pending = self._deliver(item)
-                if pending is not None:
-                    self._put_back(batch, index + 1)
-                    return pending
-        except BaseException:   # the callback raised: what it did not see waits for the next spin
-            self._put_back(batch, index + 1)
-            raise
-        return None
-
-    def _deliver_batch(self, batch: list) -> Any:
-        """`_deliver` for a callback that takes the message only, inlined for the common case
-        (a zros writer of this type, a payload within the limit); any other sample goes
-        through `_deliver`."""
-        tail, last_seq, decode, callback = self._tail, self._last_seq, self._decode, self.callback
-        max_size, index = self._max_size, -1
-        try:
-            for index, sample in enumerate(batch):
-                attachment = sample.attachment
-                payload = sample.payload
-                if attachment is None or len(payload) > max_size:
-                    pending = self._deliver(sample)
-                else:
-                    attachment = attachment.to_bytes()
-                    if attachment[TYPE_AT:] != tail or attachment[:GID_AT] != MAGIC:
-                        pending = self._deliver(sample)
-                    else:
-                        self.received += 1
-                        gid, seq, _ = WRITER_STAMP.unpack_from(attachment, GID_AT)
-                        last = last_seq.get(gid)
-                        if last is None or seq == last + 1:
-                            last_seq[gid] = seq
-                        else:
-                            self._note_gap(gid, seq)
-                        try:
-                            msg = decode(payload.to_bytes())
-                        except DecodeError as exc:
-                            self._reject(gid, str(exc))
-                            continue
-                        pending = callback(msg)
-                if pending is not None:
-                    self._put_back(batch, index + 1)
-                    return pending
-        except BaseException:   # the callback raised: what it did not see waits for the next spin
-            self._put_back(batch, index + 1)
-            raise
-        return None
-
-    def _put_back(self, batch: list, start: int) -> None:
-        """An async callback's coroutine runs as a task before the next sample is delivered:
-        the rest of the batch goes back to the front of the queue, oldest pushed out first
-        if newer samples took its room meanwhile."""
-        rest = batch[start:]
-        if not rest:
-            return
-        with self._take_lock:
-            queue = self._queue
-            room = queue.maxlen - len(queue)
-            for item in rest[:max(0, len(rest) - room)]:
-                self._evicted.append(item.attachment)
-                self.dropped += 1
-            queue.extendleft(reversed(rest[max(0, len(rest) - room):]))
+            self._rearm()   # also after a callback raised: what is waiting (and what comes) still runs
 
     def _take_notes(self) -> deque:
         """Under `_take_lock`: the attachments of the samples pushed out so far."""
@@ -285,29 +222,45 @@ class Subscription(QueuedEntity):
         if lost != self.lost and self._events is not None:
             self._events.on_sample()
 
+    def _deliver_plain(self, sample: Any) -> Any:
+        """`_deliver` for a callback that takes the message only. The common case (a zros writer
+        of this type, a payload within the limit) reads the attachment in place with one slice
+        compare and one struct read; any other sample takes `_deliver`."""
+        attachment = sample.attachment
+        payload = sample.payload
+        if attachment is None or len(payload) > self._max_size:
+            return self._deliver(sample)
+        attachment = attachment.to_bytes()
+        if attachment[TYPE_AT:] != self._tail or attachment[:GID_AT] != MAGIC:
+            return self._deliver(sample)
+        self.received += 1
+        gid, seq, _ = WRITER_STAMP.unpack_from(attachment, GID_AT)
+        last_seq = self._last_seq
+        last = last_seq.get(gid)
+        if last is None or seq == last + 1:
+            last_seq[gid] = seq
+        else:
+            self._note_gap(gid, seq)
+        try:
+            msg = self._decode(payload.to_bytes())
+        except DecodeError as exc:
+            self._reject(gid, str(exc))
+            return None
+        return self.callback(msg)
+
     def _deliver(self, item: Any) -> Any:
-        """Check, decode and hand one sample to the callback. The common case (a zros writer of
-        this type) reads the attachment in place; anything else takes `_check_sender`."""
+        """Check, decode and hand one sample to the callback, whatever its sender and whatever
+        the callback takes (MessageInfo, raw bytes)."""
         if self._with_info:
             sample, received = item.sample, item.received
         else:
             sample, received = item, 0
         self.received += 1
         attachment = sample.attachment
-        attachment = attachment.to_bytes() if attachment is not None else b''
-        if attachment[TYPE_AT:] == self._tail and attachment[:GID_AT] == MAGIC:
-            gid = attachment[GID_AT:SEQ_AT]
-            seq, source_ns = SEQ_TIME.unpack_from(attachment, SEQ_AT)
-            last = self._last_seq.get(gid)
-            if last is None or seq == last + 1:
-                self._last_seq[gid] = seq
-            else:
-                self._note_gap(gid, seq)
-        else:
-            checked = self._check_sender(attachment)
-            if checked is None:
-                return None
-            gid, seq, source_ns = checked
+        checked = self._check_sender(attachment.to_bytes() if attachment is not None else b'')
+        if checked is None:
+            return None
+        gid, seq, source_ns = checked
         payload = sample.payload
         if len(payload) > self._max_size:  # refused before it is copied or decoded
             self._reject(gid, f'a message of {len(payload)} bytes is larger than the limit of '
