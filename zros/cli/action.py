@@ -163,12 +163,12 @@ def cmd_send_goal(args: argparse.Namespace) -> int:
             say('Goal was rejected.')
             emit({'accepted': False})
             return 1
-        goal_id = bytes(handle.goal_id.uuid).hex()
-        say(f'Goal accepted with ID: {goal_id}\n')
-        emit({'accepted': True, 'goal_id': goal_id})
-        result = handle.get_result_async()
-        exit_on_signals(grace_s=_CANCEL_WAIT_S + 0.5)   # Ctrl-C cancels the goal first, as ros2's
-        try:
+        try:   # from here on, Ctrl-C cancels the goal first, as ros2's does
+            exit_on_signals(grace_s=_CANCEL_WAIT_S + 0.5)
+            result = handle.get_result_async()
+            goal_id = bytes(handle.goal_id.uuid).hex()
+            say(f'Goal accepted with ID: {goal_id}\n')
+            emit({'accepted': True, 'goal_id': goal_id})
             while not result.done():
                 executor.spin_once(timeout_sec=0.1)
         except KeyboardInterrupt:
