@@ -3,16 +3,17 @@ read, decoded and handed to the callback on the executor.
 
 One hand-off: on zenoh-python's callback thread, all the subscription does is append the
 sample, untouched, to its queue and put itself in the executor's queue if it is not there yet:
-no copy, no parsing, never user code, so that thread holds the GIL as little as possible. The queue is the QoS depth (KEEP_LAST): when full, the oldest sample
-is pushed out and counted in `dropped`, so a sample the depth rule drops is never copied or
-decoded. The executor reads each sample's attachment once. Gaps in a publisher's sequence
-numbers over every sample that reached the subscription (pushed-out ones included: their
-attachments are kept for this, up to _EVICTED_NOTES) are counted in `lost`; samples of the
-wrong type, larger than the size limit (zros.wire.max_message_size, refused before they are
-copied) or that do not decode strictly as the subscription's type are counted in `rejected`
-and logged once per publisher: a malformed sample never reaches the callback. What the
-callback does with a well-formed message is its own business: an exception it raises
-propagates out of spin(), as in rclpy.
+no copy, no parsing, never user code, so that thread holds the GIL as little as possible. The
+queue is the QoS depth (KEEP_LAST): when full, the oldest sample is pushed out and counted in
+`dropped`, so a sample the depth rule drops is never copied or decoded. The executor reads each
+sample's attachment once. Gaps in a publisher's sequence numbers over every sample that reached
+the subscription (pushed-out ones included: their attachments are kept for this, up to
+_EVICTED_NOTES) are counted in `lost`; samples of the wrong type, larger than the size limit
+(zros.wire.max_message_size, refused before they are copied) or that do not decode strictly as
+the subscription's type are counted in `rejected` and logged once per publisher: a malformed
+sample never reaches the callback. What the callback does with a well-formed message is its own
+business: an exception it raises propagates out of spin(), as in rclpy, and the samples still
+waiting are delivered by the next spin.
 """
 from __future__ import annotations
 
