@@ -183,7 +183,7 @@ class Subscription(QueuedEntity):
                     self._count_notes(notes)
                 pending = deliver(item)
                 if pending is not None:
-                    return pending   # an async callback's coroutine: the executor runs it as a task first
+                    return pending   # an async callback's coroutine: it runs as a task first
             return None
         finally:
             self._rearm()   # also after a callback raised: what is waiting (and what comes) still runs
@@ -225,8 +225,8 @@ class Subscription(QueuedEntity):
 
     def _deliver_plain(self, sample: Any) -> Any:
         """`_deliver` for a callback that takes the message only. The common case (a zros writer
-        of this type, a payload within the limit) reads the attachment in place with one slice
-        compare and one struct read; any other sample takes `_deliver`."""
+        of this type, a payload within the limit) reads the attachment in place (two slice
+        compares, one struct read); any other sample takes `_deliver`."""
         attachment = sample.attachment
         payload = sample.payload
         if attachment is None or len(payload) > self._max_size:
