@@ -21,8 +21,9 @@ import time
 from zros.errors import ZrosError
 
 __all__ = ['MAGIC', 'PROTOCOL_VERSION', 'GID_AT', 'SEQ_AT', 'SEQ_TIME', 'WRITER_STAMP', 'TYPE_AT',
-           'AttachmentWriter', 'read_header', 'type_tail', 'describe_type', 'mismatch_reason', 'foreign_protocol', 'max_message_size', 'max_request_size',
-           'parse_size', 'DEFAULT_MAX_MESSAGE_SIZE', 'DEFAULT_MAX_REQUEST_SIZE']
+           'AttachmentWriter', 'read_header', 'type_tail', 'describe_type', 'mismatch_reason',
+           'foreign_protocol', 'max_message_size', 'max_request_size', 'parse_size',
+           'DEFAULT_MAX_MESSAGE_SIZE', 'DEFAULT_MAX_REQUEST_SIZE']
 
 PROTOCOL_VERSION = 2
 MAGIC = b'Z2'
