@@ -22,6 +22,7 @@ import threading
 import weakref
 from typing import Any, Callable
 
+from zros.allocator import tune as tune_allocator
 from zros.arguments import RosArgs, parse_ros_args
 from zros.config import SessionSettings, open_session, settings_from_env
 from zros.errors import NotInitializedError
@@ -77,6 +78,7 @@ class Context:
             for logger, level in parsed.log_levels:
                 set_logger_level(logger, severity_from_string(level))
             settings = settings_from_env(domain_id=domain_id, enclave=parsed.enclave)
+            tune_allocator()
             self._session, self._is_hub = open_session(settings, mesh=mesh, connect_wait=connect_wait)
             self._settings, self._args, self._argv = settings, parsed, argv
             self._graph = None
