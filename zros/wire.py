@@ -20,21 +20,19 @@ import time
 
 from zros.errors import ZrosError
 
-__all__ = ['MAGIC', 'PROTOCOL_VERSION', 'GID_AT', 'SEQ_AT', 'SEQ_TIME', 'WRITER_STAMP', 'TYPE_AT',
-           'AttachmentWriter', 'read_header', 'type_tail', 'describe_type', 'mismatch_reason',
-           'foreign_protocol', 'max_message_size', 'max_request_size', 'parse_size',
-           'DEFAULT_MAX_MESSAGE_SIZE', 'DEFAULT_MAX_REQUEST_SIZE']
+__all__ = ['MAGIC', 'PROTOCOL_VERSION', 'GID_AT', 'WRITER_STAMP', 'TYPE_AT', 'AttachmentWriter',
+           'read_header', 'type_tail', 'describe_type', 'mismatch_reason', 'foreign_protocol',
+           'max_message_size', 'max_request_size', 'parse_size', 'DEFAULT_MAX_MESSAGE_SIZE',
+           'DEFAULT_MAX_REQUEST_SIZE']
 
 PROTOCOL_VERSION = 2
 MAGIC = b'Z2'
 _OLD_MAGIC = re.compile(rb'Z[0-9]')
-#: Where the writer's gid, its sequence number and source time (SEQ_TIME) and the type start.
+#: The writer's gid, its sequence number and source time ns, read at once from GID_AT; the
+#: type starts at TYPE_AT.
 GID_AT = len(MAGIC)
-SEQ_AT = GID_AT + 16
-SEQ_TIME = struct.Struct('<Qq')
-#: gid, sequence number and source time in one read, from GID_AT.
 WRITER_STAMP = struct.Struct('<16sQq')
-TYPE_AT = SEQ_AT + SEQ_TIME.size
+TYPE_AT = GID_AT + WRITER_STAMP.size
 
 #: What a subscription or a client accepts per message unless ZROS_MAX_MESSAGE_SIZE says
 #: otherwise: room for 4K RGB images and large point clouds, not for a runaway sender.
@@ -69,8 +67,8 @@ def read_header(attachment: bytes) -> tuple[bytes, int, int, bytes] | None:
     zros writer of this protocol version. A plain tuple: this runs once per received message."""
     if attachment[:GID_AT] != MAGIC or len(attachment) < TYPE_AT:
         return None
-    seq, source_ns = SEQ_TIME.unpack_from(attachment, SEQ_AT)
-    return attachment[GID_AT:SEQ_AT], seq, source_ns, attachment[TYPE_AT:]
+    gid, seq, source_ns = WRITER_STAMP.unpack_from(attachment, GID_AT)
+    return gid, seq, source_ns, attachment[TYPE_AT:]
 
 
 def describe_type(tail: bytes) -> tuple[str, str]:
