@@ -15,7 +15,7 @@ REPO = Path(__file__).resolve().parents[1]
 # After zros.init, copy 1 MiB blocks as a large message's path does (two live at a time, then
 # both freed) and count the page faults per round.
 _PROGRAM = '''
-import resource, sys
+import resource
 import zros
 import zros.allocator
 with zros.init(args=['allocator_probe']):
