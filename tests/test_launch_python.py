@@ -379,8 +379,9 @@ def generate_launch_description():
 @pytest.mark.parametrize('body, fragments', [
     ('from zros.launch.actions import ExecuteLocal\n',
      [':1: zros.launch.actions has no ExecuteLocal; supported: AppendEnvironmentVariable,', 'TimerAction']),
-    ('from launch import LaunchDescription\n',
-     [":1: no module named 'launch': in zros it is 'zros.launch' (from zros.launch import ...)"]),
+    ('import launch\nfrom tf2_py import BufferCore\n', [":2: no module named 'tf2_py' (a ROS library zros does not provide: no zros.tf2_py)"]),
+    ('from my_missing_msgs.msg import Thing\n', [":1: no module named 'my_missing_msgs' (no interface package 'my_missing_msgs' here"]),
+    ('import my_missing_helpers\n', [":1: no module named 'my_missing_helpers' (not installed in this Python environment)"]),
     ('import zros.launch_ros.actions\n\ndef generate_launch_description():\n'
      '    return zros.launch_ros.actions.SetParametersFromFile("x")\n',
      [':4: zros.launch_ros.actions has no SetParametersFromFile; supported:', 'Node']),
@@ -424,6 +425,41 @@ def test_bad_python_launch_files_fail_in_one_line(write, tmp_path: Path, body: s
     line = assert_clean_failure(result, str(path))
     for fragment in fragments:
         assert fragment in line, (fragment, line)
+
+
+UPSTREAM_SHAPED = '''
+import os
+
+from ament_index_python.packages import get_package_share_directory
+from launch import LaunchDescription
+import launch.action
+from launch.actions import DeclareLaunchArgument, IncludeLaunchDescription
+from launch.conditions import IfCondition
+from launch.launch_description_sources import PythonLaunchDescriptionSource
+from launch.substitutions import LaunchConfiguration
+from launch_ros.actions import Node
+
+
+def generate_launch_description():
+    assert issubclass(DeclareLaunchArgument, launch.action.Action)
+    return LaunchDescription([
+        DeclareLaunchArgument('talk', default_value='true'),
+        IncludeLaunchDescription(PythonLaunchDescriptionSource(os.path.join(
+            get_package_share_directory('demo_nodes'), 'launch', 'talker_listener.launch.py'))),
+        Node(package='demo_nodes', executable='talker', name='extra_talker',
+             condition=IfCondition(LaunchConfiguration('talk'))),
+    ])
+'''
+
+
+def test_a_launch_file_as_ros_writes_it_runs_unchanged(write, tmp_path: Path):
+    """ROS's module names, an include through PythonLaunchDescriptionSource and a condition:
+    the classes are zros's own whichever name imported them."""
+    path = write('upstream.launch.py', UPSTREAM_SHAPED)
+    result = launch(path, '--print', '--log-dir', tmp_path / 'log')
+    assert result.returncode == 0, result
+    assert 'node: /extra_talker' in result.stdout and 'node: /talker' in result.stdout, result.stdout
+    assert 'node: /extra_talker' not in launch(path, 'talk:=false', '--print', '--log-dir', tmp_path / 'log').stdout
 
 
 def test_binary_and_xml_launch_files_fail_in_one_line(tmp_path: Path):

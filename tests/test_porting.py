@@ -189,3 +189,35 @@ def test_zros_python_runs_a_packages_rclpy_tests(tmp_path, zros_cli):
                       timeout=60)
     assert result.returncode == 0 and '1 passed' in result.stdout, result
     assert_clean_failure(zros_cli('python', '-m', 'no_such_module'), "no module named 'no_such_module'")
+
+
+ONE_IMPORT_WORLD = textwrap.dedent('''\
+    import sys
+    import zros.import_hook
+    zros.import_hook.install()
+    import launch
+    import launch.conditions, launch.action, launch.actions, launch_ros.actions
+    import zros.launch.conditions, zros.launch.action
+    from launch.conditions import IfCondition
+    from launch_ros.actions import Node
+    assert sys.modules['launch.conditions'] is zros.launch.conditions
+    assert launch.action is zros.launch.action
+    assert IfCondition is zros.launch.conditions.IfCondition
+    Node(package='demo_nodes', executable='talker', condition=IfCondition('true'))
+    import logging, numpy
+    assert logging.__name__ == 'logging' and numpy.__name__ == 'numpy'
+    print('one world')
+''')
+
+
+def test_the_hook_makes_one_module_of_each_ros_name(tmp_path):
+    """`launch` imported first must not make `launch.conditions` a second copy of zros's file
+    (a class would exist twice and zros's own type checks refuse it), and `launch.action` is
+    launch's module, not an interface kind."""
+    import subprocess
+    script = tmp_path / 'one_world.py'
+    script.write_text(ONE_IMPORT_WORLD)
+    result = subprocess.run([sys.executable, script], capture_output=True, text=True, timeout=60)
+    assert result.returncode == 0 and result.stdout == 'one world\n', result.stderr
+    assert module_target('launch.action') == 'zros.launch.action'
+    assert module_target('nav2_msgs.action') == 'interfaces.nav2_msgs.action'

@@ -75,8 +75,8 @@ def module_target(name: str, installed: Callable[[str], bool] = lambda top: Fals
         return None
     if top == 'rclpy':
         return '.'.join(['zros', *parts[1:]])
-    if len(parts) >= 2 and parts[1] in INTERFACE_KINDS:
-        return f'interfaces.{name}'
+    if len(parts) >= 2 and parts[1] in INTERFACE_KINDS and top not in ROS_LIBRARIES:
+        return f'interfaces.{name}'  # `launch.action` is launch's module, not an interface kind
     if installed(top):
         return None
     if top in ROS_LIBRARIES or _zros_has(top):
@@ -115,8 +115,12 @@ class RosModuleFinder(importlib.abc.MetaPathFinder):
         return importlib.machinery.ModuleSpec(fullname, _AliasLoader(mapped), is_package=True)
 
     def _installed(self, top: str) -> bool:
-        if top in sys.modules:
-            return True
+        loaded = sys.modules.get(top)
+        if loaded is not None:
+            # an alias this hook made (`launch` is zros.launch) is no install of the real thing:
+            # its submodules must be aliased too, or `launch.conditions` loads a second copy
+            spec = getattr(loaded, '__spec__', None)
+            return getattr(spec, 'name', top) == top
         for finder in sys.meta_path:
             if finder is self or not hasattr(finder, 'find_spec'):
                 continue

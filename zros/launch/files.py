@@ -3,7 +3,7 @@
 The two front ends meet here: a `.py` file is imported and its `generate_launch_description()`
 called, a `.yaml` / `.yml` file is parsed tag by tag; both give a list of the same action
 objects. Whatever goes wrong while reading is one `LaunchFileError` line that names the file and
-line: a Python exception in the launch file, an import of a ROS module under its ROS name, a
+line: a Python exception in the launch file, a module that is not there, a
 class zros does not have (with the list of those it has), a binary or non-UTF-8 file.
 """
 from __future__ import annotations
@@ -17,10 +17,7 @@ from typing import Any
 
 from zros.launch.errors import LaunchError, LaunchFileError
 
-__all__ = ['load_launch_file', 'read_text', 'launch_file_kind', 'ROS_MODULES']
-
-#: ROS Python libraries a launch file imports, all provided as `zros.<name>`.
-ROS_MODULES = ('launch', 'launch_ros', 'ament_index_python', 'launch_yaml', 'launch_xml')
+__all__ = ['load_launch_file', 'read_text', 'launch_file_kind']
 
 _CANNOT_IMPORT = re.compile(r"cannot import name '(\w+)' from '([\w.]+)'")
 
@@ -70,7 +67,9 @@ def load_launch_file(path: str, kind: str | None = None) -> list:
 
 # -- Python launch files ------------------------------------------------------------------------
 def _load_python(path: str, text: str) -> Any:
+    from zros.import_hook import install
     from zros.launch.launch_description import LaunchDescription
+    install()   # a launch file as ROS 2 writes it: `from launch import ...` is zros.launch itself
     name = 'zros_launch_file_' + hashlib.sha1(os.path.abspath(path).encode()).hexdigest()[:12]
     spec = importlib.util.spec_from_file_location(name, path)
     module = importlib.util.module_from_spec(spec)
@@ -113,10 +112,7 @@ def _python_error(path: str, exc: Exception) -> LaunchFileError:
         return LaunchFileError(None, f"{where}: KeyError: environment variable {exc.args[0]!r} is not set "
                                      f"(export {exc.args[0]}=...)")
     if isinstance(exc, ModuleNotFoundError) and exc.name:
-        root = exc.name.split('.')[0]
-        if root in ROS_MODULES:
-            return LaunchFileError(None, f"{where}: no module named '{exc.name}': in zros it is "
-                                         f"'zros.{exc.name}' (from zros.{exc.name} import ...)")
+        return LaunchFileError(None, f'{where}: {_missing_module(exc.name, text)}')
     if isinstance(exc, ImportError):
         match = _CANNOT_IMPORT.search(str(exc))
         if match and match.group(2).startswith('zros.'):
@@ -125,6 +121,19 @@ def _python_error(path: str, exc: Exception) -> LaunchFileError:
         return LaunchFileError(None, f'{where}: {exc}')
     message = str(exc).strip().splitlines()[0] if str(exc).strip() else ''
     return LaunchFileError(None, f'{where}: {type(exc).__name__}' + (f': {message}' if message else ''))
+
+
+def _missing_module(name: str, line: str = '') -> str:
+    """Why a module a launch file imports is missing, by the name the import hook tried: a ROS
+    library zros does not provide, an interface package not on the search path, or a module that
+    is not installed."""
+    if name.startswith('zros.'):
+        return f"no module named '{name[5:]}' (a ROS library zros does not provide: no {name})"
+    if name.startswith('interfaces.') or any(f'{name}.{kind}' in line for kind in ('msg', 'srv', 'action')):
+        package = name.removeprefix('interfaces.').split('.')[0]
+        return (f"no module named '{name.removeprefix('interfaces.')}' (no interface package "
+                f"'{package}' here: see ZROS_INTERFACE_PATH in docs/packages.md)")
+    return f"no module named '{name}' (not installed in this Python environment)"
 
 
 def unsupported(module_name: str, name: str) -> str:
