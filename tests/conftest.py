@@ -14,6 +14,7 @@ import os
 import signal
 import subprocess
 import sys
+import sysconfig
 from pathlib import Path
 from typing import Any, Callable, Iterator
 
@@ -61,6 +62,19 @@ def spin_for() -> Callable[..., Any]:
     def spin(executor: Any, predicate: Callable[[], Any], timeout: float = 5.0, **kwargs: Any) -> Any:
         return spin_until(executor, predicate, timeout, **kwargs)
     return spin
+
+
+@pytest.fixture
+def fresh_venv(tmp_path: Path) -> Path:
+    """A new venv that sees this checkout's zros and its dependencies (through a .pth file, so
+    nothing is downloaded) and nothing else; returns its python."""
+    venv = tmp_path / 'venv'
+    subprocess.run([sys.executable, '-m', 'venv', venv], check=True, timeout=120)
+    python = venv / 'bin' / 'python'
+    purelib = subprocess.run([python, '-c', 'import sysconfig; print(sysconfig.get_paths()["purelib"])'],
+                             capture_output=True, text=True, check=True).stdout.strip()
+    (Path(purelib) / 'zros_under_test.pth').write_text(f"{REPO}\n{sysconfig.get_paths()['purelib']}\n")
+    return python
 
 
 # -- child processes --------------------------------------------------------------------------

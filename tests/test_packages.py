@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import subprocess
 import sys
-import sysconfig
 from pathlib import Path
 
 import pytest
@@ -40,19 +39,6 @@ def _run(argv: list, *, cwd: Path, timeout: float = 120.0) -> subprocess.Complet
                             stdin=subprocess.DEVNULL)
     assert result.returncode == 0, f'{argv}: exit {result.returncode}\n{result.stdout}\n{result.stderr}'
     return result
-
-
-@pytest.fixture
-def fresh_venv(tmp_path: Path) -> Path:
-    """A new venv that sees this checkout's zros and its dependencies (through a .pth file, so
-    nothing is downloaded) and nothing else; returns its python."""
-    venv = tmp_path / 'venv'
-    _run([sys.executable, '-m', 'venv', venv], cwd=tmp_path)
-    python = venv / 'bin' / 'python'
-    purelib = subprocess.run([python, '-c', 'import sysconfig; print(sysconfig.get_paths()["purelib"])'],
-                             capture_output=True, text=True, check=True).stdout.strip()
-    (Path(purelib) / 'zros_under_test.pth').write_text(f"{REPO}\n{sysconfig.get_paths()['purelib']}\n")
-    return python
 
 
 def test_pkg_create_output_installs_and_runs_in_a_fresh_venv(domain: int, tmp_path: Path, fresh_venv: Path):

@@ -3,20 +3,27 @@
 zros has no install space, so a package's share directory (what `share/<pkg>/` is in ROS 2,
 holding `launch/`, `param/`, `map/`, `urdf/`, `rviz/`, ...) is a directory found here, first
 match wins:
-1. `<dir>/<pkg>/` under each `ZROS_NODE_PATH` directory (a package being worked on); when `<dir>`
-   is a Python project (a `pyproject.toml`, as `zros pkg create` writes), only the packages its
-   `zros.packages` / `zros.nodes` entry points name, as `pip install -e <dir>` would make them
-   (its `tests/`, `docs/`, ... are no packages);
-2. an installed Python package that declares itself with an entry point in the group
-   `zros.packages` (`my_pkg = "my_pkg"`) or provides nodes in `zros.nodes`
-   (`"my_pkg/my_node" = "my_pkg.my_node:main"`): the directory of that Python package;
+1. under each `ZROS_NODE_PATH` directory (a package being worked on):
+   a. `<dir>/<pkg>/`; when `<dir>` is a Python project (a `pyproject.toml`, as `zros pkg create`
+      writes), only the packages its `zros.packages` / `zros.nodes` entry points name, as
+      `pip install -e <dir>` would make them (its `tests/`, `docs/`, ... are no packages);
+   b. ROS packages in source (a folder with `package.xml`: a colcon workspace, its `src/`, or the
+      package itself), found and read as colcon would (zros.ament_index_python.ros_packages);
+2. installed packages:
+   a. a Python package that declares itself with an entry point in the group `zros.packages`
+      (`my_pkg = "my_pkg"`) or provides nodes in `zros.nodes` (`"my_pkg/my_node" =
+      "my_pkg.my_node:main"`): the directory of that Python package;
+   b. a ROS package installed with `pip install -e` (read from its source, as 1b);
+   c. the ament resource index of each `AMENT_PREFIX_PATH` directory, then of this Python
+      environment (a non-editable `pip install` of an ament_python package);
 3. `nodes/<pkg>/` shipped with zros (`demo_nodes`, `turtlesim`, the TurtleBot3 packages...);
 4. `interfaces/<pkg>/` shipped with zros, and packages on `ZROS_INTERFACE_PATH` (message-only
    packages such as `std_msgs`);
 5. `configs` (zros's example launch and parameter files) and `zros` (the directory above it).
-A package's prefix is the directory that holds its share directory. The executables of packages
-found by 1. and 3. are the `*.py` files in their folder (`executable_directories`); those of
-installed packages are their `zros.nodes` entry points.
+A zros package folder's prefix is the directory that holds it; a ROS package's is the directory
+holding `share/<pkg>`. The executables of packages found by 1a and 3 are the `*.py` files in
+their folder (`executable_directories`); those of 2a are their `zros.nodes` entry points; those
+of ROS packages are their `console_scripts` and `lib/<pkg>/` files (`ros_packages`).
 """
 from __future__ import annotations
 
@@ -24,13 +31,16 @@ import functools
 import importlib.util
 import os
 import re
+import sys
 from pathlib import Path
 
+from zros.ament_index_python.ros_packages import (RosPackage, SetupPyError, editable_source_dirs,
+                                                  find_source_packages, prefix_packages, source_package)
 from zros.errors import ZrosError
 
 __all__ = ['PackageNotFoundError', 'get_package_share_directory', 'get_package_share_path',
            'get_package_prefix', 'get_packages_with_prefixes', 'package_directories',
-           'executable_directories', 'interface_roots']
+           'executable_directories', 'ros_packages', 'interface_roots']
 
 _KINDS = ('msg', 'srv', 'action')
 _PACKAGE_NAME = re.compile(r'[A-Za-z][A-Za-z0-9_]*')
@@ -82,12 +92,43 @@ def _project_packages(root: Path) -> dict[str, Path] | None:
 
 
 def _node_path_packages() -> list[tuple[str, Path]]:
-    """(package, folder) for each directory of ZROS_NODE_PATH, in order (module docstring, 1.)."""
+    """(package, folder) for each zros-style package folder of ZROS_NODE_PATH, in order (module
+    docstring, 1.); ROS packages (with a package.xml) are `_node_path_ros_packages`'s."""
     found = []
     for root in _node_path_dirs():
         declared = _project_packages(root)
-        found.extend((declared if declared is not None else _package_dirs_under(root)).items())
+        if declared is None:
+            ros_folders = find_source_packages(root)
+            declared = {name: folder for name, folder in _package_dirs_under(root).items()
+                        if not any(folder == ros or folder in ros.parents for ros in ros_folders)}
+        found.extend(declared.items())
     return found
+
+
+_warned: set[str] = set()
+
+
+def _source_packages(folders: list[Path]) -> list[RosPackage]:
+    """The ROS packages in these source folders; one whose package.xml or setup.py cannot be
+    read is left out, with one warning line."""
+    packages = []
+    for folder in folders:
+        try:
+            packages.append(source_package(folder))
+        except SetupPyError as exc:
+            if str(exc) not in _warned:
+                _warned.add(str(exc))
+                print(f'[WARN] [zros]: package skipped: {exc}', file=sys.stderr)
+    return packages
+
+
+def _node_path_ros_packages() -> list[RosPackage]:
+    """The ROS packages (package.xml) in source under the directories of ZROS_NODE_PATH."""
+    folders = []
+    for root in _node_path_dirs():
+        if _project_packages(root) is None:
+            folders.extend(find_source_packages(root))
+    return _source_packages(folders)
 
 
 def _module_directory(module: str) -> Path | None:
@@ -125,22 +166,37 @@ def _shipped_root(name: str) -> Path:
 def _index() -> dict[str, tuple[Path, bool]]:
     """{package: (share directory, whether its executables are the `*.py` files in it)}, in
     lookup order (module docstring)."""
-    found: dict[str, tuple[Path, bool]] = {}
+    return {name: (folder, scripts) for name, (folder, scripts, _) in _full_index().items()}
+
+
+def _full_index() -> dict[str, tuple[Path, bool, RosPackage | None]]:
+    """The index, with the ROS package record of each package that is one."""
+    found: dict[str, tuple[Path, bool, RosPackage | None]] = {}
     for name, folder in _node_path_packages():
-        found.setdefault(name, (folder, True))
+        found.setdefault(name, (folder, True, None))
+    for package in _node_path_ros_packages():
+        found.setdefault(package.name, (package.share, False, package))
     for name, folder in _installed_packages().items():
-        found.setdefault(name, (folder, False))
+        found.setdefault(name, (folder, False, None))
+    for package in _source_packages(editable_source_dirs()) + prefix_packages():
+        found.setdefault(package.name, (package.share, False, package))
     for name, folder in _package_dirs_under(_shipped_root('nodes')).items():
-        found.setdefault(name, (folder, True))
+        found.setdefault(name, (folder, True, None))
     from zros import typesupport
     for root in typesupport.search_roots():
         for name, folder in _package_dirs_under(root).items():
             if name not in found and any((folder / kind).is_dir() for kind in _KINDS):
-                found[name] = (folder, False)
+                found[name] = (folder, False, None)
     configs = _shipped_root('configs')
-    found.setdefault('configs', (configs, False))
-    found.setdefault('zros', (configs.parent, False))
+    found.setdefault('configs', (configs, False, None))
+    found.setdefault('zros', (configs.parent, False, None))
     return found
+
+
+def ros_packages() -> dict[str, RosPackage]:
+    """The packages of the index that are ROS packages (package.xml in source, or an install
+    prefix's ament index), with their executables (zros.ament_index_python.ros_packages)."""
+    return {name: package for name, (_, _, package) in _full_index().items() if package is not None}
 
 
 def package_directories() -> dict[str, Path]:
@@ -156,9 +212,12 @@ def executable_directories() -> dict[str, Path]:
 
 def interface_roots() -> list[Path]:
     """Directories laid out as `<pkg>/{msg,srv,action}` that hold the interfaces of packages
-    on ZROS_NODE_PATH and of installed packages (for zros.typesupport's search path)."""
+    on ZROS_NODE_PATH (ROS packages in source among them: a workspace's interface package) and
+    of installed packages (for zros.typesupport's search path)."""
     roots: list[Path] = []
-    candidates = _node_path_packages() + list(_installed_packages().items())
+    sources = [folder for root in _node_path_dirs() for folder in find_source_packages(root)]
+    sources += editable_source_dirs()
+    candidates = _node_path_packages() + [(f.name, f.resolve()) for f in sources] + list(_installed_packages().items())
     for name, folder in candidates:
         if folder.name == name and any((folder / kind).is_dir() for kind in _KINDS) and folder.parent not in roots:
             roots.append(folder.parent)
@@ -180,10 +239,16 @@ def get_package_share_directory(package_name: str, print_warning: bool = True) -
     return str(get_package_share_path(package_name))
 
 
+def _prefix(name: str, share: Path, package: RosPackage | None) -> Path:
+    return package.prefix if package is not None else share.parent
+
+
 def get_package_prefix(package_name: str) -> str:
-    """The directory that holds the package's share directory."""
-    return str(get_package_share_path(package_name).parent)
+    """The package's install prefix: for a ROS package the directory holding `share/<pkg>`, for
+    a zros package folder the directory that holds it."""
+    share = get_package_share_path(package_name)
+    return str(_prefix(package_name, share, ros_packages().get(package_name)))
 
 
 def get_packages_with_prefixes() -> dict[str, str]:
-    return {name: str(folder.parent) for name, folder in package_directories().items()}
+    return {name: str(_prefix(name, share, package)) for name, (share, _, package) in _full_index().items()}

@@ -6,8 +6,10 @@
 There is nothing to build, so "sourcing" a workspace only means adding its directories to the
 two search paths: `ZROS_INTERFACE_PATH` (directories holding `<pkg>/msg|srv|action/`) and
 `ZROS_NODE_PATH` (directories holding `<pkg>/<executable>.py`). Packages are looked for in
-`WS/src/` when it exists (a colcon workspace), else in `WS/` itself; an ament_python package
-(`src/my_pkg/my_pkg/node.py`) contributes `src/my_pkg` so that `zros run my_pkg node` finds it.
+`WS/src/` when it exists (a colcon workspace), else in `WS/` itself. A ROS package (a folder with
+`package.xml`, as `ros2 pkg create` makes it) is read in place from there, setup.py's console
+scripts and data files included (zros.ament_index_python.ros_packages); a folder without one that
+holds `my_pkg/my_pkg/node.py` contributes `src/my_pkg` so that `zros run my_pkg node` finds it.
 What the variables held before is kept after the new directories, without duplicates.
 """
 from __future__ import annotations
@@ -49,6 +51,10 @@ def workspace_paths(workspace: str | os.PathLike[str]) -> dict[str, list[str]]:
     for package in _packages(root):
         if any((package / kind).is_dir() for kind in _INTERFACE_DIRS) and str(root) not in interfaces:
             interfaces.append(str(root))
+        if (package / 'package.xml').is_file():    # a ROS package: read in place from its folder
+            if str(root) not in nodes:
+                nodes.append(str(root))
+            continue
         if any(package.glob('*.py')) and str(root) not in nodes:
             nodes.append(str(root))
         module = package / package.name          # ament_python: src/my_pkg/my_pkg/*.py

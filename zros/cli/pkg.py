@@ -25,8 +25,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     p.add_argument('--license', default='TODO: License declaration')
     p.add_argument('--maintainer-name', default=None)
     p.add_argument('--maintainer-email', default=None)
-    p.add_argument('--build-type', default='ament_python',
-                   help='accepted for ros2 compatibility: every zros package is a Python project')
+    p.add_argument('--build-type', default=None, choices=('ament_python', 'ament_cmake', 'cmake'),
+                   help="the ROS layout (package.xml, setup.py or CMakeLists.txt) as ros2 pkg create writes "
+                        "it; without it, a zros Python project (pyproject.toml)")
     p.set_defaults(handler=cmd_create)
     p = sub.add_parser('list', help='Output a list of available packages')
     p.add_argument('--json', action='store_true', help='Machine-readable output')

@@ -1,6 +1,7 @@
 """`zros pkg create`: a package a student can run at once, with no build step.
 
-It writes an installable Python project (`pip install -e my_pkg`) that is also usable in place
+With `--build-type ament_python` (or `ament_cmake`) it writes ROS's own layout
+(zros.cli.pkg_create_ros). Without it, it writes an installable Python project (`pip install -e my_pkg`) that is also usable in place
 (its folder on ZROS_NODE_PATH):
 
     my_pkg/
@@ -199,6 +200,15 @@ def _class_name(node: str) -> str:
     return ''.join(part.capitalize() for part in node.split('_')) or 'MyNode'
 
 
+def _write(root: Path, files: dict[str, str]) -> None:
+    print(f'creating folder {root}')
+    for relative, text in files.items():
+        path = root / relative
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text)
+        print(f'creating {path}')
+
+
 def create_package(args: argparse.Namespace) -> int:
     from zros.errors import CliError
     package = args.package_name
@@ -215,14 +225,13 @@ def create_package(args: argparse.Namespace) -> int:
     maintainer = args.maintainer_name or getpass.getuser()
     email = args.maintainer_email or f'{maintainer}@todo.todo'
     dependencies = list(dict.fromkeys(['std_msgs', *args.dependencies])) if node else list(args.dependencies)
+    build_type = {'cmake': 'ament_cmake'}.get(args.build_type, args.build_type)
     print('going to create a new package')
     for label, value in (('package name', package), ('destination directory', str(Path(args.destination_directory).resolve())),
                          ('version', '0.0.0'), ('description', args.description),
                          ('maintainer', [f'{maintainer} <{email}>']), ('licenses', [args.license]),
-                         ('build type', 'ament_python'), ('dependencies', dependencies)):
+                         ('build type', build_type or 'ament_python'), ('dependencies', dependencies)):
         print(f'{label}: {value}')
-    if args.build_type != 'ament_python':
-        print(f"note: zros packages are Python projects; '--build-type {args.build_type}' is treated as ament_python")
     if node:
         print(f'node_name: {node}')
     fields = dict(package=package, description=args.description, license=args.license, maintainer=maintainer,
@@ -230,6 +239,11 @@ def create_package(args: argparse.Namespace) -> int:
                   dependencies=', '.join(dependencies) or 'none', node_or_exe=node or 'EXECUTABLE')
     fields['entry_points'] = Template(ENTRY_POINTS).substitute(fields) if node else ''
     fields['nodes'] = Template(LAUNCH_NODE).substitute(fields) if node else ''
+    if build_type is not None:
+        from zros.cli.pkg_create_ros import next_steps, ros_layout
+        _write(root, ros_layout(fields, build_type, node, list(args.dependencies)))
+        print(next_steps(root))
+        return 0
     files = {
         'pyproject.toml': PYPROJECT,
         'README.md': README,
@@ -244,11 +258,6 @@ def create_package(args: argparse.Namespace) -> int:
         files[f'tests/test_{node}.py'] = TEST
     else:
         files['tests/test_package.py'] = EMPTY_TEST
-    print(f'creating folder {root}')
-    for relative, template in files.items():
-        path = root / relative
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(Template(template).substitute(fields))
-        print(f'creating {path}')
+    _write(root, {relative: Template(template).substitute(fields) for relative, template in files.items()})
     print(f'\nnext: pip install -e {root}   (or: export ZROS_NODE_PATH={root.resolve()})')
     return 0

@@ -3,9 +3,11 @@
 Executables are looked up in this order:
 1. entry points in the group `zros.nodes` named `PKG/EXECUTABLE` (how an installed
    package registers its own nodes, see README.md, "Running nodes");
-2. `EXECUTABLE.py` in the folder the package index (zros.ament_index_python.packages) finds for
-   PKG: on `ZROS_NODE_PATH` (loaded with zros.import_hook installed, so unmodified rclpy code
-   runs as it is), else shipped with zros (the module `nodes.PKG.EXECUTABLE`).
+2. a ROS package's executables (zros.ament_index_python.ros_packages): the `console_scripts` of
+   its setup.py or installed distribution, and the files in an install prefix's `lib/PKG/`;
+3. `EXECUTABLE.py` in the folder the package index (zros.ament_index_python.packages) finds for
+   PKG: on `ZROS_NODE_PATH`, else shipped with zros (the module `nodes.PKG.EXECUTABLE`).
+Every executable is loaded with zros.import_hook installed, so unmodified rclpy code runs as it is.
 The module's `main()` is called with sys.argv set to [EXECUTABLE, args...], the way
 ros2 run's executables see their arguments (`--ros-args` included).
 
@@ -17,6 +19,7 @@ executable is passed through untouched.
 from __future__ import annotations
 
 import argparse
+import functools
 import importlib
 import importlib.util
 import sys
@@ -42,26 +45,63 @@ def _builtin_nodes_dir() -> Path:
 
 def list_packages() -> list[str]:
     """The packages that may have executables: those of the package index
-    (zros.ament_index_python.packages) with executables in their folder, and those with entry points."""
-    from zros.ament_index_python.packages import executable_directories
+    (zros.ament_index_python.packages) with executables in their folder, ROS packages, and those
+    with entry points."""
+    from zros.ament_index_python.packages import executable_directories, ros_packages
     found = {ep.name.split('/')[0] for ep in metadata.entry_points(group='zros.nodes')}
-    return sorted(found.union(executable_directories()))
+    return sorted(found.union(executable_directories(), ros_packages()))
 
 
 def list_executables(package: str) -> list[str]:
-    from zros.ament_index_python.packages import executable_directories
+    from zros.ament_index_python.packages import executable_directories, ros_packages
     found = {ep.name.split('/', 1)[1] for ep in metadata.entry_points(group='zros.nodes')
              if ep.name.startswith(package + '/')}
     folder = executable_directories().get(package)
     if folder is not None:
         found.update(p.stem for p in folder.glob('*.py') if not p.stem.startswith('_'))
+    ros_package = ros_packages().get(package)
+    if ros_package is not None:
+        found.update(ros_package.executables)
     return sorted(found)
+
+
+def _ros_executable(package: Any, executable: str) -> Callable[[], Any]:
+    """The callable that runs a ROS package's executable: a console script's `module:function`
+    (imported from the package's source folder when it is one), or a `lib/<pkg>/` file."""
+    target = package.executables[executable]
+    if ':' in target and not Path(target).is_absolute():
+        module_name, _, attribute = target.partition(':')
+        if package.python_root is not None and str(package.python_root) not in sys.path:
+            sys.path.insert(0, str(package.python_root))
+        function: Any = importlib.import_module(module_name)
+        for part in attribute.split('.'):
+            function = getattr(function, part)
+        return function
+    return functools.partial(_run_script, target)
+
+
+def _run_script(path: str) -> Any:
+    """Run an installed executable file: a Python script in this process (under the import
+    hook), anything else (a compiled node) in its place."""
+    import os
+    import runpy
+    with open(path, 'rb') as handle:
+        first_line = handle.readline()
+    if not (first_line.startswith(b'#!') and b'python' in first_line) and not path.endswith('.py'):
+        os.execv(path, [path, *sys.argv[1:]])
+    try:
+        runpy.run_path(path, run_name='__main__')
+    except SystemExit as exc:
+        return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+    return 0
 
 
 def find_executable(package: str, executable: str) -> Callable[[], Any]:
     """The callable that runs PKG/EXECUTABLE; CliError (one line) when there is none."""
     from zros.ament_index_python.packages import executable_directories
     from zros.errors import CliError
+    from zros.import_hook import install
+    install()  # any package's nodes may be unmodified rclpy code (`import rclpy`, `from std_msgs.msg ...`)
     for ep in metadata.entry_points(group='zros.nodes'):
         if ep.name == f'{package}/{executable}':
             return ep.load()
@@ -70,12 +110,14 @@ def find_executable(package: str, executable: str) -> Callable[[], Any]:
     if executable not in list_executables(package):
         choices = ', '.join(list_executables(package)) or 'none'
         raise CliError(f"No executable '{executable}' found in package '{package}' (available: {choices})")
+    from zros.ament_index_python.packages import ros_packages
+    ros_package = ros_packages().get(package)
+    if ros_package is not None and executable in ros_package.executables:
+        return _ros_executable(ros_package, executable)
     folder = executable_directories()[package]
     if folder.parent == _builtin_nodes_dir():
         module = importlib.import_module(f'nodes.{package}.{executable}')
     else:
-        from zros.import_hook import install
-        install()  # the user's own nodes may be unmodified rclpy code
         spec = importlib.util.spec_from_file_location(f'zros_node_{package}_{executable}', folder / f'{executable}.py')
         module = importlib.util.module_from_spec(spec)
         spec.loader.exec_module(module)
