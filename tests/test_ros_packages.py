@@ -219,5 +219,103 @@ def test_an_install_prefix_is_read_through_its_ament_index(domain: int, tmp_path
     assert 'Publishing:' in output, output
 
 
+# seed 000: the autonomous_exploration package, its launch file assembled from the course's fragments
+EXPLORATION_LAUNCH = """import os
+
+from ament_index_python.packages import get_package_share_directory
+from launch import LaunchDescription
+from launch.actions import DeclareLaunchArgument
+from launch.actions import IncludeLaunchDescription
+from launch.launch_description_sources import PythonLaunchDescriptionSource
+from launch.substitutions import LaunchConfiguration
+from launch_ros.actions import Node
+
+TURTLEBOT3_MODEL = os.environ['TURTLEBOT3_MODEL']
+
+
+def generate_launch_description():
+    use_sim_time = LaunchConfiguration('use_sim_time', default='True')
+    x_pose = LaunchConfiguration('x_pose', default='-2.0')
+    y_pose = LaunchConfiguration('y_pose', default='-0.5')
+    param_file_name = TURTLEBOT3_MODEL + '.yaml'
+    param_dir = os.path.join(
+        get_package_share_directory('turtlebot3_navigation2'),
+        'param',
+        param_file_name)
+    rviz_config_dir = os.path.join(
+        get_package_share_directory('nav2_bringup'),
+        'rviz',
+        'nav2_default_view.rviz')
+    turtlebot3_world_cmd = IncludeLaunchDescription(
+        PythonLaunchDescriptionSource([os.path.join(
+            get_package_share_directory('turtlebot3_gazebo'),
+            'launch'),
+            '/turtlebot3_world.launch.py']),
+        launch_arguments={
+            'use_sim_time': use_sim_time,
+            'x_pose': x_pose,
+            'y_pose': y_pose
+        }.items()
+    )
+    navigation_cmd = IncludeLaunchDescription(
+        PythonLaunchDescriptionSource([
+            os.path.join(
+                get_package_share_directory('nav2_bringup'),
+                'launch'), '/bringup_launch.py']),
+        launch_arguments={
+            'map' : '~/.map.yaml',
+            'use_sim_time': use_sim_time,
+            'slam' : 'True',
+            'params_file': param_dir}.items(),
+    )
+    rviz_cmd = Node(
+        package='rviz2',
+        executable='rviz2',
+        name='rviz2',
+        arguments=['-d', rviz_config_dir],
+        parameters=[{'use_sim_time': use_sim_time}],
+        output='screen')
+    explore_lite_cmd = IncludeLaunchDescription(
+        PythonLaunchDescriptionSource([os.path.join(
+            get_package_share_directory('explore_lite'), 'launch'),
+            '/explore.launch.py']),
+        launch_arguments={
+            'use_sim_time': use_sim_time}.items(),
+    )
+    ld = LaunchDescription()
+    ld.add_action(turtlebot3_world_cmd)
+    ld.add_action(navigation_cmd)
+    ld.add_action(rviz_cmd)
+    ld.add_action(explore_lite_cmd)
+    return ld
+"""
+
+
+def test_the_exploration_course_package_launches_as_printed(tmp_path: Path, cache: Path):
+    """seed 000: `ros2 pkg create --build-type ament_python autonomous_exploration`, the launch file,
+    setup.py's `glob(os.path.join('launch', '*launch.[pxy][yma]*'))`, then `ros2 launch
+    autonomous_exploration autonomous_exploration.launch.py x_pose:=0.5 y_pose:=2.0`."""
+    src = tmp_path / 'turtlebot3_ws' / 'src'
+    src.mkdir(parents=True)
+    assert run_cli('pkg', 'create', '--build-type', 'ament_python', 'autonomous_exploration',
+                   '--destination-directory', src).returncode == 0
+    package = src / 'autonomous_exploration'
+    (package / 'launch').mkdir()
+    (package / 'launch' / 'autonomous_exploration.launch.py').write_text(EXPLORATION_LAUNCH)
+    setup = (package / 'setup.py').read_text()
+    setup = 'import os\nfrom glob import glob\n' + setup.replace(
+        "('share/' + package_name, ['package.xml']),",
+        "('share/' + package_name, ['package.xml']),\n"
+        "        (os.path.join('share', package_name, 'launch'),\n"
+        "         glob(os.path.join('launch', '*launch.[pxy][yma]*')))")
+    (package / 'setup.py').write_text(setup)
+    env = dict(os.environ, ZROS_NODE_PATH=str(src), TURTLEBOT3_MODEL='burger')
+    plan = run_cli('launch', 'autonomous_exploration', 'autonomous_exploration.launch.py', 'x_pose:=0.5',
+                   'y_pose:=2.0', '--print', '--log-dir', tmp_path / 'log', env=env, timeout=60)
+    assert plan.returncode == 0, plan
+    for process in ('gzserver', 'async_slam_toolbox_node', 'bt_navigator', 'rviz2', 'explore'):
+        assert f'process [{process}-' in plan.stdout, (process, plan.stdout)
+
+
 def test_the_repository_root_is_not_a_workspace():
     assert find_source_packages(REPO / 'nodes') == []
