@@ -56,7 +56,7 @@ import os
 import re
 import socket
 import sys
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from zros.errors import ZrosError
 
@@ -519,9 +519,7 @@ def open_session(settings: SessionSettings, *, mesh: bool = True, connect_wait: 
         if settings.tls:
             # The keystore's router (`zros router` with security on) holds the port: be its
             # client, as the enclave's file says, so that its access control sees every message.
-            client = SessionSettings(domain_id=settings.domain_id, connect=(settings.hub_endpoint,),
-                                     discovery=settings.discovery, config_file=settings.config_file,
-                                     mode='client', reasons=settings.reasons)
+            client = replace(settings, connect=(settings.hub_endpoint,), mode='client', tls=False)
             return _open_client(client, mesh, connect_wait), False
         # The hub port is held by a Zenoh router (`zros router` listens on 0.0.0.0:7447): join
         # it the way ZROS_CONNECT would, listening beyond loopback, so that the router's other
