@@ -13,9 +13,9 @@ With ROS_SECURITY_ENABLE=true every zros process uses its enclave's tls.json5 as
 config (zros.config.security_config_file). On one machine the processes link to each other
 over mutual TLS on loopback, with no router (zros.config). Across machines they are mTLS
 clients of the keystore's router (`zros router`, enclave router, listening on
-tls/0.0.0.0:7447), dialled where ZROS_CONNECT says. Encryption and authentication come from TLS; access control from the
-router's config (docs/multi-machine.md). `create-keys` is the same tool with zros's own
-options:
+tls/0.0.0.0:7447), dialled where ZROS_CONNECT says. Encryption and authentication come from
+TLS; access control from the router's config (docs/multi-machine.md). `create-keys` is the
+same tool with zros's own options:
 
     zros security create-keys keys --nodes router,talker,listener --hosts 192.168.1.10,robot.local
 
