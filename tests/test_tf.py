@@ -102,6 +102,19 @@ def test_listener_in_another_process_looks_up_latest_past_and_fails_clearly(spaw
     assert frames['turtle1']['rate'] == pytest.approx(1 / STEP, rel=0.1)
 
 
+def test_every_buffer_serves_tf2_frames_without_a_warning(make_context, capfd):
+    """Each node holding a Buffer serves tf2_frames, as in ROS: a Nav2 stack has several, and
+    no 'already served' warning is logged for them (other services still get one)."""
+    from zros.graph import EntityKind
+    from zros.node import Node
+    from zros.tf2_ros import Buffer
+    first, second = Node('planner', context=make_context()), Node('controller', context=make_context())
+    Buffer(node=first)
+    wait_until(lambda: any(e.kind == EntityKind.SERVICE and e.name == '/tf2_frames'
+                           for e in second.context.graph.entities()), 10, message='the first tf2_frames server')
+    assert Buffer(node=second).srv.service_name == '/tf2_frames'
+    assert 'already served' not in capfd.readouterr().err
+
 def test_static_frames_reach_a_late_listener_and_listeners_share_one_subscription(spawn, make_context):
     from zros.node import Node
     from zros.tf2_ros import Buffer, Time, TransformListener

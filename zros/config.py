@@ -17,7 +17,8 @@ Environment (each also a `zros run` / `zros launch` option, see docs/multi-machi
                      unset, the config is the enclave's `tls.json5` in the keystore that
                      `zros security create_keystore/create_enclave` made (the enclave from
                      `--ros-args --enclave`, ROS_SECURITY_ENCLAVE_OVERRIDE, else '/');
-                     ROS_SECURITY_STRATEGY=Enforce makes a missing enclave an error
+                     ROS_SECURITY_STRATEGY=Enforce makes a missing enclave an error;
+                     without ZROS_CONNECT the loopback hub runs over mutual TLS (below)
 
 What each setting does, and the rules that pick the session's endpoints:
 - localhost: the loopback hub, as above. A process that finds the hub port held by a Zenoh
@@ -32,6 +33,13 @@ What each setting does, and the rules that pick the session's endpoints:
   discovery subnet on tcp/0.0.0.0:0 (an ephemeral port on every IPv4 interface), so that the
   peers it meets through a router can link to it directly; discovery off without endpoints
   stays on tcp/127.0.0.1:0. A client (mode from the file) does not listen.
+- ROS_SECURITY_ENABLE=true on one machine (no ZROS_CONNECT, discovery localhost): SROS2's steps
+  start no router, so the enclave's certificate is used for the loopback hub itself: the hub
+  and every link between processes are mutual TLS (tls/127.0.0.1), and only holders of a
+  certificate from the keystore's CA join. A process that finds the keystore's router on the
+  hub port (`zros router`, domain 0) becomes its client, as the enclave's file says, so the
+  router's access control sees every message. With ZROS_CONNECT the enclave's file rules: a
+  client of the router named there.
 - ZROS_CONFIG is loaded first; ZROS_CONNECT, ZROS_LISTEN and ZROS_DISCOVERY then replace the
   file's connect endpoints, listen endpoints and multicast setting when they are set. zros
   always enables `timestamping` (its transient-local cache needs it); gossip scouting and
@@ -48,7 +56,7 @@ import os
 import re
 import socket
 import sys
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from zros.errors import ZrosError
 
@@ -78,10 +86,18 @@ class SessionSettings:
     config_file: str | None = None
     mode: str = 'peer'          # the Zenoh mode: peer, or what the ZROS_CONFIG file says
     reasons: dict[str, str] = field(default_factory=dict, compare=False)
+    #: The loopback hub and links run over mutual TLS with the config file's (an enclave's)
+    #: certificate: ROS_SECURITY_ENABLE on one machine.
+    tls: bool = False
+
+    @property
+    def link(self) -> str:
+        """The protocol of the loopback hub and of the links a peer listens for."""
+        return 'tls' if self.tls else 'tcp'
 
     @property
     def hub_endpoint(self) -> str:
-        return f'tcp/127.0.0.1:{HUB_BASE_PORT + self.domain_id}'
+        return f'{self.link}/127.0.0.1:{HUB_BASE_PORT + self.domain_id}'
 
     @property
     def uses_hub(self) -> bool:
@@ -244,12 +260,14 @@ def settings_from_env(env: os._Environ | dict | None = None, *, domain_id: int |
         raise ZrosError(f'domain id must be within 0-232, got {domain_id}')
 
     config_file = (env.get('ZROS_CONFIG') or '').strip() or None
+    secure = False
     if config_file:
         reasons['config_file'] = 'ZROS_CONFIG'
     else:
         config_file = security_config_file(env, enclave)
         if config_file:
             reasons['config_file'] = 'ROS_SECURITY_KEYSTORE'
+            secure = True
     loaded = _load_file(config_file) if config_file else None
 
     def endpoints(variable: str, from_file: tuple[str, ...]) -> tuple[str, ...]:
@@ -278,11 +296,16 @@ def settings_from_env(env: os._Environ | dict | None = None, *, domain_id: int |
 
     mode = loaded.mode if loaded else 'peer'
     reasons['mode'] = 'ZROS_CONFIG' if loaded and loaded.values.get('mode') else 'default'
+    tls = False
+    if secure and mode == 'client' and reasons['connect'] != 'ZROS_CONNECT' and discovery == 'localhost':
+        # SROS2's steps start no router: on one machine the enclave makes the loopback hub mTLS.
+        mode, connect, tls = 'peer', (), True
+        reasons['mode'] = reasons['connect'] = 'ROS_SECURITY_ENABLE without ZROS_CONNECT: mTLS on loopback'
     if mode == 'client' and not connect and discovery != 'subnet':
         raise ZrosError('a client-mode session needs a router to connect to: set ZROS_CONNECT '
                         '(or connect/endpoints in the ZROS_CONFIG file)')
     return SessionSettings(domain_id=domain_id, connect=connect, listen=listen, discovery=discovery,
-                           config_file=config_file, mode=mode, reasons=reasons)
+                           config_file=config_file, mode=mode, reasons=reasons, tls=tls)
 
 
 # -- the same settings as command-line options (`zros run`, `zros launch`) ---------------------
@@ -378,7 +401,7 @@ def _default_listen(settings: SessionSettings) -> list[str]:
     if settings.mode == 'router':
         return [f'tcp/0.0.0.0:{HUB_BASE_PORT}']    # IPv4: tcp/[::] fails on hosts without IPv6
     if settings.uses_hub:
-        return [_LOOPBACK_ANY]
+        return [f'{settings.link}/127.0.0.1:0']
     if settings.connect or settings.discovery == 'subnet':
         return [_ALL_IPV4]   # reachable by the peers this process meets through a router or multicast
     return [_LOOPBACK_ANY]
@@ -407,6 +430,13 @@ def build_config(settings: SessionSettings, *, as_hub: bool, mesh: bool = True):
         return loaded is None or loaded.get(key) is None
 
     put('scouting/multicast/enabled', settings.discovery == 'subnet')
+    if settings.tls:
+        # The enclave's file is a client's: a peer of the mTLS hub also listens, with the same
+        # certificate (every enclave's names localhost and 127.0.0.1 and may serve TLS).
+        put('mode', 'peer')
+        for side in ('private_key', 'certificate'):
+            if unset(f'transport/link/tls/listen_{side}'):
+                put(f'transport/link/tls/listen_{side}', loaded.get(f'transport/link/tls/connect_{side}'))
     if not mesh:
         put('scouting/gossip/enabled', False)
     elif unset('scouting/gossip/enabled'):
@@ -460,7 +490,7 @@ def build_config(settings: SessionSettings, *, as_hub: bool, mesh: bool = True):
         listen = _default_listen(settings)
     if listen:
         put('listen/endpoints', listen)
-    if connect:
+    if connect or settings.tls:   # the enclave's file dials a router: the hub replaces it
         put('connect/endpoints', connect)
     return config
 
@@ -485,10 +515,15 @@ def open_session(settings: SessionSettings, *, mesh: bool = True, connect_wait: 
         return _open_client(settings, mesh, connect_wait), False
     session = _open(build_config(settings, as_hub=False, mesh=mesh))
     if settings.uses_hub and not settings.listen and list(session.info.routers_zid()):
+        session.close()
+        if settings.tls:
+            # The keystore's router (`zros router` with security on) holds the port: be its
+            # client, as the enclave's file says, so that its access control sees every message.
+            client = replace(settings, connect=(settings.hub_endpoint,), mode='client', tls=False)
+            return _open_client(client, mesh, connect_wait), False
         # The hub port is held by a Zenoh router (`zros router` listens on 0.0.0.0:7447): join
         # it the way ZROS_CONNECT would, listening beyond loopback, so that the router's other
         # hosts can link to this process (a router does not forward between two peers).
-        session.close()
         joined = SessionSettings(domain_id=settings.domain_id, connect=(settings.hub_endpoint,),
                                  discovery=settings.discovery, config_file=settings.config_file,
                                  mode=settings.mode, reasons=settings.reasons)
@@ -509,7 +544,12 @@ def _open(config):
 
 
 def _warn_unreachable(settings: SessionSettings) -> None:
-    print(f"zros: cannot reach {', '.join(settings.connect)} yet (retrying in the background)",
+    hint = ''
+    if settings.reasons.get('config_file') == 'ROS_SECURITY_KEYSTORE':
+        hint = (": it is the keystore's router; start it there (`zros router` with the same ROS_SECURITY_KEYSTORE "
+                'and ROS_SECURITY_ENABLE=true), or, on one machine, leave ZROS_CONNECT and ZROS_DISCOVERY unset: '
+                'secure nodes then need no router, they link to each other over TLS')
+    print(f"zros: cannot reach {', '.join(settings.connect)} yet (retrying in the background){hint}",
           file=sys.stderr, flush=True)
 
 

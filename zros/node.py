@@ -245,11 +245,16 @@ class Node:
 
     def create_service(self, srv_type: type, srv_name: str, callback: Callable[[Any, Any], Any], *,
                        qos_profile: QoSProfile = qos_profile_services_default,
-                       callback_group: CallbackGroup | None = None) -> Service:
+                       callback_group: CallbackGroup | None = None,
+                       expect_other_servers: bool = False) -> Service:
+        """Serve `srv_name`. A second server of the same name and type is logged as a warning
+        (clients reach only one of them) unless `expect_other_servers` (a zros extension) says
+        several nodes serve it by design, as every tf2 Buffer given a node serves tf2_frames."""
         self._check_alive()
         _require_service_type(srv_type)
         return self._add(Service(self, srv_type, self.resolve_service_name(srv_name), callback,
-                                 to_profile(qos_profile), callback_group or self._default_callback_group))
+                                 to_profile(qos_profile), callback_group or self._default_callback_group,
+                                 warn_if_shared=not expect_other_servers))
 
     def create_client(self, srv_type: type, srv_name: str, *,
                       qos_profile: QoSProfile = qos_profile_services_default,

@@ -75,7 +75,7 @@ class Service(QueuedEntity):
     _follow_up: Callable[[Any, Any], DeferredResponse | None] | None = None
 
     def __init__(self, node: 'Node', srv_type: type, name: str, callback: Callable[[Any, Any], Any],
-                 qos: QoSProfile, callback_group: Any) -> None:
+                 qos: QoSProfile, callback_group: Any, *, warn_if_shared: bool = True) -> None:
         from zros.keys import service_key
         self._node = node
         self.srv_type = srv_type
@@ -92,7 +92,7 @@ class Service(QueuedEntity):
             service_key(node.context.domain_id, name), self._on_query, complete=True)
         super().__init__(node, EntityKind.SERVICE, name, srv_type, qos)
         others = [e for e in self._servers(srv_type._TYPE) if e != self._entity]
-        if others:
+        if others and warn_if_shared:
             node.get_logger().warn(
                 f"service '{name}' is already served by {', '.join(sorted(e.node_fqn for e in others))}: "
                 'clients will reach only one of the servers')

@@ -12,8 +12,14 @@ Services: `<manager>/manage_nodes` (nav2_msgs/srv/ManageLifecycleNodes: STARTUP,
 RESUME, RESET, SHUTDOWN) and `<manager>/is_active` (std_srvs/srv/Trigger).
 
 The health check replaces Nav2's bond heartbeats with the nodes' liveliness tokens: a managed
-node whose process dies is noticed within a fraction of a second, not after `bond_timeout`.
-Then, as in Nav2, it is reported and the rest of the stack is reset (deactivated and cleaned up).
+node whose process dies is noticed within `_DOWN_CONFIRM_S`, not after `bond_timeout`. Then, as
+in Nav2, it is reported and the rest of the stack is reset (deactivated and cleaned up).
+
+A stop on purpose is not a failure. Ctrl-C on a launch signals every node at once, so managed
+nodes may vanish an instant before the manager's own signal lands: a node must stay gone for
+`_DOWN_CONFIRM_S` before it counts as down, and once the manager is stopping (a signal, or its
+context shut down) it neither reports nodes down nor logs failed transitions, as Nav2's
+manager drops its bonds in its pre-shutdown callback.
 """
 from __future__ import annotations
 
@@ -30,6 +36,7 @@ from zros.executors import ExternalShutdownException, spin_nodes
 from zros.graph import EntityKind
 from zros.lifecycle import LifecycleClient
 from zros.node import Node
+from zros.signals import signal_received
 
 from interfaces.lifecycle_msgs.msg import Transition
 from interfaces.nav2_msgs.srv import ManageLifecycleNodes
@@ -45,6 +52,9 @@ _FORWARD = (Transition.TRANSITION_CONFIGURE, Transition.TRANSITION_ACTIVATE)
 _WAIT_LOG_PERIOD_S = 2.0
 _HEALTH_PERIOD_S = 0.2
 _RESPAWN_PERIOD_S = 1.0
+# How long a managed node must stay out of the graph before it counts as down [s]: long enough
+# for this manager's own signal to land when a launch stops everything at once.
+_DOWN_CONFIRM_S = 1.0
 
 
 class LifecycleManager(Node):
@@ -61,6 +71,7 @@ class LifecycleManager(Node):
         self._busy = threading.Lock()
         self.system_active = False
         self._respawn_started: float | None = None
+        self._missing_since: dict[str, float] = {}
         self._wall = Clock(clock_type=ClockType.STEADY_TIME)
         work = MutuallyExclusiveCallbackGroup()
         self.create_service(ManageLifecycleNodes, '~/manage_nodes', self._on_manage_nodes, callback_group=work)
@@ -74,6 +85,18 @@ class LifecycleManager(Node):
 
     def _message(self, text: str) -> None:
         self.get_logger().info(text)
+
+    def _stopping(self) -> bool:
+        """Whether this manager is being stopped (Ctrl-C, SIGTERM, its context shut down)."""
+        return signal_received() or not self.context.ok()
+
+    def _failure(self, text: str) -> None:
+        """Log a failed step as an error, unless the manager is stopping: then the nodes going
+        away under it is expected, and the step is logged at DEBUG only."""
+        if self._stopping():
+            self.get_logger().debug(f'{text} (stopping)')
+        else:
+            self.get_logger().error(text)
 
     # -- transitions ------------------------------------------------------------------------------
     def _wait_for(self, name: str) -> bool:
@@ -94,9 +117,9 @@ class LifecycleManager(Node):
             if client.change_state(transition) and client.get_state().label == _GOAL[transition]:
                 return True
         except ServiceCallError as exc:
-            self.get_logger().error(f'Failed to change state for node: {name}. Exception: {exc}.')
+            self._failure(f'Failed to change state for node: {name}. Exception: {exc}.')
             return False
-        self.get_logger().error(f'Failed to change state for node: {name}')
+        self._failure(f'Failed to change state for node: {name}')
         return False
 
     def _change_all(self, transition: int, *, hard: bool = False, wait: bool = False) -> bool:
@@ -115,7 +138,7 @@ class LifecycleManager(Node):
         self._message('Starting managed nodes bringup...')
         if not (self._change_all(Transition.TRANSITION_CONFIGURE, wait=True)
                 and self._change_all(Transition.TRANSITION_ACTIVATE)):
-            self.get_logger().error('Failed to bring up all requested nodes. Aborting bringup.')
+            self._failure('Failed to bring up all requested nodes. Aborting bringup.')
             return False
         self._message('Managed nodes are active')
         self._set_active(True)
@@ -138,7 +161,7 @@ class LifecycleManager(Node):
         if ok or hard:
             ok = self._change_all(Transition.TRANSITION_CLEANUP, hard=hard) and ok
         if not ok and not hard:
-            self.get_logger().error('Failed to reset nodes: aborting reset')
+            self._failure('Failed to reset nodes: aborting reset')
             return False
         self._message('Managed nodes have been reset')
         return True
@@ -147,7 +170,7 @@ class LifecycleManager(Node):
         self._set_active(False)
         self._message('Pausing managed nodes...')
         if not self._change_all(Transition.TRANSITION_DEACTIVATE):
-            self.get_logger().error('Failed to pause nodes: aborting pause')
+            self._failure('Failed to pause nodes: aborting pause')
             return False
         self._message('Managed nodes have been paused')
         return True
@@ -155,7 +178,7 @@ class LifecycleManager(Node):
     def resume(self) -> bool:
         self._message('Resuming managed nodes...')
         if not self._change_all(Transition.TRANSITION_ACTIVATE):
-            self.get_logger().error('Failed to resume nodes: aborting resume')
+            self._failure('Failed to resume nodes: aborting resume')
             return False
         self._message('Managed nodes are active')
         self._set_active(True)
@@ -163,6 +186,7 @@ class LifecycleManager(Node):
 
     def _set_active(self, active: bool) -> None:
         self.system_active = active
+        self._missing_since.clear()
         if active and self.get_parameter('bond_timeout').value > 0:
             self._health.reset()
         else:
@@ -200,19 +224,25 @@ class LifecycleManager(Node):
         return {e.node_fqn for e in self.context.graph.entities() if e.kind == EntityKind.NODE}
 
     def _check_health(self) -> None:
-        if not self.system_active:
+        if not self.system_active or self._stopping():
             return
         alive = self._alive()
+        now = time.monotonic()
         for name in self.node_names:
-            if self._fqn[name] not in alive:
-                self._message(f'Have not received a heartbeat from {name}.')
-                self.get_logger().error(f'CRITICAL FAILURE: SERVER {name} IS DOWN (its process is gone). '
-                                        'Shutting down related nodes.')
-                self._exclusively(lambda: self.reset(hard=True))
-                if self.get_parameter('attempt_respawn_reconnection').value:
-                    self._respawn_started = time.monotonic()
-                    self._respawn.reset()
-                return
+            if self._fqn[name] in alive:
+                self._missing_since.pop(name, None)
+                continue
+            if now - self._missing_since.setdefault(name, now) < _DOWN_CONFIRM_S or self._stopping():
+                continue
+            self._missing_since.clear()
+            self._message(f'Have not received a heartbeat from {name}.')
+            self.get_logger().error(f'CRITICAL FAILURE: SERVER {name} IS DOWN (its process is gone). '
+                                    'Shutting down related nodes.')
+            self._exclusively(lambda: self.reset(hard=True))
+            if self.get_parameter('attempt_respawn_reconnection').value:
+                self._respawn_started = time.monotonic()
+                self._respawn.reset()
+            return
 
     def _check_respawn(self) -> None:
         if self.system_active or self._respawn_started is None:

@@ -7,15 +7,15 @@ SROS2's steps carry over:
     zros security create_keystore demo_keystore          # the CA, and the router's enclave
     zros security create_enclave demo_keystore /talker_listener/talker
     export ROS_SECURITY_KEYSTORE=demo_keystore ROS_SECURITY_ENABLE=true ROS_SECURITY_STRATEGY=Enforce
-    zros router &                                        # mTLS router (enclave router)
-    zros run demo_nodes talker --ros-args --enclave /talker_listener/talker
+    zros run demo_nodes_cpp talker --ros-args --enclave /talker_listener/talker
 
 With ROS_SECURITY_ENABLE=true every zros process uses its enclave's tls.json5 as its Zenoh
-config (zros.config.security_config_file): an mTLS client of the keystore's router, which
-listens on tls/0.0.0.0:7447 and which clients dial at tls/localhost:7447 unless ZROS_CONNECT
-says where it is. Encryption and authentication come from TLS; access control from the
-router's config (docs/multi-machine.md). `create-keys` is the same tool with zros's own
-options:
+config (zros.config.security_config_file). On one machine the processes link to each other
+over mutual TLS on loopback, with no router (zros.config). Across machines they are mTLS
+clients of the keystore's router (`zros router`, enclave router, listening on
+tls/0.0.0.0:7447), dialled where ZROS_CONNECT says. Encryption and authentication come from
+TLS; access control from the router's config (docs/multi-machine.md). `create-keys` is the
+same tool with zros's own options:
 
     zros security create-keys keys --nodes router,talker,listener --hosts 192.168.1.10,robot.local
 

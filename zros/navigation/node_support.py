@@ -1,8 +1,9 @@
 """What the navigation nodes share: Nav2-named parameters, poses from TF, message helpers.
 
 The nodes read their parameters by Nav2's names from whatever the parameter file gives them;
-a name zros has no use for is listed once at start-up (Nav2's files carry many: DWB critics,
-behavior-tree plugin libraries, ...), never an error.
+a name zros has no use for is listed once at start-up, at DEBUG (Nav2's files carry many: DWB
+critics, behavior-tree plugin libraries, ...; at INFO they buried the lines that matter), never
+an error.
 """
 from __future__ import annotations
 
@@ -40,7 +41,7 @@ class Nav2Params:
     def report_unused(self) -> None:
         names = self.unused()
         if names:
-            self.node.get_logger().info(
+            self.node.get_logger().debug(
                 f'Parameters zros does not use (ignored): {", ".join(names)}')
 
 

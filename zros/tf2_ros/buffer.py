@@ -32,7 +32,10 @@ def _timeout_seconds(timeout: Any) -> float:
 
 
 class Buffer(BufferCore):
-    """Stores known frames; with `node`, serves them on `tf2_frames` (tf2_msgs/srv/FrameGraph)."""
+    """Stores known frames; with `node`, serves them on `tf2_frames` (tf2_msgs/srv/FrameGraph).
+
+    Every node holding a Buffer serves that one name, as in ROS, so several servers of it are
+    expected and not reported (a Nav2 stack would print one warning per server)."""
 
     def __init__(self, cache_time: Duration | None = None, node: Any = None) -> None:
         super().__init__(cache_time)
@@ -47,7 +50,7 @@ class Buffer(BufferCore):
             def frames(request: Any, response: Any) -> Any:
                 response.frame_yaml = self.all_frames_as_yaml()
                 return response
-            self.srv = node.create_service(FrameGraph, 'tf2_frames', frames)
+            self.srv = node.create_service(FrameGraph, 'tf2_frames', frames, expect_other_servers=True)
 
     # -- waiting -------------------------------------------------------------------------------
     def _on_new_data(self) -> None:
