@@ -19,32 +19,8 @@ __all__ = ['add_arguments', 'add_qos_arguments', 'qos_from_args']
 _TOPIC_KINDS = (EntityKind.PUBLISHER, EntityKind.SUBSCRIPTION)
 
 
-class _VerbParser(argparse.ArgumentParser):
-    """argparse reads `--rate -1` as `--rate` followed by the option `-1` (`--once`), and any
-    other negative number as an unknown option, so the user sees "expected one argument". A
-    negative number right after an option that takes a value is that option's value here, and
-    the verb then says what is wrong with it."""
-
-    def parse_known_args(self, args=None, namespace=None):
-        if args is not None:
-            args = list(args)
-            takes_value = {o for a in self._actions if a.option_strings and a.nargs is None
-                           and not isinstance(a, (argparse._StoreConstAction, argparse._CountAction))
-                           for o in a.option_strings}
-            i = 0
-            while i < len(args) - 1:
-                if args[i] in takes_value and self._negative_number_matcher.match(args[i + 1]):
-                    args[i:i + 2] = [f'{self._long_option(args[i])}={args[i + 1]}']
-                i += 1
-        return super().parse_known_args(args, namespace)
-
-    def _long_option(self, option: str) -> str:
-        action = self._option_string_actions[option]
-        return max(action.option_strings, key=len)
-
-
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    sub = parser.add_subparsers(dest='topic_verb', metavar='<command>', parser_class=_VerbParser)
+    sub = parser.add_subparsers(dest='topic_verb', metavar='<command>')
 
     p = sub.add_parser('list', help='Output a list of available topics')
     p.add_argument('-t', '--show-types', action='store_true', help='Additionally show the topic type')
