@@ -17,6 +17,8 @@ if TYPE_CHECKING:
 __all__ = ['add_arguments', 'add_qos_arguments', 'qos_from_args']
 
 _TOPIC_KINDS = (EntityKind.PUBLISHER, EntityKind.SUBSCRIPTION)
+# ros2 topic echo's default cut for the text formats (YAML, CSV) that people read.
+_TEXT_TRUNCATE_LENGTH = 128
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -65,8 +67,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     p.add_argument('--json', action='store_true', help='One JSON object per line')
     p.add_argument('--raw', action='store_true', help='Print the raw payload bytes (MessagePack) instead of decoding')
     p.add_argument('--flow-style', action='store_true', help='Print collections in the YAML flow style')
-    p.add_argument('-l', '--truncate-length', type=_non_negative_int, default=128,
-                   help='Truncate strings and arrays (default 128)')
+    p.add_argument('-l', '--truncate-length', type=_non_negative_int, default=None,
+                   help=f'Truncate strings and arrays after N elements (default {_TEXT_TRUNCATE_LENGTH}; '
+                        '--json output is complete unless this is given)')
     p.add_argument('-f', '--full-length', action='store_true', help='Output all elements of arrays and strings')
     p.add_argument('--no-lost-messages', action='store_true', help="Don't report lost messages (accepted; zros "
                    'reports them only with -i)')
@@ -406,13 +409,24 @@ def _resolve_type(ctx, topic: str, given: str | None, wait: float = 2.0):
     return get_message(types[0]), entities
 
 
+def _truncate_length(args: argparse.Namespace) -> int | None:
+    """Where echo cuts arrays and strings (None: nowhere). JSON is read by programs, which need
+    every element (a '...' inside a number array is not data), so it is complete unless -l is
+    given; YAML and CSV keep ros2's default cut."""
+    if args.full_length:
+        return None
+    if args.truncate_length is not None:
+        return args.truncate_length
+    return None if args.json else _TEXT_TRUNCATE_LENGTH
+
+
 class _EchoPrinter:
     """Formats one received message the way `ros2 topic echo` does (YAML, CSV, JSON, raw)."""
 
     def __init__(self, args: argparse.Namespace, out) -> None:
         self.args = args
         self.out = out
-        self.truncate = None if args.full_length else args.truncate_length
+        self.truncate = _truncate_length(args)
 
     def write(self, value, info: dict | None) -> None:
         args, out = self.args, self.out
