@@ -26,7 +26,7 @@ import os
 import re
 from pathlib import Path
 
-from zros.errors import ZrosError
+from zros.errors import ZrosError, with_suggestion
 
 __all__ = ['PackageNotFoundError', 'get_package_share_directory', 'get_package_share_path',
            'get_package_prefix', 'get_packages_with_prefixes', 'package_directories',
@@ -170,8 +170,9 @@ def get_package_share_path(package_name: str) -> Path:
     folders = package_directories()
     folder = folders.get(package_name)
     if folder is None:
-        raise PackageNotFoundError(f"package '{package_name}' not found (known: {', '.join(sorted(folders))}; "
-                                   'see docs/packages.md)')
+        raise PackageNotFoundError(with_suggestion(
+            f"package '{package_name}' not found", package_name, folders,
+            otherwise=f" (known: {', '.join(sorted(folders))}; see docs/packages.md)"))
     return folder
 
 

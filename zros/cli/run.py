@@ -61,15 +61,17 @@ def list_executables(package: str) -> list[str]:
 def find_executable(package: str, executable: str) -> Callable[[], Any]:
     """The callable that runs PKG/EXECUTABLE; CliError (one line) when there is none."""
     from zros.ament_index_python.packages import executable_directories
-    from zros.errors import CliError
+    from zros.errors import CliError, with_suggestion
     for ep in metadata.entry_points(group='zros.nodes'):
         if ep.name == f'{package}/{executable}':
             return ep.load()
-    if package not in list_packages():
-        raise CliError(f"Package '{package}' not found")
-    if executable not in list_executables(package):
-        choices = ', '.join(list_executables(package)) or 'none'
-        raise CliError(f"No executable '{executable}' found in package '{package}' (available: {choices})")
+    packages = list_packages()
+    if package not in packages:
+        raise CliError(with_suggestion(f"Package '{package}' not found", package, packages))
+    executables = list_executables(package)
+    if executable not in executables:
+        raise CliError(with_suggestion(f"No executable '{executable}' found in package '{package}'", executable,
+                                       executables, otherwise=f" (available: {', '.join(executables) or 'none'})"))
     folder = executable_directories()[package]
     if folder.parent == _builtin_nodes_dir():
         module = importlib.import_module(f'nodes.{package}.{executable}')
