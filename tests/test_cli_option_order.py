@@ -1,33 +1,14 @@
 """Options before or among the positionals, as ros2cli accepts them and the courses print them
 (`ros2 action send_goal /navigate_to_pose nav2_msgs/NavigateToPose --feedback "{pose: ...}"`):
-every verb's parser, then real commands against a real node."""
+every verb's parser, then the course's send_goal against a real action server (more real
+commands with options first: tests/test_cli_formats.py)."""
 from __future__ import annotations
 
 import argparse
-import json
-import re
 
 import pytest
 
 from zros.cli.main import VERBS, build_parser
-
-SOURCE = '''
-import zros
-from zros.node import Node
-from interfaces.std_msgs.msg import String
-from interfaces.example_interfaces.srv import AddTwoInts
-with zros.init():
-    node = Node('order_source')
-    node.declare_parameter('speed', 1.5)
-    def add(request, response):
-        response.sum = request.a + request.b
-        return response
-    node.create_service(AddTwoInts, '/order_add', add)
-    publisher = node.create_publisher(String, '/order_chatter', 10)
-    node.create_timer(0.05, lambda: publisher.publish(String(data='hello')))
-    print('ready', flush=True)
-    zros.spin(node)
-'''
 
 
 def _leaf_parsers(parser: argparse.ArgumentParser, path: tuple[str, ...] = ()):
@@ -94,13 +75,6 @@ def _isolated(module_domain):
     """Every CLI call of this module runs in the module's test domain."""
 
 
-@pytest.fixture(scope='module')
-def source(module_spawn):
-    child = module_spawn.script(SOURCE, name='order_source')
-    child.wait_for_output('ready', timeout=15)
-    return child
-
-
 def test_action_send_goal_with_feedback_before_the_goal(module_spawn, zros_cli):
     """The course's order: `send_goal NAME TYPE --feedback GOAL`."""
     module_spawn.node('demo_nodes', 'fibonacci_action_server', '--ros-args', '-p', 'step_period:=0.02')
@@ -113,16 +87,3 @@ def test_action_send_goal_with_feedback_before_the_goal(module_spawn, zros_cli):
                      'action_tutorials_interfaces/action/Fibonacci', '{order: 2}', timeout=30)
     assert first.returncode == 0 and 'Feedback:' in first.stdout, first
     assert '- 0\n- 1\n- 1\n' in first.stdout, first
-
-
-def test_service_call_topic_echo_and_param_get_with_options_first(source, zros_cli):
-    call = zros_cli('service', 'call', '--json', '/order_add', 'example_interfaces/srv/AddTwoInts', '{a: 2, b: 40}')
-    assert call.returncode == 0 and json.loads(call.stdout) == {'sum': 42}, call
-    echo = zros_cli('topic', 'echo', '--once', '--field', 'data', '/order_chatter', 'std_msgs/msg/String')
-    assert echo.returncode == 0 and echo.stdout == 'hello\n---\n', echo
-    got = zros_cli('param', 'get', '--hide-type', '/order_source', 'speed')
-    assert got.returncode == 0 and got.stdout.strip() == '1.5', got
-    listed = zros_cli('topic', 'list', '-t')
-    info = zros_cli('topic', 'info', '-v', '/order_chatter')
-    assert info.returncode == 0 and re.search(r'Publisher count: 1', info.stdout), info
-    assert '/order_chatter [std_msgs/msg/String]' in listed.stdout.splitlines(), listed
