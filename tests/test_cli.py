@@ -150,6 +150,32 @@ def test_topic_echo_field_of_a_number(domain, context, zros_cli):
     assert result.stdout == '5\n---\n', result
 
 
+def test_topic_echo_json_is_never_truncated_unless_asked(domain, context, zros_cli):
+    """JSON is for programs: a 300-element float array and a 500-character string come out whole
+    (ros2's YAML cut at 128 stays for the text output, and -l still cuts JSON when given)."""
+    from zros.qos import DurabilityPolicy, QoSProfile
+    from interfaces.std_msgs.msg import Float64MultiArray, MultiArrayDimension, MultiArrayLayout
+    node = Node('long_arrays', context=context)
+    latched = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+    publisher = node.create_publisher(Float64MultiArray, '/long', latched)
+    data = [i * 0.5 for i in range(300)]
+    label = 'x' * 500
+    publisher.publish(Float64MultiArray(layout=MultiArrayLayout(dim=[MultiArrayDimension(label=label, size=300)]),
+                                        data=data))
+    import json
+    as_json = zros_cli('topic', 'echo', '--json', '--once', '--timeout', '5', '/long')
+    assert as_json.returncode == 0, as_json
+    message = json.loads(as_json.stdout)
+    assert message['data'] == data and message['layout']['dim'][0]['label'] == label, as_json
+    cut = json.loads(zros_cli('topic', 'echo', '--json', '-l', '3', '--once', '--timeout', '5', '/long').stdout)
+    assert cut['data'] == [0.0, 0.5, 1.0, '...'] and cut['layout']['dim'][0]['label'] == 'xxx...'
+    as_yaml = zros_cli('topic', 'echo', '--once', '--timeout', '5', '/long')
+    assert as_yaml.returncode == 0, as_yaml
+    printed = yaml.safe_load(as_yaml.stdout.split('---')[0])
+    assert printed['data'] == data[:128] + ['...'], as_yaml
+    assert printed['layout']['dim'][0]['label'] == 'x' * 128 + '...', as_yaml
+
+
 def test_topic_echo_timeout(domain, zros_cli):
     result = zros_cli('topic', 'echo', '/silent', 'std_msgs/msg/String', '--timeout', '0.3')
     assert_clean_failure(result, 'timed out', '/silent')
@@ -232,6 +258,14 @@ ERROR_CASES = [
     (('interface', 'package', 'no_such_pkg'), ('no_such_pkg',)),
     (('run', 'no_such_pkg', 'talker'), ('no_such_pkg',)),
     (('run', 'demo_nodes', 'no_such_exe'), ('no_such_exe', 'talker')),
+    (('run', 'turtlesm', 'turtlesim_node'), ("Package 'turtlesm' not found. Did you mean 'turtlesim'?",)),
+    (('run', 'turtlesim', 'turtlesim_nod'),
+     ("No executable 'turtlesim_nod' found in package 'turtlesim'. Did you mean 'turtlesim_node'?",)),
+    (('launch', 'turtlesm', 'multisim.launch.py'), ("package 'turtlesm' not found. Did you mean 'turtlesim'?",)),
+    (('launch', 'turtlebot3_gazebo', 'empty_wrld.launch.py'),
+     ("launch file 'empty_wrld.launch.py' not found in package 'turtlebot3_gazebo'. "
+      "Did you mean 'empty_world.launch.py'?",)),
+    (('pkg', 'executables', 'turtlesm'), ("Package 'turtlesm' not found. Did you mean 'turtlesim'?",)),
     (('run', 'demo_nodes', 'talker', '--ros-args', '--bogus'), ('--bogus',)),
     (('run', 'demo_nodes', 'talker', '--ros-args', '-r', 'chatter'), ('chatter',)),
     (('run', 'demo_nodes', 'talker', '--ros-args', '-r', '__node:=1x'), ('1x',)),

@@ -62,6 +62,16 @@ def test_service_call_prints_repr_like_ros2(source, zros_cli):
     assert as_json.returncode == 0 and json.loads(as_json.stdout) == {'sum': 3}, as_json
 
 
+def test_options_before_the_positionals(source, zros_cli):
+    """ros2cli's order-free options (tests/test_cli_option_order.py checks every verb's parser)."""
+    call = zros_cli('service', 'call', '--json', '/fmt_add', 'example_interfaces/srv/AddTwoInts', '{a: 2, b: 40}')
+    assert call.returncode == 0 and json.loads(call.stdout) == {'sum': 42}, call
+    echo = zros_cli('topic', 'echo', '--once', '--field', 'data', '/fmt_slow', 'std_msgs/msg/String')
+    assert echo.returncode == 0 and echo.stdout == 'y\n---\n', echo
+    got = zros_cli('param', 'get', '--hide-type', '/fmt_source', 'speed')
+    assert got.returncode == 0 and got.stdout.strip() == '1.5', got
+
+
 def test_action_send_goal_layout_and_json(spawn, domain, zros_cli):
     spawn.node('demo_nodes', 'fibonacci_action_server', '--ros-args', '-p', 'step_period:=0.02')
     sent = zros_cli('action', 'send_goal', '/fibonacci', 'action_tutorials_interfaces/action/Fibonacci',

@@ -720,7 +720,11 @@ def test_error_unknown_package_and_executable(plan_of):
     assert "package 'nope_pkg' not found (packages: " in message
     message = error_of(plan_of, 'launch:\n- node:\n    pkg: demo_nodes\n    exec: talkr\n')
     assert_located(message, 'test.launch.yaml', 4, 'node', 'exec')
-    assert "no executable 'talkr' in package 'demo_nodes' (executables: " in message
+    assert message.endswith("no executable 'talkr' in package 'demo_nodes'. Did you mean 'talker'?")
+    message = error_of(plan_of, 'launch:\n- node: {pkg: demo_nodes, exec: zzz_nothing_close}\n')
+    assert "no executable 'zzz_nothing_close' in package 'demo_nodes' (executables: " in message
+    message = error_of(plan_of, 'launch:\n- node: {pkg: turtlesm, exec: turtlesim_node}\n')
+    assert message.endswith("package 'turtlesm' not found. Did you mean 'turtlesim'?")
     missing = error_of(plan_of, "launch:\n- executable: {cmd: 'no-such-program-zz --x'}\n")
     assert_located(missing, 'test.launch.yaml', 2, 'executable', 'cmd')
     assert "executable 'no-such-program-zz' not found on PATH" in missing

@@ -4,6 +4,8 @@ from __future__ import annotations
 import pytest
 import yaml
 
+from conftest import wait_until
+
 from zros.exceptions import (InvalidParameterValueException, ParameterAlreadyDeclaredException,
                              ParameterImmutableException, ParameterNotDeclaredException,
                              ParameterUninitializedException)
@@ -82,6 +84,24 @@ def test_callbacks_pre_on_post(context):
     assert node.get_parameter('level').value == 20
     atomic = node.set_parameters_atomically([Parameter('level', value=3)])
     assert atomic.successful and node.get_parameter('level').value == 30
+
+
+def test_parameter_event_qos_overrides_as_rclcpp_nodes_declare_them(context):
+    """rclcpp nodes (turtlesim) list four read-only qos_overrides for /parameter_events, rclpy
+    nodes none; a start-up value sets the publisher's QoS."""
+    names = [f'qos_overrides./parameter_events.publisher.{policy}'
+             for policy in ('depth', 'durability', 'history', 'reliability')]
+    plain = Node('like_rclpy', context=context)
+    assert not any(plain.has_parameter(name) for name in names)
+    like_cpp = Node('like_rclcpp', context=context, parameter_event_qos_overrides=True,
+                    cli_args=['-p', 'qos_overrides./parameter_events.publisher.depth:=20'])
+    assert [like_cpp.get_parameter(name).value for name in names] == [20, 'volatile', 'keep_last', 'reliable']
+    assert all(like_cpp.describe_parameter(name).read_only for name in names)
+    events = wait_until(lambda: [e for e in like_cpp.get_publishers_info_by_topic('/parameter_events')
+                                 if e.node_name == 'like_rclcpp'], 5, message='the node\'s /parameter_events publisher')
+    assert events[0].qos == 'R:V:L20'   # QoSProfile.to_token(): reliable, volatile, keep last 20
+    refused = like_cpp.set_parameters([Parameter(names[0], value=5)])[0]
+    assert not refused.successful and 'read-only' in refused.reason
 
 
 def test_overrides_from_arguments_and_files_with_wildcards(tmp_path, context):

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from nodes.turtlesim._world import COMMAND_TIMEOUT, DT, WORLD_SIZE, TurtleError, World
-from conftest import REPO, wait_until
+from conftest import REPO, assert_clean_failure, wait_until
 
 CENTER = WORLD_SIZE / 2.0
 BACKGROUND = (69, 86, 255)
@@ -258,6 +258,24 @@ def test_node_graph_matches_ros(sim):
     wait_until(complete, 5, message='turtlesim entities in the graph')
     pose = sim.wait_pose(lambda p: True)
     assert (pose.x, pose.y) == (pytest.approx(CENTER, abs=1e-4), pytest.approx(CENTER, abs=1e-4))
+
+
+def test_param_list_matches_ros(sim, zros_cli):
+    """`ros2 param list /turtlesim` on Humble (the C++ node's qos_overrides included), and the
+    failure a node gives for a read-only one, with its reason, as ros2 param set prints it."""
+    listed = zros_cli('param', 'list', '/turtlesim')
+    assert listed.returncode == 0, listed
+    assert listed.stdout.splitlines() == [
+        '/turtlesim:', '  background_b', '  background_g', '  background_r', '  holonomic',
+        '  qos_overrides./parameter_events.publisher.depth',
+        '  qos_overrides./parameter_events.publisher.durability',
+        '  qos_overrides./parameter_events.publisher.history',
+        '  qos_overrides./parameter_events.publisher.reliability', '  use_sim_time'], listed
+    depth = zros_cli('param', 'get', '/turtlesim', 'qos_overrides./parameter_events.publisher.depth')
+    assert depth.stdout == 'Integer value is: 1000\n', depth
+    refused = zros_cli('param', 'set', '/turtlesim', 'qos_overrides./parameter_events.publisher.depth', '5')
+    assert_clean_failure(refused, 'Setting parameter failed: Trying to set a read-only parameter: '
+                                  'qos_overrides./parameter_events.publisher.depth')
 
 
 def test_teleport_absolute_and_relative(sim):

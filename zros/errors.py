@@ -5,6 +5,8 @@ print it as a one-line message instead of a traceback.
 """
 from __future__ import annotations
 
+from typing import Iterable
+
 __all__ = [
     'ZrosError',
     'InvalidNameError',
@@ -16,6 +18,7 @@ __all__ = [
     'NotInitializedError',
     'CliError',
     'ServiceCallError',
+    'with_suggestion',
 ]
 
 
@@ -57,3 +60,12 @@ class CliError(ZrosError):
 
 class ServiceCallError(ZrosError):
     """A service call failed: the server raised, refused the request, or did not answer."""
+
+
+def with_suggestion(message: str, word: str, choices: Iterable[str], *, otherwise: str = '') -> str:
+    """`message`, followed by ". Did you mean 'x'?" with the choice closest to the mistyped
+    `word` (difflib's ratio of at least 0.6), or by `otherwise` when none is that close: the
+    error a typo gets, in one line."""
+    import difflib
+    close = difflib.get_close_matches(word, list(choices), n=1)
+    return f"{message}. Did you mean '{close[0]}'?" if close else message + otherwise

@@ -22,7 +22,8 @@ from zros.event_handler import PublisherEventCallbacks, SubscriptionEventCallbac
 from zros.parameter import Parameter
 from zros.parameter_store import ParameterStore
 from zros.publisher import Publisher
-from zros.qos_overriding_options import QoSOverridingOptions, declare_qos_parameters
+from zros.qos_overriding_options import (QoSOverridingOptions, declare_qos_parameters,
+                                         parameter_events_overriding_options)
 from zros.qos import (QoSProfile, qos_profile_default, qos_profile_parameter_events,
                       qos_profile_services_default, to_profile)
 from zros.service import Service
@@ -41,7 +42,16 @@ class Node:
                  enable_rosout: bool = True, start_parameter_services: bool = True,
                  parameter_overrides: list | None = None, allow_undeclared_parameters: bool = False,
                  automatically_declare_parameters_from_overrides: bool = False,
-                 enable_logger_service: bool = False) -> None:
+                 enable_logger_service: bool = False, parameter_event_qos_overrides: bool = False) -> None:
+        """rclpy's arguments, and one of zros's own:
+
+        Args:
+            parameter_event_qos_overrides: declare the read-only parameters
+                `qos_overrides./parameter_events.publisher.{depth,durability,history,reliability}`
+                as every rclcpp node does, so that `zros param list` shows a node that stands in
+                for a C++ one (turtlesim) as `ros2 param list` shows the original. Values given
+                at start-up (`-p`, a parameter file) set the QoS of its /parameter_events publisher.
+        """
         self._context = context or get_default_context()
         if not self._context.ok():
             raise NotInitializedError('zros is not initialized: call zros.init() before creating a node')
@@ -83,9 +93,12 @@ class Node:
             self, overrides=ParameterStore.collect_overrides(self.get_fully_qualified_name(), arg_sets,
                                                              parameter_overrides),
             allow_undeclared=allow_undeclared_parameters)
+        events_qos = declare_qos_parameters(
+            Publisher, self, '/parameter_events', qos_profile_parameter_events,
+            parameter_events_overriding_options() if parameter_event_qos_overrides else None)
         self._parameters.attach_event_publisher(
             Publisher(self, _type('rcl_interfaces/msg/ParameterEvent'), '/parameter_events',
-                      qos_profile_parameter_events, self._default_callback_group))
+                      events_qos, self._default_callback_group))
         from zros.time_source import TimeSource
         self._time_source = TimeSource(self)
         self.declare_parameter('use_sim_time', False)

@@ -28,7 +28,7 @@ if TYPE_CHECKING:
     from zros.node import Node
 
 __all__ = ['QoSOverridingOptions', 'QosCallbackResult', 'QosCallbackType', 'InvalidQosOverridesError',
-           'declare_qos_parameters']
+           'declare_qos_parameters', 'parameter_events_overriding_options']
 
 
 class InvalidQosOverridesError(ZrosError):
@@ -84,6 +84,14 @@ class QoSOverridingOptions:
         """History, depth and reliability, as rclpy."""
         return cls((QoSPolicyKind.HISTORY, QoSPolicyKind.DEPTH, QoSPolicyKind.RELIABILITY),
                    callback=callback, entity_id=entity_id)
+
+
+def parameter_events_overriding_options() -> QoSOverridingOptions:
+    """What every rclcpp node declares for its /parameter_events publisher (rclpy nodes declare
+    nothing): `qos_overrides./parameter_events.publisher.depth|durability|history|reliability`,
+    which `ros2 param list /turtlesim` shows."""
+    return QoSOverridingOptions((QoSPolicyKind.DEPTH, QoSPolicyKind.DURABILITY, QoSPolicyKind.HISTORY,
+                                 QoSPolicyKind.RELIABILITY))
 
 
 def declare_qos_parameters(entity_type: type, node: 'Node', topic: str, qos: QoSProfile,

@@ -1,14 +1,14 @@
 """`view_frames`: listen to /tf and /tf_static for a while, then draw the frame tree.
 
-Writes `frames_YYYY-MM-DD_HH.MM.SS.gv` (Graphviz DOT, as tf2_tools' tool) and a PDF made by
-Graphviz's `dot` when it is installed; otherwise an SVG drawn by zros itself, so the tree can be
-looked at on any machine. `-o NAME` fixes the file names (NAME.gv, NAME.pdf or NAME.svg).
+Writes what tf2_tools' tool writes: `frames_YYYY-MM-DD_HH.MM.SS.gv` (Graphviz DOT) and
+`frames_YYYY-MM-DD_HH.MM.SS.pdf`. ROS renders the PDF with Graphviz's `dot`; zros lays the tree
+out and writes the PDF itself (zros.tf2_ros.frame_graph), so it appears on any machine without a
+system package (`dot -Tpdf frames_<date>.gv -o ...` still renders Graphviz's version).
+`-o NAME` fixes the file names (NAME.gv, NAME.pdf).
 """
 from __future__ import annotations
 
 import argparse
-import shutil
-import subprocess
 import sys
 import time
 from pathlib import Path
@@ -17,7 +17,7 @@ import zros
 from zros.executors import ExternalShutdownException, SingleThreadedExecutor
 from zros.node import Node
 from zros.tf2_ros import Buffer, TransformListener
-from zros.tf2_ros.frame_graph import to_dot, to_svg
+from zros.tf2_ros.frame_graph import to_dot, to_pdf
 from zros.utilities import remove_ros_args
 
 
@@ -49,18 +49,9 @@ def main(args: list[str] | None = None) -> int:
             recorded = node.get_clock().now().nanoseconds / 1e9
             dot_path = Path(f'{base}.gv')
             dot_path.write_text(to_dot(frames, recorded))
-            dot = shutil.which('dot')
-            if dot is not None:
-                picture = Path(f'{base}.pdf')
-                node.get_logger().info(f'Generating graph in {picture} file...')
-                done = subprocess.run([dot, '-Tpdf', str(dot_path), '-o', str(picture)], capture_output=True, text=True)
-                if done.returncode != 0:
-                    node.get_logger().error(f'dot failed: {done.stderr.strip()}')
-                    return 1
-            else:
-                picture = Path(f'{base}.svg')
-                node.get_logger().info(f'Graphviz (dot) is not installed: generating graph in {picture} file...')
-                picture.write_text(to_svg(frames, recorded))
+            picture = Path(f'{base}.pdf')
+            node.get_logger().info(f'Generating graph in {picture} file...')
+            picture.write_bytes(to_pdf(frames, recorded))
             if not frames:
                 node.get_logger().warn('No tf data received: is anything publishing /tf or /tf_static?')
             print(f'{len(frames)} frames: {dot_path} and {picture}')

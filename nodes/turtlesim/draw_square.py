@@ -33,7 +33,7 @@ class State(enum.Enum):
 class DrawSquare(Node):
 
     def __init__(self) -> None:
-        super().__init__('draw_square')
+        super().__init__('draw_square', parameter_event_qos_overrides=True)   # a C++ node in ROS
         self.pose: Pose | None = None
         self.goal = Pose()
         self.state = State.FORWARD

@@ -22,7 +22,7 @@ __all__ = ['Mimic', 'main']
 class Mimic(Node):
 
     def __init__(self) -> None:
-        super().__init__('turtle_mimic')
+        super().__init__('turtle_mimic', parameter_event_qos_overrides=True)   # a C++ node in ROS
         self.twist_pub = self.create_publisher(Twist, 'output/cmd_vel', 7)
         self.create_subscription(Pose, 'input/pose', self._on_pose, 7)
 

@@ -107,7 +107,7 @@ class KeyboardReader:
 class TeleopTurtle(Node):
 
     def __init__(self) -> None:
-        super().__init__('teleop_turtle')
+        super().__init__('teleop_turtle', parameter_event_qos_overrides=True)   # a C++ node in ROS
         self.declare_parameter('scale_angular', 2.0)
         self.declare_parameter('scale_linear', 2.0)
         self.twist_pub = self.create_publisher(Twist, 'turtle1/cmd_vel', 7)

@@ -106,7 +106,7 @@ def accept_all_cancels(goal_handle: Any) -> CancelResponse:
 class TurtlesimNode(Node):
 
     def __init__(self, **kwargs: Any) -> None:
-        super().__init__('turtlesim', **kwargs)
+        super().__init__('turtlesim', parameter_event_qos_overrides=True, **kwargs)   # a C++ node in ROS
         self._lock = threading.RLock()
         self._world = World()
         self._endpoints: dict[str, _TurtleEndpoints] = {}

@@ -36,7 +36,7 @@ from pathlib import Path
 
 from zros.ament_index_python.ros_packages import (RosPackage, SetupPyError, editable_source_dirs,
                                                   find_source_packages, prefix_packages, source_package)
-from zros.errors import ZrosError
+from zros.errors import ZrosError, with_suggestion
 
 __all__ = ['PackageNotFoundError', 'get_package_share_directory', 'get_package_share_path',
            'get_package_prefix', 'get_packages_with_prefixes', 'package_directories',
@@ -229,8 +229,9 @@ def get_package_share_path(package_name: str) -> Path:
     folders = package_directories()
     folder = folders.get(package_name)
     if folder is None:
-        raise PackageNotFoundError(f"package '{package_name}' not found (known: {', '.join(sorted(folders))}; "
-                                   'see docs/packages.md)')
+        raise PackageNotFoundError(with_suggestion(
+            f"package '{package_name}' not found", package_name, folders,
+            otherwise=f" (known: {', '.join(sorted(folders))}; see docs/packages.md)"))
     return folder
 
 

@@ -43,11 +43,56 @@ VERBS = {
 PASSTHROUGH = {'run': 'zros.cli.run', 'python': 'zros.cli.python'}
 
 
+class CliParser(argparse.ArgumentParser):
+    """The parser of every verb and sub-verb (sub-parsers inherit their parent's class).
+
+    ros2cli reads options anywhere among the positionals: the courses print
+    `ros2 action send_goal /navigate_to_pose nav2_msgs/NavigateToPose --feedback "{pose: ...}"`.
+    Plain argparse fills an optional positional (the goal) with its default as soon as the
+    positionals before an option run out, and then rejects the goal as unrecognized; so a leaf
+    parser (one without sub-verbs or a pass-through REMAINDER) reads options and positionals
+    intermixed. Also, a negative number right after an option that takes a value is that
+    option's value (argparse reads `--rate -1` as `--rate` followed by the option `-1`, and
+    other negative numbers as unknown options), so the verb can say what is wrong with it.
+    """
+
+    _intermixing = False
+
+    def parse_known_args(self, args=None, namespace=None):
+        if args is not None:
+            args = self._join_negative_values(list(args))
+        if self._intermixing or not self._is_leaf():
+            return super().parse_known_args(args, namespace)
+        # parse_known_intermixed_args calls parse_known_args (this method) for each of its passes.
+        self._intermixing = True
+        try:
+            return self.parse_known_intermixed_args(args, namespace)
+        finally:
+            self._intermixing = False
+
+    def _is_leaf(self) -> bool:
+        return not any(action.nargs in (argparse.PARSER, argparse.REMAINDER) for action in self._actions)
+
+    def _join_negative_values(self, args: list[str]) -> list[str]:
+        takes_value = {option for action in self._actions if action.option_strings and action.nargs is None
+                       and not isinstance(action, (argparse._StoreConstAction, argparse._CountAction))
+                       for option in action.option_strings}
+        i = 0
+        while i < len(args) - 1:
+            if args[i] == '--':
+                break
+            if args[i] in takes_value and self._negative_number_matcher.match(args[i + 1]):
+                longest = max(self._option_string_actions[args[i]].option_strings, key=len)
+                args[i:i + 2] = [f'{longest}={args[i + 1]}']
+            i += 1
+        return args
+
+
 def build_parser(verb: str | None = None) -> argparse.ArgumentParser:
     """The whole command line, or, given `verb`, one in which only that verb has its options:
     the other verbs' modules are not imported (a command's start is most of what `zros node
     list` costs, and the whole parser doubles it)."""
-    parser = argparse.ArgumentParser(
+    parser = CliParser(
         prog='zros', description='zros: ROS 2 style tools on Zenoh. Run "zros <verb> -h" for help on a verb.')
     parser.add_argument('--version', action='store_true', help='print the zros version and exit')
     sub = parser.add_subparsers(dest='verb', metavar='<verb>')

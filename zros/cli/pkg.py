@@ -57,9 +57,9 @@ def cmd_list(args: argparse.Namespace) -> int:
 
 def cmd_executables(args: argparse.Namespace) -> int:
     from zros.cli.run import list_executables
-    from zros.errors import CliError
+    from zros.errors import CliError, with_suggestion
     if args.package_name is not None and args.package_name not in _packages():
-        raise CliError(f"Package '{args.package_name}' not found")
+        raise CliError(with_suggestion(f"Package '{args.package_name}' not found", args.package_name, _packages()))
     packages = [args.package_name] if args.package_name else _packages()
     rows = [(package, executable) for package in packages for executable in list_executables(package)]
     if args.full_path:

@@ -99,17 +99,19 @@ def _run_script(path: str) -> Any:
 def find_executable(package: str, executable: str) -> Callable[[], Any]:
     """The callable that runs PKG/EXECUTABLE; CliError (one line) when there is none."""
     from zros.ament_index_python.packages import executable_directories
-    from zros.errors import CliError
+    from zros.errors import CliError, with_suggestion
     from zros.import_hook import install
     install()  # any package's nodes may be unmodified rclpy code (`import rclpy`, `from std_msgs.msg ...`)
     for ep in metadata.entry_points(group='zros.nodes'):
         if ep.name == f'{package}/{executable}':
             return ep.load()
-    if package not in list_packages():
-        raise CliError(f"Package '{package}' not found")
-    if executable not in list_executables(package):
-        choices = ', '.join(list_executables(package)) or 'none'
-        raise CliError(f"No executable '{executable}' found in package '{package}' (available: {choices})")
+    packages = list_packages()
+    if package not in packages:
+        raise CliError(with_suggestion(f"Package '{package}' not found", package, packages))
+    executables = list_executables(package)
+    if executable not in executables:
+        raise CliError(with_suggestion(f"No executable '{executable}' found in package '{package}'", executable,
+                                       executables, otherwise=f" (available: {', '.join(executables) or 'none'})"))
     from zros.ament_index_python.packages import ros_packages
     ros_package = ros_packages().get(package)
     if ros_package is not None and executable in ros_package.executables:

@@ -17,34 +17,12 @@ if TYPE_CHECKING:
 __all__ = ['add_arguments', 'add_qos_arguments', 'qos_from_args']
 
 _TOPIC_KINDS = (EntityKind.PUBLISHER, EntityKind.SUBSCRIPTION)
-
-
-class _VerbParser(argparse.ArgumentParser):
-    """argparse reads `--rate -1` as `--rate` followed by the option `-1` (`--once`), and any
-    other negative number as an unknown option, so the user sees "expected one argument". A
-    negative number right after an option that takes a value is that option's value here, and
-    the verb then says what is wrong with it."""
-
-    def parse_known_args(self, args=None, namespace=None):
-        if args is not None:
-            args = list(args)
-            takes_value = {o for a in self._actions if a.option_strings and a.nargs is None
-                           and not isinstance(a, (argparse._StoreConstAction, argparse._CountAction))
-                           for o in a.option_strings}
-            i = 0
-            while i < len(args) - 1:
-                if args[i] in takes_value and self._negative_number_matcher.match(args[i + 1]):
-                    args[i:i + 2] = [f'{self._long_option(args[i])}={args[i + 1]}']
-                i += 1
-        return super().parse_known_args(args, namespace)
-
-    def _long_option(self, option: str) -> str:
-        action = self._option_string_actions[option]
-        return max(action.option_strings, key=len)
+# ros2 topic echo's default cut for the text formats (YAML, CSV) that people read.
+_TEXT_TRUNCATE_LENGTH = 128
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    sub = parser.add_subparsers(dest='topic_verb', metavar='<command>', parser_class=_VerbParser)
+    sub = parser.add_subparsers(dest='topic_verb', metavar='<command>')
 
     p = sub.add_parser('list', help='Output a list of available topics')
     p.add_argument('-t', '--show-types', action='store_true', help='Additionally show the topic type')
@@ -89,8 +67,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     p.add_argument('--json', action='store_true', help='One JSON object per line')
     p.add_argument('--raw', action='store_true', help='Print the raw payload bytes (MessagePack) instead of decoding')
     p.add_argument('--flow-style', action='store_true', help='Print collections in the YAML flow style')
-    p.add_argument('-l', '--truncate-length', type=_non_negative_int, default=128,
-                   help='Truncate strings and arrays (default 128)')
+    p.add_argument('-l', '--truncate-length', type=_non_negative_int, default=None,
+                   help=f'Truncate strings and arrays after N elements (default {_TEXT_TRUNCATE_LENGTH}; '
+                        '--json output is complete unless this is given)')
     p.add_argument('-f', '--full-length', action='store_true', help='Output all elements of arrays and strings')
     p.add_argument('--no-lost-messages', action='store_true', help="Don't report lost messages (accepted; zros "
                    'reports them only with -i)')
@@ -430,13 +409,24 @@ def _resolve_type(ctx, topic: str, given: str | None, wait: float = 2.0):
     return get_message(types[0]), entities
 
 
+def _truncate_length(args: argparse.Namespace) -> int | None:
+    """Where echo cuts arrays and strings (None: nowhere). JSON is read by programs, which need
+    every element (a '...' inside a number array is not data), so it is complete unless -l is
+    given; YAML and CSV keep ros2's default cut."""
+    if args.full_length:
+        return None
+    if args.truncate_length is not None:
+        return args.truncate_length
+    return None if args.json else _TEXT_TRUNCATE_LENGTH
+
+
 class _EchoPrinter:
     """Formats one received message the way `ros2 topic echo` does (YAML, CSV, JSON, raw)."""
 
     def __init__(self, args: argparse.Namespace, out) -> None:
         self.args = args
         self.out = out
-        self.truncate = None if args.full_length else args.truncate_length
+        self.truncate = _truncate_length(args)
 
     def write(self, value, info: dict | None) -> None:
         args, out = self.args, self.out

@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from zros.ament_index_python.packages import PackageNotFoundError, get_package_share_path
+from zros.errors import with_suggestion
 from zros.launch.errors import LaunchError
 
 __all__ = ['configs_directory', 'find_launch_file']
@@ -28,4 +29,5 @@ def find_launch_file(package: str, name: str) -> Path:
     found = sorted(p.name for p in (share / 'launch').glob('*launch*')) if (share / 'launch').is_dir() else []
     hint = f"; launch files: {', '.join(found)}" if found else ''
     tried = ', '.join(str(c) for c in candidates)
-    raise LaunchError(f"launch file '{name}' not found in package '{package}' (looked in {tried}{hint})")
+    raise LaunchError(with_suggestion(f"launch file '{name}' not found in package '{package}'", name, found,
+                                      otherwise=f' (looked in {tried}{hint})'))

@@ -1,21 +1,20 @@
-"""Drawings of the frame tree: Graphviz DOT text (view_frames' format) and a self-contained SVG
-laid out here, for machines without Graphviz.
+"""Drawings of the frame tree: Graphviz DOT text and a PDF, the two files ROS's view_frames
+writes; the PDF is laid out here, so that no machine needs Graphviz.
 
 Both take `BufferCore.frames()`: per child frame its parent, authority, rate, sample count and
 oldest/newest stamps.
 """
 from __future__ import annotations
 
-from html import escape
 from typing import Any
 
-__all__ = ['edge_label_lines', 'to_dot', 'to_svg']
+__all__ = ['edge_label_lines', 'to_dot', 'to_pdf']
 
-_NODE_H = 36          # ellipse height [px]
-_ROW = 160            # vertical distance between tree levels [px]
-_SLOT = 250           # horizontal room per leaf [px]
-_FONT = 13
-_LABEL_FONT = 10
+_NODE_H = 36          # ellipse height [pt]
+_ROW = 160            # vertical distance between tree levels [pt]
+_SLOT = 250           # horizontal room per leaf [pt]
+_FONT = 13            # frame names [pt]
+_LABEL_FONT = 10      # edge labels and the legend's time [pt]
 
 
 def edge_label_lines(info: dict[str, Any]) -> list[str]:
@@ -70,47 +69,38 @@ def _layout(frames: dict[str, dict[str, Any]]) -> dict[str, tuple[float, float]]
     return positions
 
 
-def to_svg(frames: dict[str, dict[str, Any]], recorded_seconds: float) -> str:
-    """An SVG drawing of the tree, with view_frames' edge labels and legend."""
-    margin_x, top = 40.0, 90.0
+def to_pdf(frames: dict[str, dict[str, Any]], recorded_seconds: float) -> bytes:
+    """A one-page PDF of the tree, with view_frames' edge labels and legend: what ROS's
+    view_frames renders through Graphviz, laid out here so that no machine needs Graphviz."""
+    from zros.view.pdf import PdfPage
     if not frames:
-        return ('<svg xmlns="http://www.w3.org/2000/svg" width="360" height="80">'
-                '<text x="20" y="45" font-family="sans-serif" font-size="16">No tf data received</text></svg>\n')
+        page = PdfPage(360, 80)
+        page.text(20, 45, 'No tf data received', 16)
+        return page.to_bytes()
+    margin_x, top = 40.0, 90.0
     positions = _layout(frames)
-    width = max(x for x, _ in positions.values()) + _SLOT + 2 * margin_x
-    height = max(y for _, y in positions.values()) + top + _NODE_H + 40
+    page = PdfPage(max(x for x, _ in positions.values()) + _SLOT + 2 * margin_x,
+                   max(y for _, y in positions.values()) + top + _NODE_H + 40)
 
     def at(frame: str) -> tuple[float, float]:
         x, y = positions[frame]
         return x + margin_x + _SLOT / 2.0, y + top
 
-    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width:.0f}" height="{height:.0f}" '
-             f'viewBox="0 0 {width:.0f} {height:.0f}" font-family="sans-serif">',
-             '<rect width="100%" height="100%" fill="white"/>',
-             '<defs><marker id="arrow" viewBox="0 0 10 10" refX="10" refY="5" markerWidth="8" markerHeight="8" '
-             'orient="auto"><path d="M0,0 L10,5 L0,10 z" fill="black"/></marker></defs>',
-             f'<rect x="10" y="10" width="300" height="50" fill="none" stroke="black" stroke-width="2"/>',
-             f'<text x="160" y="30" text-anchor="middle" font-size="{_FONT}">view_frames Result</text>',
-             f'<text x="160" y="50" text-anchor="middle" font-size="{_LABEL_FONT}">Recorded at time: '
-             f'{recorded_seconds}</text>']
+    page.rect(10, 10, 300, 50, line_width=2.0)
+    page.text(160, 30, 'view_frames Result', _FONT, anchor='middle')
+    page.text(160, 50, f'Recorded at time: {recorded_seconds}', _LABEL_FONT, anchor='middle')
     for child, info in frames.items():
         (px, py), (cx, cy) = at(info['parent']), at(child)
         # elbow edges: down from the parent, across, down into the child; the label stands
         # beside the last drop, where no other edge runs
         bar = py + _NODE_H / 2 + 18
-        parts.append(f'<path d="M{px:.1f},{py + _NODE_H / 2:.1f} V{bar:.1f} H{cx:.1f} V{cy - _NODE_H / 2:.1f}" '
-                     'fill="none" stroke="black" marker-end="url(#arrow)"/>')
+        page.polyline([(px, py + _NODE_H / 2), (px, bar), (cx, bar), (cx, cy - _NODE_H / 2)], arrow=True)
         lines = edge_label_lines(info)
         ly = cy - _NODE_H / 2 - 8 - (len(lines) - 1) * (_LABEL_FONT + 2)
         for i, line in enumerate(lines):
-            parts.append(f'<text x="{cx + 6:.1f}" y="{ly + i * (_LABEL_FONT + 2):.1f}" '
-                         f'font-size="{_LABEL_FONT}">{escape(line)}</text>')
-    for frame in positions:
+            page.text(cx + 6, ly + i * (_LABEL_FONT + 2), line, _LABEL_FONT)
+    for frame in positions:   # last, so that the ellipses cover the edges' ends
         x, y = at(frame)
-        rx = max(40.0, 4.2 * len(frame) + 16)
-        parts.append(f'<ellipse cx="{x:.1f}" cy="{y:.1f}" rx="{rx:.1f}" ry="{_NODE_H / 2}" fill="white" '
-                     'stroke="black"/>')
-        parts.append(f'<text x="{x:.1f}" y="{y + _FONT / 3:.1f}" text-anchor="middle" font-size="{_FONT}">'
-                     f'{escape(frame)}</text>')
-    parts.append('</svg>')
-    return '\n'.join(parts) + '\n'
+        page.ellipse(x, y, max(40.0, 4.2 * len(frame) + 16), _NODE_H / 2)
+        page.text(x, y + _FONT / 3, frame, _FONT, anchor='middle')
+    return page.to_bytes()
