@@ -32,7 +32,7 @@ INTERFACE_KINDS = ('msg', 'srv', 'action')
 #: even before zros has one, so the error says which zros module is missing).
 ROS_LIBRARIES = frozenset({
     'ament_index_python', 'cv_bridge', 'launch', 'launch_ros', 'launch_testing', 'launch_xml', 'launch_yaml',
-    'message_filters', 'nav2_simple_commander', 'rosbag2_py', 'sensor_msgs_py', 'tf2_geometry_msgs', 'tf2_ros',
+    'message_filters', 'nav2_common', 'nav2_simple_commander', 'rosbag2_py', 'sensor_msgs_py', 'tf2_geometry_msgs', 'tf2_ros',
     'tf2_py', 'tf_transformations', 'xacro',
 })
 
