@@ -8,7 +8,9 @@ so a test can see what the launch gave it.
 from __future__ import annotations
 
 import json
+import os
 import re
+import signal
 import sys
 import textwrap
 import time
@@ -472,3 +474,30 @@ def test_binary_and_xml_launch_files_fail_in_one_line(tmp_path: Path):
     xml = tmp_path / 'a.launch.xml'
     xml.write_text('<launch/>')
     assert_clean_failure(launch(xml), 'XML launch files are not supported by zros')
+
+
+def test_a_container_started_as_a_node_is_an_empty_node_of_its_name(write, tmp_path: Path, domain: int):
+    """Nav2's bringup starts `rclcpp_components component_container_isolated` as a Node and loads
+    its servers into it; zros starts each component as a process and the container as an empty
+    node, so `node list` shows it as ROS's does."""
+    path = write('container.launch.py', '''
+from launch import LaunchDescription
+from launch_ros.actions import Node
+
+
+def generate_launch_description():
+    return LaunchDescription([Node(package='rclcpp_components', executable='component_container_isolated',
+                                   name='nav2_container', output='screen')])
+''')
+    plan = launch(path, '--print', '--log-dir', tmp_path / 'log')
+    assert plan.returncode == 0 and 'node: /nav2_container' in plan.stdout, plan
+    import subprocess
+    process = subprocess.Popen([sys.executable, '-m', 'zros', 'launch', str(path), '--log-dir', str(tmp_path / 'run')],
+                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
+    try:
+        from zros.testing import wait_until
+        wait_until(lambda: '/nav2_container' in run_cli('node', 'list').stdout, 30, message='the container node')
+    finally:
+        os.killpg(process.pid, signal.SIGINT)
+        output, _ = process.communicate(timeout=15)
+    assert 'this container holds none' in output and 'Traceback' not in output, output

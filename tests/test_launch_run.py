@@ -331,3 +331,41 @@ def test_print_and_show_args_start_nothing(tmp_path, domain, zros_cli):
     params = zros_cli('launch', 'configs', 'params_demo.launch.yaml', '-p')
     assert 'published_text: Hello from params_demo.launch.yaml' in params.stdout
     assert '/configs/params/talker.yaml' in params.stdout
+
+
+ON_SHUTDOWN = '''
+import os
+from launch import LaunchDescription
+from launch.actions import ExecuteProcess, LogInfo, RegisterEventHandler
+from launch.event_handlers import OnShutdown
+
+
+def generate_launch_description():
+    marker = os.path.join(os.path.dirname(__file__), 'generated.sdf')
+    open(marker, 'w').close()
+    return LaunchDescription([
+        ExecuteProcess(cmd=['sleep', '60'], name='sleeper'),
+        RegisterEventHandler(OnShutdown(on_shutdown=[LogInfo(msg='bye from actions')])),
+        # turtlebot3_gazebo's multi_robot.launch.py cleans up this way: a list of None
+        RegisterEventHandler(OnShutdown(on_shutdown=lambda event, context: [os.remove(marker)])),
+        RegisterEventHandler(OnShutdown(on_shutdown=lambda event, context: LogInfo(msg='why: ' + event.reason))),
+    ])
+'''
+
+
+def test_on_shutdown_handlers_run_when_the_launch_stops(tmp_path: Path, domain: int):
+    path = tmp_path / 'cleanup.launch.py'
+    path.write_text(ON_SHUTDOWN)
+    run = Launch(path, [], tmp_path)
+    try:
+        run.wait_for('process started with pid')
+        assert (tmp_path / 'generated.sdf').exists()
+        os.killpg(run.popen.pid, signal.SIGINT)
+        assert run.wait_exit(15) == 0
+        out = run.output()
+        assert '[INFO] [launch.user]: bye from actions' in out, out
+        assert '[INFO] [launch.user]: why: user interrupted with ctrl-c (SIGINT)' in out, out
+        assert not (tmp_path / 'generated.sdf').exists()
+        assert out.index('bye from actions') < out.index("sending signal 'SIGINT' to process[sleeper-1]")
+    finally:
+        run.kill()

@@ -319,3 +319,27 @@ def test_the_exploration_course_package_launches_as_printed(tmp_path: Path, cach
 
 def test_the_repository_root_is_not_a_workspace():
     assert find_source_packages(REPO / 'nodes') == []
+
+
+def test_a_fetched_cmake_package_keeps_zros_nodes_and_uses_its_own_files(tmp_path: Path, cache: Path):
+    """slam_toolbox or turtlebot3_gazebo cloned into a workspace: their nodes are compiled, so
+    zros's stand-ins of the same package run, with the clone's launch and config files."""
+    package = tmp_path / 'ws' / 'src' / 'slam_toolbox'
+    (package / 'config').mkdir(parents=True)
+    (package / 'package.xml').write_text('<package format="3"><name>slam_toolbox</name>'
+                                         '<export><build_type>ament_cmake</build_type></export></package>')
+    (package / 'config' / 'mapper_params_online_async.yaml').write_text('slam_toolbox:\n  ros__parameters: {}\n')
+    env = dict(os.environ, ZROS_NODE_PATH=str(tmp_path / 'ws'))
+    share = run_cli('pkg', 'prefix', '--share', 'slam_toolbox', env=env).stdout.strip()
+    assert share == str(package)
+    executables = run_cli('pkg', 'executables', 'slam_toolbox', env=env).stdout
+    assert 'slam_toolbox async_slam_toolbox_node' in executables, executables
+
+
+def test_ament_resources_and_launch_condition_module():
+    from zros.ament_index_python.resources import get_resource_types, has_resource
+    from zros.launch import condition
+    from zros.launch.conditions import Condition
+    assert has_resource('packages', 'turtlebot3_gazebo') and not has_resource('packages', 'image_view')
+    assert 'packages' in get_resource_types()
+    assert condition.Condition is Condition

@@ -163,33 +163,37 @@ def _shipped_root(name: str) -> Path:
     return Path(list(module.__path__)[0]).resolve()
 
 
-def _index() -> dict[str, tuple[Path, bool]]:
-    """{package: (share directory, whether its executables are the `*.py` files in it)}, in
-    lookup order (module docstring)."""
-    return {name: (folder, scripts) for name, (folder, scripts, _) in _full_index().items()}
+def _full_index() -> dict[str, tuple[Path, Path | None, RosPackage | None]]:
+    """{package: (share directory, the folder whose `*.py` files are its executables or None,
+    its ROS package record or None)}, in lookup order (module docstring).
 
-
-def _full_index() -> dict[str, tuple[Path, bool, RosPackage | None]]:
-    """The index, with the ROS package record of each package that is one."""
-    found: dict[str, tuple[Path, bool, RosPackage | None]] = {}
+    A ROS package in source whose nodes are compiled (ament_cmake: a fetched slam_toolbox or
+    turtlebot3_gazebo) has no executables zros can run; when zros ships a package of that
+    name, its nodes stand in, and the share directory stays the source's.
+    """
+    found: dict[str, tuple[Path, Path | None, RosPackage | None]] = {}
     for name, folder in _node_path_packages():
-        found.setdefault(name, (folder, True, None))
+        found.setdefault(name, (folder, folder, None))
     for package in _node_path_ros_packages():
-        found.setdefault(package.name, (package.share, False, package))
+        found.setdefault(package.name, (package.share, None, package))
     for name, folder in _installed_packages().items():
-        found.setdefault(name, (folder, False, None))
+        found.setdefault(name, (folder, None, None))
     for package in _source_packages(editable_source_dirs()) + prefix_packages():
-        found.setdefault(package.name, (package.share, False, package))
+        found.setdefault(package.name, (package.share, None, package))
     for name, folder in _package_dirs_under(_shipped_root('nodes')).items():
-        found.setdefault(name, (folder, True, None))
+        share, _, package = found.get(name, (folder, None, None))
+        if package is None and name in found:
+            continue
+        if package is None or (not package.executables and package.python_root is None):
+            found[name] = (share, folder, package)
     from zros import typesupport
     for root in typesupport.search_roots():
         for name, folder in _package_dirs_under(root).items():
             if name not in found and any((folder / kind).is_dir() for kind in _KINDS):
-                found[name] = (folder, False, None)
+                found[name] = (folder, None, None)
     configs = _shipped_root('configs')
-    found.setdefault('configs', (configs, False, None))
-    found.setdefault('zros', (configs.parent, False, None))
+    found.setdefault('configs', (configs, None, None))
+    found.setdefault('zros', (configs.parent, None, None))
     return found
 
 
@@ -201,13 +205,13 @@ def ros_packages() -> dict[str, RosPackage]:
 
 def package_directories() -> dict[str, Path]:
     """Every package and its share directory, in lookup order (module docstring)."""
-    return {name: folder for name, (folder, _) in _index().items()}
+    return {name: share for name, (share, _, _) in _full_index().items()}
 
 
 def executable_directories() -> dict[str, Path]:
     """The packages whose executables are the `*.py` files in their folder (those on
     ZROS_NODE_PATH and shipped with zros), and that folder; `zros run` reads it."""
-    return {name: folder for name, (folder, scripts) in _index().items() if scripts}
+    return {name: scripts for name, (_, scripts, _) in _full_index().items() if scripts is not None}
 
 
 def interface_roots() -> list[Path]:

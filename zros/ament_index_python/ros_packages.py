@@ -36,7 +36,7 @@ from pathlib import Path
 from zros.errors import ZrosError
 
 __all__ = ['RosPackage', 'SetupPyError', 'find_source_packages', 'read_setup_py', 'source_package',
-           'prefix_packages', 'editable_source_dirs', 'share_tree_root']
+           'prefix_packages', 'editable_source_dirs', 'share_tree_root', 'install_prefixes']
 
 #: Folders colcon never looks into for packages.
 _SKIPPED = frozenset({'build', 'install', 'log', '__pycache__', 'node_modules'})
@@ -305,7 +305,7 @@ def editable_source_dirs() -> list[Path]:
     return found
 
 
-def _prefixes() -> list[Path]:
+def install_prefixes() -> list[Path]:
     """AMENT_PREFIX_PATH's directories, then this Python environment's prefix."""
     prefixes = [Path(p) for p in os.environ.get('AMENT_PREFIX_PATH', '').split(os.pathsep) if p]
     prefixes.append(Path(sys.prefix))
@@ -325,7 +325,7 @@ def _distribution_scripts(name: str) -> dict[str, str]:
 def prefix_packages() -> list[RosPackage]:
     """The packages the ament resource index of each prefix lists (first prefix wins)."""
     found: dict[str, RosPackage] = {}
-    for prefix in _prefixes():
+    for prefix in install_prefixes():
         markers = prefix / _INDEX_MARKERS
         if not markers.is_dir():
             continue

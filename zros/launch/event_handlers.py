@@ -1,10 +1,14 @@
-"""Event handlers (launch.event_handlers): actions to run when a process starts or exits.
+"""Event handlers (launch.event_handlers): actions to run when a process starts or exits, or
+when the launch shuts down.
 
 `RegisterEventHandler(OnProcessExit(target_action=node, on_exit=[...]))`. The handler's actions
 are resolved with the rest of the launch (so their errors stop it before anything starts) and
 carried out by the supervisor when the event happens. `on_exit` / `on_start` may instead be a
 function `f(event, context)` returning actions, as in launch; it runs when the event happens,
 with `event.returncode`, `event.pid`, `event.action`, `event.process_name` and `event.cmd`.
+`OnShutdown(on_shutdown=...)` runs when the launch starts shutting down (Ctrl-C, a Shutdown
+event, a process with `on_exit=Shutdown()`); its function receives launch.events.Shutdown
+(`event.reason`), and what it returns is logged (LogInfo) while the processes stop.
 """
 from __future__ import annotations
 
@@ -14,7 +18,7 @@ from zros.launch.errors import LaunchFileError, Origin
 from zros.launch.files import module_getattr
 from zros.launch.origin import origin_here
 
-__all__ = ['OnProcessStart', 'OnProcessExit', 'ProcessEvent']
+__all__ = ['OnProcessStart', 'OnProcessExit', 'OnShutdown', 'ProcessEvent']
 
 __getattr__ = module_getattr(__name__)
 
@@ -76,3 +80,12 @@ class OnProcessExit(_ProcessEventHandler):
 
     def __init__(self, *, target_action: Any = None, on_exit: Any, origin: Origin | None = None) -> None:
         super().__init__(target_action=target_action, handler=on_exit, origin=origin or origin_here('OnProcessExit'))
+
+
+class OnShutdown(_ProcessEventHandler):
+    """`OnShutdown(on_shutdown=[...] or f(event, context))`: when the launch shuts down."""
+
+    event, _key = 'shutdown', 'on_shutdown'
+
+    def __init__(self, *, on_shutdown: Any, origin: Origin | None = None, **_: Any) -> None:
+        super().__init__(handler=on_shutdown, origin=origin or origin_here('OnShutdown'))

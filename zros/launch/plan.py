@@ -119,7 +119,7 @@ class EventHandlerEffect(NamedTuple):
     the event happens (`deferred(event) -> effects`).
     """
 
-    event: str                 # 'start' or 'exit'
+    event: str                 # 'start', 'exit' or 'shutdown'
     target: Any
     effects: list
     deferred: Any = None
@@ -134,6 +134,13 @@ class EventHandlerEffect(NamedTuple):
             return self.effects
         from zros.launch.event_handlers import ProcessEvent
         return self.deferred(ProcessEvent(self.target, process_name, pid, list(cmd), returncode))
+
+    def effects_at_shutdown(self, reason: str) -> list:
+        """What an OnShutdown handler does (its function receives launch.events.Shutdown)."""
+        if self.deferred is None:
+            return self.effects
+        from zros.launch.events import Shutdown
+        return self.deferred(Shutdown(reason=reason))
 
 
 Effect = Union[ProcessSpec, LogMessage, TimerEffect, ShutdownEffect, EventHandlerEffect]
@@ -193,7 +200,8 @@ class Plan:
             elif isinstance(effect, ShutdownEffect):
                 lines.append(f'{indent}shutdown' + (f': {effect.reason}' if effect.reason else ''))
             elif isinstance(effect, EventHandlerEffect):
-                lines.append(f'{indent}on {effect.event} of {self._targets(effect, numbers)}:')
+                lines.append(f'{indent}on shutdown:' if effect.event == 'shutdown'
+                             else f'{indent}on {effect.event} of {self._targets(effect, numbers)}:')
                 if effect.deferred is not None:
                     lines.append(f'{indent}  (actions from {effect.deferred}, resolved then)')
                 self._describe_effects(effect.effects, lines, numbers, indent + '  ')

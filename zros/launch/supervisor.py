@@ -473,11 +473,27 @@ class Supervisor:
             return
         self._shutting_down = True
         self.log.info('launch', f'shutting down: {reason}')
+        self._on_shutdown(reason)
         self._timers = [t for t in self._timers if t[2] == 'escalate']
         heapq.heapify(self._timers)
         for process in self._processes:
             if process.running:
                 self._signal(process, signal.SIGINT)
+
+    def _on_shutdown(self, reason: str) -> None:
+        """Carry out the OnShutdown handlers: their messages are logged; nothing starts now."""
+        for handler in [h for h in self._handlers if h.event == 'shutdown']:
+            try:
+                effects = handler.effects_at_shutdown(reason)
+            except Exception as exc:  # noqa: BLE001 - a handler's failure must not stop the shutdown
+                self.log.error('launch', f'OnShutdown handler failed: {type(exc).__name__}: {exc}')
+                continue
+            for effect in effects or []:
+                if isinstance(effect, LogMessage):
+                    self.log.message(effect.level, 'launch.user', effect.message)
+                else:
+                    self.log.warning('launch', f'OnShutdown: {type(effect).__name__} not carried out '
+                                               'while the launch shuts down')
 
     def _signal(self, process: _Process, signum: signal.Signals) -> None:
         stage = {signal.SIGINT: 1, signal.SIGTERM: 2, signal.SIGKILL: 3}[signum]

@@ -5,14 +5,15 @@ from typing import Any
 
 from zros.launch.action import Action, EndCapture, PopScope, PushScope
 from zros.launch.errors import LaunchFileError
-from zros.launch.event_handlers import OnProcessExit, OnProcessStart
+from zros.launch.event_handlers import OnProcessExit, OnProcessStart, OnShutdown
 from zros.launch.plan import EventHandlerEffect
 
 __all__ = ['RegisterEventHandler']
 
 
 class RegisterEventHandler(Action):
-    """`RegisterEventHandler(OnProcessExit(target_action=..., on_exit=[...]))` (or OnProcessStart).
+    """`RegisterEventHandler(OnProcessExit(target_action=..., on_exit=[...]))` (or OnProcessStart,
+    OnShutdown).
 
     A list of actions is resolved now, in a scope of its own (like a timer's), and carried out
     when the event happens; a handler function runs then, in a copy of the context as it is
@@ -21,10 +22,10 @@ class RegisterEventHandler(Action):
 
     def __init__(self, event_handler: Any, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        if not isinstance(event_handler, (OnProcessStart, OnProcessExit)):
+        if not isinstance(event_handler, (OnProcessStart, OnProcessExit, OnShutdown)):
             raise LaunchFileError(self.origin.with_key('event_handler'),
                                   f'zros.launch.event_handlers has no {type(event_handler).__name__}; '
-                                  'supported: OnProcessExit, OnProcessStart')
+                                  'supported: OnProcessExit, OnProcessStart, OnShutdown')
         self.event_handler = event_handler
 
     def sub_actions(self) -> list[Action]:

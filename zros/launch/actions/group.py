@@ -17,7 +17,8 @@ __all__ = ['GroupAction', 'PushRosNamespace', 'join_namespace', 'check_actions']
 
 def check_actions(actions: Any, origin: Origin) -> list[Action]:
     """A list of actions given to a group, timer, event handler...: each must be an Action
-    (a LaunchDescription counts), so a stray value fails where it was written."""
+    (a LaunchDescription counts), so a stray value fails where it was written. None entries
+    are skipped, as launch skips them (a handler lambda's list of `os.remove(...)` results)."""
     from zros.launch.launch_description import LaunchDescription
     if actions is None:
         return []
@@ -25,6 +26,8 @@ def check_actions(actions: Any, origin: Origin) -> list[Action]:
         actions = [actions]
     checked = []
     for item in actions:
+        if item is None:
+            continue
         if not isinstance(item, (Action, LaunchDescription)):
             raise LaunchFileError(origin, f'expected launch actions, got {type(item).__name__}')
         checked.append(item)
