@@ -195,3 +195,21 @@ def test_frontiers_reachable_grouped_sorted_and_blacklisted():
     blacklist = Blacklist(0.05)
     blacklist.add(right[0].centroid)
     assert blacklist.contains((right[0].centroid[0] + 0.2, right[0].centroid[1])) and not blacklist.contains((0, 0))
+
+
+# -- assisted teleop ------------------------------------------------------------------------------
+def test_assisted_teleop_projects_the_command_and_slows_before_a_collision():
+    from zros.navigation.assisted_teleop import collision_scale, projected_poses
+    times, poses = projected_poses((1.0, 2.0, np.pi / 2), (0.5, 0.0, 0.0), 0.1, 1.0)
+    assert np.allclose(times, np.arange(1, 10) * 0.1)            # Nav2's steps: t < projection_time
+    assert np.allclose(poses[:, 0], 1.0) and np.allclose(poses[-1, 1], 2.0 + 0.45)
+    _, turning = projected_poses((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 0.1, 1.0)
+    assert np.allclose(turning[:, :2], 0.0) and np.isclose(turning[-1, 2], 0.9)
+    clear = np.zeros(9, bool)
+    assert collision_scale(times, clear, 1.0) == 1.0
+    at_once = clear.copy()
+    at_once[0] = True
+    assert collision_scale(times, at_once, 1.0) == 0.0
+    later = clear.copy()
+    later[4:] = True                                               # first collision at t = 0.5 s
+    assert np.isclose(collision_scale(times, later, 1.0), 0.5)

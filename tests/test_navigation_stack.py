@@ -336,6 +336,50 @@ def test_navigation_from_text_example_node(stack: Any, module_spawn: Any, tmp_pa
     assert 'All the 2 goals processed' in out
 
 
+ASSISTED_TELEOP = '''
+import sys
+import time
+
+import rclpy
+from geometry_msgs.msg import Twist
+from nav2_simple_commander.robot_navigator import BasicNavigator, TaskResult
+from std_msgs.msg import Empty
+
+rclpy.init()
+navigator = BasicNavigator()
+teleop = navigator.create_publisher(Twist, 'cmd_vel_teleop', 10)
+preempt = navigator.create_publisher(Empty, 'preempt_teleop', 10)
+print('accepted:', navigator.assistedTeleop(time_allowance=60), flush=True)
+command = Twist()
+command.angular.z = 0.6
+end = time.monotonic() + 3.0
+while time.monotonic() < end:
+    teleop.publish(command)
+    rclpy.spin_once(navigator, timeout_sec=0.1)
+preempt.publish(Empty())
+while not navigator.isTaskComplete():
+    preempt.publish(Empty())
+print('result:', navigator.getResult().name, flush=True)
+sys.exit(0)
+'''
+
+
+def test_assisted_teleop_passes_the_teleop_command_until_preempted(stack: Any, module_spawn: Any,
+                                                                   tmp_path: Any) -> None:
+    """BasicNavigator.assistedTeleop, unmodified rclpy: a turn on cmd_vel_teleop reaches the
+    robot through the behavior server; preempt_teleop ends the task as succeeded."""
+    from zros.navigation.node_support import yaw_of
+    before = yaw_of(stack.truth['pose'].orientation)
+    path = tmp_path / 'assisted_teleop.py'
+    path.write_text(ASSISTED_TELEOP)
+    script = module_spawn.command(sys.executable, '-m', 'zros', 'python', str(path), name='assisted_teleop')
+    assert script.wait(90) == 0, script.output()
+    out = script.output()
+    assert 'accepted: True' in out and 'result: SUCCEEDED' in out, out
+    turned = abs(math.remainder(yaw_of(stack.truth['pose'].orientation) - before, math.tau))
+    assert turned > 0.5, (turned, out)
+
+
 def test_a_dead_controller_is_reported_by_the_manager(stack: Any) -> None:
     """Last in this module: it takes the stack down."""
     import os

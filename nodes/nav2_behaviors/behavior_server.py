@@ -1,4 +1,5 @@
-"""nav2_behaviors' behavior_server: the `spin`, `backup`, `drive_on_heading` and `wait` actions.
+"""nav2_behaviors' behavior_server: the `spin`, `backup`, `drive_on_heading`, `wait` and
+`assisted_teleop` actions.
 
     zros run nav2_behaviors behavior_server --ros-args --params-file burger.yaml
 
@@ -8,6 +9,9 @@ A lifecycle node. Parameters as Nav2's: `cycle_frequency`, `local_frame` (odom),
 checked ahead against the local costmap (`local_costmap/costmap_raw`); a motion that would hit
 something stops with COLLISION_AHEAD, one that runs out of `time_allowance` with TIMEOUT.
 BackUp drives backwards whatever the signs of its distance and speed, as Nav2's.
+AssistedTeleop passes `cmd_vel_teleop` on to `cmd_vel`, slowed before a collision
+(zros.navigation.assisted_teleop; `projection_time`, `simulation_time_step`), until a message on
+`preempt_teleop` ends it (succeeded) or `time_allowance` runs out (TIMEOUT; 0 means no limit).
 """
 from __future__ import annotations
 
@@ -21,6 +25,7 @@ import numpy as np
 import zros
 from zros.executors import ExternalShutdownException, spin_nodes
 from zros.lifecycle import LifecycleNode
+from zros.navigation.assisted_teleop import collision_scale, projected_poses
 from zros.navigation.controller import angle_diff
 from zros.navigation.costmap import INSCRIBED_INFLATED_OBSTACLE, NO_INFORMATION
 from zros.navigation.node_support import Nav2Params, duration_msg, lookup_pose
@@ -28,8 +33,9 @@ from zros.navigation.servers import GoalRunner, gated_action_server
 from zros.tf2_ros import Buffer, TransformListener
 
 from interfaces.geometry_msgs.msg import Twist
-from interfaces.nav2_msgs.action import BackUp, DriveOnHeading, Spin, Wait
+from interfaces.nav2_msgs.action import AssistedTeleop, BackUp, DriveOnHeading, Spin, Wait
 from interfaces.nav2_msgs.msg import Costmap
+from interfaces.std_msgs.msg import Empty
 
 
 class BehaviorServer(LifecycleNode):
@@ -46,7 +52,10 @@ class BehaviorServer(LifecycleNode):
         self.min_rot = prm.get('min_rotational_vel', 0.4)
         self.rot_acc = prm.get('rotational_acc_lim', 3.2)
         topic = prm.get('costmap_topic', 'local_costmap/costmap_raw')
-        prm.get('behavior_plugins', ['spin', 'backup', 'drive_on_heading', 'wait'])
+        self.projection_time = prm.get('projection_time', 1.0)
+        self.simulation_time_step = prm.get('simulation_time_step', 0.1)
+        teleop_topic = prm.get('cmd_vel_teleop', 'cmd_vel_teleop')
+        prm.get('behavior_plugins', ['spin', 'backup', 'drive_on_heading', 'assisted_teleop', 'wait'])
         prm.report_unused()
         self._costmap: Any = None
         self._costmap_lock = threading.Lock()
@@ -59,6 +68,14 @@ class BehaviorServer(LifecycleNode):
         gated_action_server(self, BackUp, 'backup', lambda h: self._drive(h, BackUp, backwards=True))
         gated_action_server(self, DriveOnHeading, 'drive_on_heading', lambda h: self._drive(h, DriveOnHeading))
         gated_action_server(self, Wait, 'wait', self._wait)
+        self._teleop = (0.0, 0.0, 0.0)
+        self._preempt = threading.Event()
+        self.create_subscription(Twist, teleop_topic, self._on_teleop, 10)
+        self.create_subscription(Empty, 'preempt_teleop', lambda _: self._preempt.set(), 10)
+        gated_action_server(self, AssistedTeleop, 'assisted_teleop', self._assisted_teleop)
+
+    def _on_teleop(self, msg: Any) -> None:
+        self._teleop = (msg.linear.x, msg.linear.y, msg.angular.z)
 
     def _on_costmap(self, msg: Any) -> None:
         with self._costmap_lock:
@@ -66,16 +83,23 @@ class BehaviorServer(LifecycleNode):
 
     def _blocked(self, points: np.ndarray) -> bool:
         """True if any (N, 2) point of `local_frame` is in an inscribed or lethal cell."""
+        return bool(self._blocked_each(points).any())
+
+    def _blocked_each(self, points: np.ndarray) -> np.ndarray:
+        """Per (N, 2) point of `local_frame`: in an inscribed or lethal cell (False off the map
+        or without a costmap)."""
         with self._costmap_lock:
             cm = self._costmap
+        blocked = np.zeros(len(points), bool)
         if cm is None or cm.header.frame_id not in ('', self.local_frame):
-            return False
+            return blocked
         md = cm.metadata
         grid = np.asarray(cm.data, np.uint8).reshape(md.size_y, md.size_x)
         cells = np.floor((points - (md.origin.position.x, md.origin.position.y)) / md.resolution).astype(int)
         inside = (cells[:, 0] >= 0) & (cells[:, 1] >= 0) & (cells[:, 0] < md.size_x) & (cells[:, 1] < md.size_y)
         costs = grid[cells[inside, 1], cells[inside, 0]]
-        return bool(((costs >= INSCRIBED_INFLATED_OBSTACLE) & (costs != NO_INFORMATION)).any())
+        blocked[inside] = (costs >= INSCRIBED_INFLATED_OBSTACLE) & (costs != NO_INFORMATION)
+        return blocked
 
     def _pose(self) -> tuple[float, float, float]:
         return lookup_pose(self.tf_buffer, self.local_frame, self.robot_base_frame)
@@ -174,6 +198,24 @@ class BehaviorServer(LifecycleNode):
             handle.publish_feedback(feedback)
             return None if elapsed >= total else (0.0, 0.0)
         return self._loop(handle, Wait.Result(), None, cycle, 0)
+
+    def _assisted_teleop(self, handle: Any) -> Any:
+        self._preempt.clear()
+        self._teleop = (0.0, 0.0, 0.0)
+        feedback = AssistedTeleop.Feedback()
+
+        def cycle(elapsed: float) -> tuple[float, float] | None:
+            feedback.current_teleop_duration = duration_msg(elapsed)
+            handle.publish_feedback(feedback)
+            if self._preempt.is_set():
+                return None
+            twist = self._teleop
+            if not any(twist):
+                return 0.0, 0.0
+            times, poses = projected_poses(self._pose(), twist, self.simulation_time_step, self.projection_time)
+            scale = collision_scale(times, self._blocked_each(poses[:, :2]), self.projection_time)
+            return twist[0] * scale, twist[2] * scale
+        return self._loop(handle, AssistedTeleop.Result(), handle.request.time_allowance, cycle, 730)
 
 
 class _Abort(Exception):

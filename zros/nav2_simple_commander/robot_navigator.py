@@ -28,8 +28,9 @@ from zros.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPol
 from interfaces.action_msgs.msg import GoalStatus
 from interfaces.geometry_msgs.msg import PoseWithCovarianceStamped
 from interfaces.lifecycle_msgs.srv import GetState
-from interfaces.nav2_msgs.action import (BackUp, ComputePathThroughPoses, ComputePathToPose, DriveOnHeading,
-                                         FollowPath, FollowWaypoints, NavigateThroughPoses, NavigateToPose, Spin)
+from interfaces.nav2_msgs.action import (AssistedTeleop, BackUp, ComputePathThroughPoses, ComputePathToPose,
+                                         DriveOnHeading, FollowPath, FollowWaypoints, NavigateThroughPoses,
+                                         NavigateToPose, Spin)
 from interfaces.nav2_msgs.srv import ClearEntireCostmap, GetCostmap, LoadMap, ManageLifecycleNodes
 
 __all__ = ['BasicNavigator', 'TaskResult']
@@ -64,6 +65,7 @@ class BasicNavigator(Node):
         self.spin_client = ActionClient(self, Spin, 'spin')
         self.backup_client = ActionClient(self, BackUp, 'backup')
         self.drive_on_heading_client = ActionClient(self, DriveOnHeading, 'drive_on_heading')
+        self.assisted_teleop_client = ActionClient(self, AssistedTeleop, 'assisted_teleop')
         self.localization_pose_sub = self.create_subscription(
             PoseWithCovarianceStamped, 'amcl_pose', self._amclPoseCallback, amcl_pose_qos)
         self.initial_pose_pub = self.create_publisher(PoseWithCovarianceStamped, 'initialpose', 10)
@@ -82,7 +84,7 @@ class BasicNavigator(Node):
         for client in (self.nav_through_poses_client, self.nav_to_pose_client, self.follow_waypoints_client,
                        self.follow_path_client, self.compute_path_to_pose_client,
                        self.compute_path_through_poses_client, self.spin_client, self.backup_client,
-                       self.drive_on_heading_client):
+                       self.drive_on_heading_client, self.assisted_teleop_client):
             client.destroy()
         super().destroy_node()
 
@@ -154,6 +156,19 @@ class BasicNavigator(Node):
         goal.time_allowance.sec = int(time_allowance)
         self.info(f'Driving on heading {goal.target.x} m at {goal.speed} m/s....')
         return self._send(self.drive_on_heading_client, goal, 'DriveOnHeading')
+
+    def assistedTeleop(self, time_allowance: int = 30) -> bool:
+        """Start the behavior server's assisted teleop: `cmd_vel_teleop` is passed on to the
+        robot, slowed before obstacles, until a message on `preempt_teleop` or `time_allowance`
+        seconds (0: no limit).
+
+        :param time_allowance: seconds the task may run.
+        :return: whether the behaviour accepted the task.
+        """
+        goal = AssistedTeleop.Goal()
+        goal.time_allowance.sec = int(time_allowance)
+        self.info("Running 'assisted_teleop'....")
+        return self._send(self.assisted_teleop_client, goal, 'AssistedTeleop')
 
     def followPath(self, path: Any, controller_id: str = '', goal_checker_id: str = '') -> bool:
         self.info('Executing path...')
