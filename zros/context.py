@@ -49,6 +49,7 @@ class Context:
         self._args = RosArgs()
         self._argv: list[str] = []
         self._ok = False
+        self._provisional = False      # opened on the program's behalf; its own init() replaces it
         self._stop_requested = False   # a signal came in; the shutdown is on its way
         self._ids = itertools.count(1)
         self._nodes: weakref.WeakSet = weakref.WeakSet()
@@ -61,7 +62,7 @@ class Context:
     # -- life cycle ----------------------------------------------------------------------
     def init(self, args: list[str] | None = None, *, domain_id: int | None = None,
              install_signal_handlers: Any = True, mesh: bool = True,
-             connect_wait: float | None = None) -> 'Context':
+             connect_wait: float | None = None, provisional: bool = False) -> 'Context':
         """Open the session.
 
         Args:
@@ -69,10 +70,17 @@ class Context:
                 signals) / False (none); see zros.signals.
             mesh: False links only to the hub or router (for tools that only read the graph).
             connect_wait: how long a client-mode session waits for its router (None: forever).
+            provisional: opened on the program's behalf (launch tests run with zros initialized,
+                since tests written for ROS create nodes without `rclpy.init()`); the program's
+                own `init()` then shuts this one down and opens the context its way, where an
+                init of an initialized context raises.
         """
+        if self._ok and self._provisional:
+            self.shutdown()
         with self._lock:
             if self._ok:
                 raise RuntimeError('Context.init() must only be called once')
+            self._provisional = provisional
             argv = list(sys.argv if args is None else args)
             parsed = parse_ros_args(argv)
             for logger, level in parsed.log_levels:

@@ -28,6 +28,7 @@ VERBS = {
     'tf': ('zros.cli.tf', 'Print the TF frame tree and its rates'),
     'lifecycle': ('zros.cli.lifecycle', 'Inspect and drive the lifecycle of managed nodes'),
     'launch': ('zros.cli.launch', 'Run a launch file (Python or YAML)'),
+    'test': ('zros.cli.test', 'Run a launch test file (like launch_test): its launch, then its tests'),
     'pkg': ('zros.cli.pkg', 'Create packages and find them (like ros2 pkg)'),
     'router': ('zros.cli.router', 'Run a Zenoh router for multi-machine set-ups'),
     'security': ('zros.cli.security', 'Create TLS keys and certificates (a CA and one per node)'),

@@ -15,7 +15,7 @@ from zros.launch.errors import LaunchError, LaunchFileError, Origin
 from zros.launch.files import load_launch_file
 from zros.launch.plan import LogMessage, Plan
 
-__all__ = ['resolve', 'declared_arguments', 'load_launch_file', 'BUILTIN_CONFIGURATIONS',
+__all__ = ['resolve', 'resolve_actions', 'declared_arguments', 'load_launch_file', 'BUILTIN_CONFIGURATIONS',
            'parse_launch_arguments', 'Deferred']
 
 #: Launch configurations that mean something without an argument (as in ROS 2's launch).
@@ -50,10 +50,17 @@ def resolve(path: str, *, launch_arguments: dict[str, str] | None = None,
     launch (`LaunchConfiguration` / `$(var)`, as ROS 2 launch files often read undeclared ones
     with a default); anything else is reported as a typo.
     """
-    registered_tags()
     path = os.path.normpath(str(path))
+    return resolve_actions(load_launch_file(path), path, launch_arguments=launch_arguments,
+                           environment=environment, log_dir=log_dir)
+
+
+def resolve_actions(actions: list, path: str, *, launch_arguments: dict[str, str] | None = None,
+                    environment: dict[str, str] | None = None, log_dir: str = '') -> Plan:
+    """`resolve()` for actions already loaded from `path` (a launch test's
+    `generate_test_description()` gives them); the same checks, the same Plan."""
+    registered_tags()
     launch_arguments = dict(launch_arguments or {})
-    actions = load_launch_file(path)
     context = LaunchContext(launch_arguments=launch_arguments, environment=environment, log_dir=log_dir)
     context.known_arguments = {arg.name: arg for arg in declared_arguments(path, launch_arguments, actions=actions)}
     context.enter_file(path, None)

@@ -17,7 +17,7 @@ from typing import Any
 
 from zros.launch.errors import LaunchError, LaunchFileError
 
-__all__ = ['load_launch_file', 'read_text', 'launch_file_kind']
+__all__ = ['load_launch_file', 'read_text', 'launch_file_kind', 'python_error']
 
 _CANNOT_IMPORT = re.compile(r"cannot import name '(\w+)' from '([\w.]+)'")
 
@@ -86,7 +86,7 @@ def _load_python(path: str, text: str) -> Any:
     except SyntaxError as exc:
         raise LaunchFileError(None, f'{path}:{exc.lineno or 1}: invalid Python: {exc.msg}') from None
     except Exception as exc:  # noqa: BLE001 - anything the user's file raises becomes one line
-        raise _python_error(path, exc) from None
+        raise python_error(path, exc) from None
     if not isinstance(description, LaunchDescription):
         raise LaunchFileError(None, f'{path}: generate_launch_description() returned '
                                     f'{type(description).__name__}, not a LaunchDescription')
@@ -104,7 +104,9 @@ def _frame_in(path: str, exc: BaseException) -> tuple[int, str]:
     return line, text
 
 
-def _python_error(path: str, exc: Exception) -> LaunchFileError:
+def python_error(path: str, exc: Exception) -> LaunchFileError:
+    """One `file:line: what` error for an exception a user's Python file (launch file or launch
+    test) raised: the line is the deepest frame in that file."""
     line, text = _frame_in(path, exc)
     where = f'{path}:{line}'
     if isinstance(exc, KeyError) and 'environ' in text and exc.args and exc.args[0] not in os.environ:

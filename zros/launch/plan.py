@@ -17,7 +17,7 @@ from zros.launch.context import DeclaredArgument
 from zros.launch.errors import Origin
 
 __all__ = ['ParamsFile', 'GeneratedParams', 'NodeInfo', 'ProcessSpec', 'LogMessage', 'TimerEffect',
-           'ShutdownEffect', 'EventHandlerEffect', 'Effect', 'Plan', 'OUTPUT_MODES']
+           'ShutdownEffect', 'EventHandlerEffect', 'CallEffect', 'Effect', 'Plan', 'OUTPUT_MODES']
 
 OUTPUT_MODES = ('log', 'screen', 'both', 'own_log')
 
@@ -111,6 +111,16 @@ class ShutdownEffect(NamedTuple):
     origin: Origin | None = None
 
 
+class CallEffect(NamedTuple):
+    """A function the supervisor calls when the launch reaches this point, after starting the
+    processes before it (launch_testing's ReadyToTest). It runs on the supervisor's thread and
+    must return at once."""
+
+    label: str                 # what `--print` shows: 'ready to test'
+    function: Any
+    origin: Origin | None = None
+
+
 class EventHandlerEffect(NamedTuple):
     """Effects to carry out when a process starts or exits (OnProcessStart / OnProcessExit).
 
@@ -143,7 +153,7 @@ class EventHandlerEffect(NamedTuple):
         return self.deferred(Shutdown(reason=reason))
 
 
-Effect = Union[ProcessSpec, LogMessage, TimerEffect, ShutdownEffect, EventHandlerEffect]
+Effect = Union[ProcessSpec, LogMessage, TimerEffect, ShutdownEffect, EventHandlerEffect, CallEffect]
 
 
 @dataclass
@@ -199,6 +209,8 @@ class Plan:
                 self._describe_effects(effect.effects, lines, numbers, indent + '  ')
             elif isinstance(effect, ShutdownEffect):
                 lines.append(f'{indent}shutdown' + (f': {effect.reason}' if effect.reason else ''))
+            elif isinstance(effect, CallEffect):
+                lines.append(f'{indent}{effect.label}')
             elif isinstance(effect, EventHandlerEffect):
                 lines.append(f'{indent}on shutdown:' if effect.event == 'shutdown'
                              else f'{indent}on {effect.event} of {self._targets(effect, numbers)}:')

@@ -31,10 +31,10 @@ from pathlib import Path
 from typing import Any, Callable, TextIO
 
 from zros.launch.errors import LaunchError
-from zros.launch.plan import (EventHandlerEffect, GeneratedParams, LogMessage, Plan, ProcessSpec, ShutdownEffect,
-                              TimerEffect)
+from zros.launch.plan import (CallEffect, EventHandlerEffect, GeneratedParams, LogMessage, Plan, ProcessSpec,
+                              ShutdownEffect, TimerEffect)
 
-__all__ = ['Supervisor', 'LaunchLog', 'make_log_dir', 'default_log_base']
+__all__ = ['Supervisor', 'ProcessObserver', 'LaunchLog', 'make_log_dir', 'default_log_base']
 
 _PR_SET_PDEATHSIG = 1
 _READ_CHUNK = 65536
@@ -154,6 +154,21 @@ class LaunchLog:
                 self._file = None
 
 
+class ProcessObserver:
+    """What a launch's processes do, told as it happens (launch_testing's proc_info and
+    proc_output). The supervisor's thread calls these; they must return at once. `name` is the
+    process's name in the output (`talker-1`), `spec.source` the action that made it."""
+
+    def started(self, name: str, spec: ProcessSpec, pid: int, cmd: list[str]) -> None:
+        """The process was started."""
+
+    def output(self, name: str, spec: ProcessSpec, is_stderr: bool, lines: list[str]) -> None:
+        """Whole lines it printed on stdout or stderr."""
+
+    def exited(self, name: str, spec: ProcessSpec, pid: int, returncode: int, cmd: list[str]) -> None:
+        """It exited with `returncode` (negative: killed by that signal)."""
+
+
 class _Process:
     """One process of the plan, across its respawns (same name, same log file)."""
 
@@ -191,15 +206,22 @@ class Supervisor:
             None keeps no files (output still reaches the screen).
         debug: also print DEBUG messages (command lines, environment, signals).
         hub: open a zros Context for the launch's duration (local discovery for the nodes).
+        observer: told of every process start, output line and exit.
+        keep_alive: run until a shutdown, even when no process is left (launch_testing's
+            `keep_alive` marker); otherwise the launch ends when it has nothing left to do.
     """
 
     def __init__(self, plan: Plan, *, log_dir: Path | None, debug: bool = False, hub: bool = True,
-                 screen: TextIO | None = None) -> None:
+                 screen: TextIO | None = None, observer: ProcessObserver | None = None,
+                 keep_alive: bool = False) -> None:
         self.plan = plan
         self.log_dir = log_dir
         self.debug = debug
         self.hub = hub
         self._screen = screen
+        self._observer = observer or ProcessObserver()
+        self._keep_alive = keep_alive
+        self._requests: list[str] = []      # shutdowns asked for by other threads
         self.log: LaunchLog | None = None
         self._processes: list[_Process] = []
         self._counter = itertools.count(1)
@@ -211,6 +233,7 @@ class Supervisor:
         self._failed_start = False
         self._preexec = None
         self._wakeup_read = self._wakeup_write = -1
+        self._wakeup_lock = threading.Lock()    # request_shutdown() never writes to a closed fd
         self._context = None
         self._handlers: list[EventHandlerEffect] = []
         self._child_exited = False      # SIGCHLD came in since the last `_reap()`
@@ -252,6 +275,21 @@ class Supervisor:
         role = 'is the discovery hub' if self._context.is_hub else 'joined the running discovery hub'
         self.log.debug('launch', f'zros domain {self._context.domain_id}: this launch {role}')
 
+    @property
+    def context(self) -> Any:
+        """The zros Context the launch holds while it runs (None before and after)."""
+        return self._context
+
+    def request_shutdown(self, reason: str) -> None:
+        """Ask for `shutdown(reason)` from any thread (a launch test's, when its tests are done)."""
+        self._requests.append(reason)
+        with self._wakeup_lock:
+            if self._wakeup_write >= 0:
+                try:
+                    os.write(self._wakeup_write, b'\0')
+                except OSError:
+                    pass   # the pipe is full: a wakeup is pending anyway
+
     def _close_hub(self) -> None:
         if self._context is not None:
             self._context.shutdown()
@@ -280,13 +318,17 @@ class Supervisor:
             if signum != 'wakeup':
                 signal.signal(signum, handler if handler is not None else signal.SIG_DFL)
         signal.set_wakeup_fd(previous['wakeup'])
-        for fd in (self._wakeup_read, self._wakeup_write):
-            try:
-                os.close(fd)
-            except OSError:
-                pass
+        with self._wakeup_lock:
+            for fd in (self._wakeup_read, self._wakeup_write):
+                try:
+                    os.close(fd)
+                except OSError:
+                    pass
+            self._wakeup_read = self._wakeup_write = -1
 
     def _handle_signals(self) -> None:
+        while self._requests:
+            self.shutdown(self._requests.pop(0))
         while self._signals:
             signum = self._signals.pop(0)
             if signum == signal.SIGINT:
@@ -318,6 +360,8 @@ class Supervisor:
             elif isinstance(effect, ShutdownEffect):
                 self.shutdown(effect.reason or 'shutdown requested by the launch file')
                 return
+            elif isinstance(effect, CallEffect):
+                effect.function()
 
     def _dispatch(self, event: str, process: _Process, code: int | None = None) -> None:
         """Carry out the OnProcessStart / OnProcessExit handlers that watch this process."""
@@ -378,6 +422,7 @@ class Supervisor:
             process.buffers[fd] = bytearray()
             self._selector.register(fd, selectors.EVENT_READ, (process, stream))
         self.log.info(process.name, f'process started with pid [{popen.pid}]')
+        self._observer.started(process.name, spec, popen.pid, process.command)
         if self._shutting_down:   # a shutdown came in while this one was being started
             self._signal(process, signal.SIGINT)
         else:
@@ -421,6 +466,7 @@ class Supervisor:
         output = process.spec.output
         to_screen = output in ('screen', 'both') or (is_stderr and output == 'log')
         self.log.output(process.name, lines, to_screen=to_screen, to_file=output != 'own_log')
+        self._observer.output(process.name, process.spec, is_stderr, lines)
         if process.log is not None:
             process.log.write('\n'.join(lines) + '\n')
             self._unflushed.add(process)
@@ -452,6 +498,7 @@ class Supervisor:
         else:
             cmd = spec.shell_text if spec.shell_text is not None else ' '.join(process.command)
             self.log.error(process.name, f"process has died [pid {pid}, exit code {code}, cmd '{cmd}'].")
+        self._observer.exited(process.name, spec, pid, code, process.command)
         self._dispatch('exit', process, code)
         if spec.on_exit_shutdown:
             self.shutdown(f'process[{process.name}] exited and has on_exit: shutdown')
@@ -555,6 +602,8 @@ class Supervisor:
     # -- the loop ------------------------------------------------------------------------------
     def _busy(self) -> bool:
         # Escalation timers of processes that already exited keep nothing alive.
+        if self._keep_alive and not self._shutting_down:
+            return True
         return any(p.running for p in self._processes) or any(t[2] != 'escalate' for t in self._timers)
 
     def _flush_logs(self) -> None:

@@ -4,14 +4,16 @@ settings that could send traffic elsewhere."""
 from __future__ import annotations
 
 import fcntl
+import os
 import random
 import tempfile
+from contextlib import contextmanager
 from pathlib import Path
-from typing import IO
+from typing import IO, Iterator
 
 from zros.config import HUB_BASE_PORT, hub_port_free
 
-__all__ = ['DomainLock', 'isolated_environment', 'DOMAIN_RANGE', 'HUB_BASE_PORT', 'NETWORK_SETTINGS', 'ALL_SETTINGS']
+__all__ = ['DomainLock', 'isolated_environment', 'isolated_domain', 'DOMAIN_RANGE', 'HUB_BASE_PORT', 'NETWORK_SETTINGS', 'ALL_SETTINGS']
 
 DOMAIN_RANGE = (100, 230)
 
@@ -57,3 +59,40 @@ def isolated_environment(monkeypatch: object, domain: int, scrub: tuple[str, ...
     monkeypatch.setenv('ZROS_DOMAIN_ID', str(domain))
     monkeypatch.setenv('RCUTILS_COLORIZED_OUTPUT', '0')
     monkeypatch.setenv('PYTHONUNBUFFERED', '1')
+
+
+class _EnvironmentEdits:
+    """MonkeyPatch's setenv/delenv on os.environ, undone by `undo()` (outside pytest)."""
+
+    def __init__(self) -> None:
+        self._saved: dict[str, str | None] = {}
+
+    def setenv(self, name: str, value: str) -> None:
+        self._saved.setdefault(name, os.environ.get(name))
+        os.environ[name] = value
+
+    def delenv(self, name: str, raising: bool = True) -> None:
+        self._saved.setdefault(name, os.environ.get(name))
+        os.environ.pop(name, None)
+
+    def undo(self) -> None:
+        for name, value in self._saved.items():
+            if value is None:
+                os.environ.pop(name, None)
+            else:
+                os.environ[name] = value
+
+
+@contextmanager
+def isolated_domain(scrub: tuple[str, ...] = NETWORK_SETTINGS) -> Iterator[int]:
+    """`with isolated_domain() as domain:` this process and the processes it starts use a
+    private domain (as the `zros_domain` fixture gives a test); the environment is restored
+    and the domain released afterwards. For runs outside pytest's fixtures: a launch test."""
+    lock = DomainLock()
+    edits = _EnvironmentEdits()
+    try:
+        isolated_environment(edits, lock.domain, scrub)
+        yield lock.domain
+    finally:
+        edits.undo()
+        lock.close()

@@ -1,5 +1,6 @@
 """The pytest plugin of zros.testing (registered as the `zros` pytest11 entry point): the
-fixtures `zros_domain`, `zros_context`, `zros_node`, `zros_processes` (see zros.testing)."""
+fixtures `zros_domain`, `zros_context`, `zros_node`, `zros_processes` (see zros.testing), and
+the collection of launch_testing modules (zros.testing.launch_tests), with `--launch-args`."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -10,7 +11,20 @@ import pytest
 from zros.testing.domains import NETWORK_SETTINGS, DomainLock, isolated_environment
 from zros.testing.processes import ProcessGroup
 
-__all__ = ['zros_domain', 'zros_context', 'zros_node', 'zros_processes']
+__all__ = ['zros_domain', 'zros_context', 'zros_node', 'zros_processes', 'pytest_addoption',
+           'pytest_pycollect_makemodule']
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    parser.addoption('--launch-args', action='append', nargs='*', default=[], metavar='name:=value',
+                     help='launch arguments for the launch tests (modules defining generate_test_description)')
+
+
+def pytest_pycollect_makemodule(module_path: Path, parent: pytest.Collector) -> pytest.Module | None:
+    """A launch test module becomes one item that runs its launch and tests; others are left
+    to pytest."""
+    from zros.testing.launch_tests import make_launch_test_module
+    return make_launch_test_module(module_path, parent)
 
 
 @pytest.fixture
