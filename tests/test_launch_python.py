@@ -387,8 +387,8 @@ def generate_launch_description():
     ('import zros.launch_ros.actions\n\ndef generate_launch_description():\n'
      '    return zros.launch_ros.actions.SetParametersFromFile("x")\n',
      [':4: zros.launch_ros.actions has no SetParametersFromFile; supported:', 'Node']),
-    ('from zros.launch.event_handlers import OnShutdown\n',
-     [':1: zros.launch.event_handlers has no OnShutdown; supported: OnProcessExit, OnProcessStart']),
+    ('from zros.launch.event_handlers import OnProcessIO\n',
+     [':1: zros.launch.event_handlers has no OnProcessIO; supported: OnProcessExit, OnProcessStart, OnShutdown']),
     ('from zros.launch import LaunchDescription\nfrom zros.launch_ros.actions import Node\n\n'
      'def generate_launch_description():\n'
      '    return LaunchDescription([Node(package="demo_nodes", executable="talker", colour="red")])\n',
