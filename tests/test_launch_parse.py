@@ -36,13 +36,18 @@ def write(tmp_path: Path):
     return write_file
 
 
+def plan_maker(write, tmp_path: Path, file_name: str):
+    """`make(text, name=value...)` -> the resolved Plan of `text` written as `file_name`."""
+    def make(text: str, **arguments: str):
+        path = write(file_name, text)
+        return resolve(str(path), launch_arguments=arguments, log_dir=str(tmp_path / 'log'))
+    return make
+
+
 @pytest.fixture
 def plan_of(write, tmp_path: Path):
     """`plan_of(yaml_text, name:=value...)` -> the resolved Plan of a one-file launch."""
-    def make(text: str, **arguments: str):
-        path = write('test.launch.yaml', text)
-        return resolve(str(path), launch_arguments=arguments, log_dir=str(tmp_path / 'log'))
-    return make
+    return plan_maker(write, tmp_path, 'test.launch.yaml')
 
 
 def processes(plan) -> list[ProcessSpec]:

@@ -76,10 +76,10 @@ def launch(*args: str, timeout: float = 60.0):
 
 def normalized_plan(text: str) -> str:
     """`--print` output without what differs between twins: file names and lines."""
-    return re.sub(r'\S+\.launch\.(py|yaml)(:\d+)?', 'FILE', text)
+    return re.sub(r'\S+\.launch\.(py|yaml|xml)(:\d+)?', 'FILE', text)
 
 
-# -- one model, two front ends -----------------------------------------------------------------
+# -- one model, three front ends ---------------------------------------------------------------
 def twins() -> list[tuple[str, dict[str, str]]]:
     """Every example YAML launch file, and every package YAML launch file that has a Python twin,
     with the launch arguments it needs (relative to the repository)."""
@@ -92,12 +92,15 @@ def twins() -> list[tuple[str, dict[str, str]]]:
 
 
 @pytest.mark.parametrize('name, arguments', twins())
-def test_every_shipped_yaml_launch_file_has_a_python_twin_with_the_same_plan(name: str, arguments: dict[str, str],
-                                                                            tmp_path: Path):
+def test_every_shipped_yaml_launch_file_has_twins_with_the_same_plan(name: str, arguments: dict[str, str],
+                                                                   tmp_path: Path):
+    """A Python twin for each, and an XML twin for every example in configs/: the front ends agree."""
     yaml_plan = resolve(str(REPO / f'{name}.launch.yaml'), launch_arguments=arguments, log_dir=str(tmp_path))
-    python_plan = resolve(str(REPO / f'{name}.launch.py'), launch_arguments=arguments, log_dir=str(tmp_path))
-    assert normalized_plan(python_plan.describe()) == normalized_plan(yaml_plan.describe())
-    assert [replace(e, origin=None) for e in python_plan.effects] == [replace(e, origin=None) for e in yaml_plan.effects]
+    twins = ['py', 'xml'] if name.startswith('configs/') else ['py']
+    for extension in twins:
+        plan = resolve(str(REPO / f'{name}.launch.{extension}'), launch_arguments=arguments, log_dir=str(tmp_path))
+        assert normalized_plan(plan.describe()) == normalized_plan(yaml_plan.describe()), extension
+        assert [replace(e, origin=None) for e in plan.effects] == [replace(e, origin=None) for e in yaml_plan.effects]
 
 
 def test_print_and_show_args_of_a_python_file_through_the_cli(tmp_path: Path):
@@ -464,16 +467,16 @@ def test_a_launch_file_as_ros_writes_it_runs_unchanged(write, tmp_path: Path):
     assert 'node: /extra_talker' not in launch(path, 'talk:=false', '--print', '--log-dir', tmp_path / 'log').stdout
 
 
-def test_binary_and_xml_launch_files_fail_in_one_line(tmp_path: Path):
+def test_binary_launch_files_fail_in_one_line(tmp_path: Path):
     binary = tmp_path / 'blob.launch.py'
     binary.write_bytes(bytes(range(256)) * 4)
     assert_clean_failure(launch(binary), f'{binary}: not a launch file: binary data, not UTF-8 text')
     yaml_binary = tmp_path / 'blob.launch.yaml'
     yaml_binary.write_bytes(b'\x00\xff\xfe' * 100)
     assert_clean_failure(launch(yaml_binary), 'not a launch file: binary data')
-    xml = tmp_path / 'a.launch.xml'
-    xml.write_text('<launch/>')
-    assert_clean_failure(launch(xml), 'XML launch files are not supported by zros')
+    xml_binary = tmp_path / 'blob.launch.xml'
+    xml_binary.write_bytes(b'\x00\xff\xfe' * 100)
+    assert_clean_failure(launch(xml_binary), 'not a launch file: binary data')
 
 
 def test_a_container_started_as_a_node_is_an_empty_node_of_its_name(write, tmp_path: Path, domain: int):

@@ -27,7 +27,7 @@ VERBS = {
     'image': ('zros.cli.image', 'Save a frame of an image topic as PNG'),
     'tf': ('zros.cli.tf', 'Print the TF frame tree and its rates'),
     'lifecycle': ('zros.cli.lifecycle', 'Inspect and drive the lifecycle of managed nodes'),
-    'launch': ('zros.cli.launch', 'Run a launch file (Python or YAML)'),
+    'launch': ('zros.cli.launch', 'Run a launch file (Python, YAML or XML)'),
     'test': ('zros.cli.test', 'Run a launch test file (like launch_test): its launch, then its tests'),
     'pkg': ('zros.cli.pkg', 'Create packages and find them (like ros2 pkg)'),
     'router': ('zros.cli.router', 'Run a Zenoh router for multi-machine set-ups'),

@@ -1,4 +1,4 @@
-"""zros launch: run many nodes from one launch file, Python or YAML, supervised.
+"""zros launch: run many nodes from one launch file, Python, YAML or XML, supervised.
 
 A Python launch file is ROS 2's with `zros.` in front of the imports
 (`from zros.launch import LaunchDescription`, `from zros.launch_ros.actions import Node`); a

@@ -1,4 +1,4 @@
-"""From a launch file (Python or YAML) to a `Plan`: load, then resolve every action in order.
+"""From a launch file (Python, YAML or XML) to a `Plan`: load, then resolve every action in order.
 
 `resolve()` is what `zros launch` (and `--print`) run before anything starts: it evaluates
 conditions and substitutions, follows includes, and collects the processes with their final

@@ -15,7 +15,7 @@ import yaml
 
 from zros.launch.errors import LaunchFileError, Origin
 
-__all__ = ['Entity', 'YamlMap', 'YamlList', 'load_yaml', 'load_launch_entities', 'Scalar']
+__all__ = ['Entity', 'YamlMap', 'YamlList', 'load_yaml', 'load_launch_entities', 'Scalar', 'checked_value']
 
 
 class YamlMap(dict):
@@ -109,6 +109,49 @@ def _type_name(value: Any) -> str:
     return 'null' if value is None else type(value).__name__
 
 
+def _wrong(origin: Origin, value: Any, expected: str) -> LaunchFileError:
+    return LaunchFileError(origin, f'expected {expected}, got {_type_name(value)}'
+                           + (f' {value!r}' if not isinstance(value, (list, dict)) else ''))
+
+
+def checked_value(value: Any, data_type: Any, origin: Origin) -> Any:
+    """`value` as `data_type` (`str`, `Scalar`, `bool`, `int`, `float`, `list[str]`, `Any`), the
+    check both front ends' `get_attr` make once they have the value.
+
+    Raises:
+        LaunchFileError: at `origin`, `expected an int, got a string '2'`.
+    """
+    if data_type is Any:
+        return value
+    if data_type is str:
+        if not isinstance(value, str):
+            raise _wrong(origin, value, 'a string')
+        return value
+    if data_type is Scalar:
+        if isinstance(value, bool):
+            return 'true' if value else 'false'
+        if isinstance(value, (str, int, float)):
+            return str(value)
+        raise _wrong(origin, value, 'a string, number or bool')
+    if data_type is bool:
+        if not isinstance(value, bool):
+            raise _wrong(origin, value, 'a bool (true or false)')
+        return value
+    if data_type is int:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise _wrong(origin, value, 'an int')
+        return value
+    if data_type is float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise _wrong(origin, value, 'a number')
+        return float(value)
+    if data_type == list[str]:
+        if not isinstance(value, list) or not all(isinstance(v, (str, int, float)) for v in value):
+            raise _wrong(origin, value, 'a list of strings')
+        return [str(v) for v in value]
+    raise TypeError(f'unsupported data_type {data_type!r}')  # a bug in a parser, not the file
+
+
 class Entity:
     """One tag of a launch file (`{node: {...}}`) or one item of a nested list (`remap`, `param`).
 
@@ -198,51 +241,18 @@ class Entity:
         value = self._body[name]
         origin = Origin(self.path, self._body.value_lines.get(name, self.line)
                         if isinstance(self._body, YamlMap) else self.line, self.type_name, name)
-
-        def wrong(expected: str) -> LaunchFileError:
-            return LaunchFileError(origin, f'expected {expected}, got {_type_name(value)}'
-                                   + (f' {value!r}' if not isinstance(value, (list, dict)) else ''))
-
-        if data_type is Any:
-            return value
-        if data_type is str:
-            if not isinstance(value, str):
-                raise wrong('a string')
-            return value
-        if data_type is Scalar:
-            if isinstance(value, bool):
-                return 'true' if value else 'false'
-            if isinstance(value, (str, int, float)):
-                return str(value)
-            raise wrong('a string, number or bool')
-        if data_type is bool:
-            if not isinstance(value, bool):
-                raise wrong('a bool (true or false)')
-            return value
-        if data_type is int:
-            if isinstance(value, bool) or not isinstance(value, int):
-                raise wrong('an int')
-            return value
-        if data_type is float:
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
-                raise wrong('a number')
-            return float(value)
-        if data_type == list[str]:
-            if not isinstance(value, list) or not all(isinstance(v, (str, int, float)) for v in value):
-                raise wrong('a list of strings')
-            return [str(v) for v in value]
         if data_type == list[Entity]:
             if isinstance(value, dict) and not tags:
                 raise LaunchFileError(origin, f"expected a list of mappings, got a mapping: write "
                                               f"'{name}:' followed by '- ...' items")
             if not isinstance(value, list) or not all(isinstance(v, dict) for v in value):
-                raise wrong('a list of mappings')
+                raise _wrong(origin, value, 'a list of mappings')
             if tags:
                 return _entities_from_list(value, self.path, parent=self)
             lines = getattr(value, 'item_lines', [origin.line] * len(value))
             return [Entity(name, item, path=self.path, line=getattr(item, 'line', 0) or lines[i], parent=self)
                     for i, item in enumerate(value)]
-        raise TypeError(f'unsupported data_type {data_type!r}')  # a bug in a parser, not the file
+        return checked_value(value, data_type, origin)
 
     def raw(self, name: str) -> Any:
         """The value of `name` without any check (None when absent); marks it as read."""

@@ -1,8 +1,8 @@
-"""Reading a launch file, Python or YAML, into actions.
+"""Reading a launch file, Python, YAML or XML, into actions.
 
-The two front ends meet here: a `.py` file is imported and its `generate_launch_description()`
-called, a `.yaml` / `.yml` file is parsed tag by tag; both give a list of the same action
-objects. Whatever goes wrong while reading is one `LaunchFileError` line that names the file and
+The front ends meet here: a `.py` file is imported and its `generate_launch_description()`
+called, a `.yaml` / `.yml` or `.xml` file is parsed tag by tag; all give a list of the same
+action objects. Whatever goes wrong while reading is one `LaunchFileError` line that names the file and
 line: a Python exception in the launch file, a module that is not there, a
 class zros does not have (with the list of those it has), a binary or non-UTF-8 file.
 """
@@ -27,7 +27,7 @@ def launch_file_kind(path: str) -> str:
     lower = path.lower()
     if lower.endswith('.py'):
         return 'python'
-    if lower.endswith('.xml'):
+    if lower.endswith(('.xml', '.launch')):   # launch_xml's extensions
         return 'xml'
     return 'yaml'
 
@@ -54,13 +54,13 @@ def read_text(path: str, what: str = 'launch file') -> str:
 def load_launch_file(path: str, kind: str | None = None) -> list:
     """The actions of a launch file (nothing is resolved or started)."""
     kind = kind or launch_file_kind(path)
-    if kind == 'xml':
-        raise LaunchFileError(None, f'{path}: XML launch files are not supported by zros; '
-                                    'use the Python (.launch.py) or YAML (.launch.yaml) format')
     text = read_text(path)
     if kind == 'python':
         return _load_python(path, text).entities
     from zros.launch.action import Parser
+    if kind == 'xml':
+        from zros.launch.xml_entity import load_xml_entities
+        return Parser(path).parse_actions(load_xml_entities(path, text))
     from zros.launch.entity import load_launch_entities
     return Parser(path).parse_actions(load_launch_entities(path, text))
 

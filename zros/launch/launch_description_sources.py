@@ -1,8 +1,9 @@
 """Where an included launch description comes from (launch.launch_description_sources).
 
-A source is a location (a path, possibly built from substitutions) and a front end. Python and
-YAML files may include each other freely; `AnyLaunchDescriptionSource` picks the front end
-from the file name.
+A source is a location (a path, possibly built from substitutions) and a front end. Python, YAML
+and XML files may include each other freely; `AnyLaunchDescriptionSource` and
+`FrontendLaunchDescriptionSource` pick the front end from the file name (launch_xml's
+`XMLLaunchDescriptionSource` is in zros.launch_xml).
 """
 from __future__ import annotations
 
@@ -21,7 +22,7 @@ __getattr__ = module_getattr(__name__)
 
 class LaunchDescriptionSource:
     """A launch file to include: `location` (str / Substitution / list) and a front end
-    ('python', 'yaml', or None to pick by file name)."""
+    ('python', 'yaml', 'xml', or None to pick by file name)."""
 
     kind: str | None = None
 
@@ -40,14 +41,14 @@ class PythonLaunchDescriptionSource(LaunchDescriptionSource):
 
 
 class FrontendLaunchDescriptionSource(LaunchDescriptionSource):
-    """A markup launch file; zros reads the YAML format."""
-
-    kind = 'yaml'
+    """A markup launch file, YAML or XML by its name (`.xml` / `.launch` is XML)."""
 
 
 class YAMLLaunchDescriptionSource(FrontendLaunchDescriptionSource):
     """A `.launch.yaml` file (launch_yaml's source)."""
 
+    kind = 'yaml'
+
 
 class AnyLaunchDescriptionSource(LaunchDescriptionSource):
-    """Python or YAML, by the file name (`.py` is Python)."""
+    """Python, YAML or XML, by the file name (`.py` is Python, `.xml` XML)."""

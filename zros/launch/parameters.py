@@ -92,12 +92,14 @@ class ParamValue(NamedTuple):
 
     @classmethod
     def from_entity(cls, entity: Any, key: str = 'value') -> 'ParamValue':
-        """A YAML `value:` (strings are parsed for substitutions) with the entity's `type:`."""
-        raw = entity.get_attr(key, data_type=Any)
-        origin = entity.origin_of(key)
+        """A YAML `value:` (strings are parsed for substitutions) with the entity's `type:`.
+        `type: str` takes the value as written (XML's `value="1.50"` stays '1.50')."""
+        from zros.launch.entity import Scalar
         type_name = entity.get_attr('type', optional=True)
         if type_name is not None and type_name not in PARAM_TYPES:
             raise entity.error('type', f"expected one of {', '.join(PARAM_TYPES)}, got '{type_name}'")
+        raw = entity.get_attr(key, data_type=Scalar if type_name == 'str' else Any)
+        origin = entity.origin_of(key)
         if isinstance(raw, str):
             return cls(cls._yaml_text(raw, origin), type_name, origin)
         if isinstance(raw, list):

@@ -23,7 +23,7 @@ class IncludeLaunchDescription(Action):
     """`IncludeLaunchDescription(source, launch_arguments=[(name, value), ...])`;
     YAML `include: {file, arg: [{name, value}]}`.
 
-    `source` is a LaunchDescriptionSource or a path; Python and YAML files include each other.
+    `source` is a LaunchDescriptionSource or a path; Python, YAML and XML files include each other.
     As in ROS 2, the include is not a scope: the argument values and any configuration the
     included file sets stay visible after it (wrap the include in a group to contain them).
     A relative path is taken relative to the including file's directory.
