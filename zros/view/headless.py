@@ -257,6 +257,14 @@ class Browser:
         self.send('Input.dispatchKeyEvent', type='keyDown', key='Tab', code='Tab', windowsVirtualKeyCode=9)
         self.send('Input.dispatchKeyEvent', type='keyUp', key='Tab', code='Tab', windowsVirtualKeyCode=9)
 
+    def toggle(self, label: str) -> None:
+        """Click the checkbox (or switch) labelled `label`, as a user does.
+
+        Raises:
+            BrowserError: no such checkbox appeared within `timeout`.
+        """
+        self.click(*self._centre(self._labelled(label), f'checkbox labelled {label!r}'))
+
     def choose(self, label: str, option: str) -> None:
         """Open the dropdown labelled `label` and click its option `option`.
 

@@ -40,6 +40,7 @@ __all__ = ['SceneView', 'DEFAULT_PORT', 'ViewError', 'PANEL_WIDTHS']
 DEFAULT_PORT = 8080
 PANEL_WIDTHS = (340, 400)       # [px] the control panel (docked left) and the pages (docked right)
 RQT_PANEL_WIDTH = 760           # [px] the pages, when an rqt command opened the view on one
+RQT_GRAPH_PANEL_WIDTH = 1200    # [px] ... on the Graph page (rqt_graph): a navigation stack's graph is wide
 RENDER_RATE = 30.0              # [Hz] the most any display is redrawn
 SLOW_PERIOD = 0.5               # [s] graph reads, pages, status
 TELEOP_PERIOD = 0.1             # [s] /cmd_vel while a pad direction is held
@@ -258,7 +259,8 @@ class SceneView:
             save.on_click(lambda _: self._save_from_gui())
         self.side = gui.add_panel()
         self.side.dock_right()
-        self.side.set_width(RQT_PANEL_WIDTH if first_page else PANEL_WIDTHS[1])
+        self.side.set_width(RQT_GRAPH_PANEL_WIDTH if first_page == 'Graph' else RQT_PANEL_WIDTH if first_page
+                            else PANEL_WIDTHS[1])
         self.images_page = ImagesPage(image_page_url)
         pages = [TopicsPage(), PlotPage(plot), ServicesPage(), ParametersPage(), self.images_page, GraphPage(),
                  ConsolePage()]
