@@ -296,8 +296,8 @@ def test_browser_shows_the_turtlesim_trail(spawn, view, tmp_path):
 
 
 def test_a_fixed_frame_alone_still_shows_every_topic(context):
-    """The simulator's launch file starts the view with `fixed_frame: odom` and no config file:
-    every topic must still be added as it appears (not TF alone)."""
+    """A launch file that starts the view with `fixed_frame: odom` and no config file: every
+    topic must still be added as it appears (not TF alone), and the frame stays odom."""
     from zros.view.scene.node import ViewNode
     node = ViewNode('view', fixed_frame='odom', port=0, context=context)
     try:
@@ -305,3 +305,35 @@ def test_a_fixed_frame_alone_still_shows_every_topic(context):
         assert not node.view._fixed_auto                 # TF's map appearing later does not move it
     finally:
         node.destroy_node()
+
+
+def _static_transform(broadcaster: Any, parent: str, child: str, x: float) -> None:
+    from interfaces.geometry_msgs.msg import TransformStamped
+    transform = TransformStamped()
+    transform.header.frame_id, transform.child_frame_id = parent, child
+    transform.transform.translation.x = x
+    transform.transform.rotation.w = 1.0
+    broadcaster.sendTransform(transform)
+
+
+def test_fixed_frame_moves_to_map_when_it_appears_unless_someone_chose(domain):
+    """The view starts before SLAM: odom first, then map as soon as TF has it (the dropdown's
+    own on_update, run by viser for the view's assignments too, must not count as a choice);
+    a frame picked by hand stays."""
+    from conftest import background_node
+    from zros.tf2_ros import StaticTransformBroadcaster
+    from zros.view.scene.app import SceneView
+    with background_node('robot_tf') as robot, background_node('view_frames') as node, \
+            SceneView(node, port=0) as view:
+        static = StaticTransformBroadcaster(robot)
+        _static_transform(static, 'odom', 'base_footprint', 0.5)
+        wait_until(lambda: view.ctx.fixed_frame == 'odom', 20, message='the fixed frame odom (no map yet)')
+        assert view.fixed_frame_input.value == 'odom'
+        _static_transform(static, 'map', 'odom', 1.0)             # SLAM starts: map appears
+        wait_until(lambda: view.ctx.fixed_frame == 'map', 20, message='the fixed frame to move to map')
+        assert view.fixed_frame_input.value == 'map' and view._fixed_auto
+        view.set_fixed_frame('odom', user=True)                  # someone picks odom
+        view._slow_step(0.0)                                      # what the slow loop does, twice
+        view._slow_step(0.0)
+        assert view.ctx.fixed_frame == 'odom' and view.fixed_frame_input.value == 'odom'
+

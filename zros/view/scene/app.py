@@ -220,7 +220,10 @@ class SceneView:
         with gui.add_folder('Global Options'):
             frames = [self.ctx.fixed_frame]
             self.fixed_frame_input = gui.add_dropdown('Fixed Frame', frames, initial_value=self.ctx.fixed_frame)
-            self.fixed_frame_input.on_update(lambda _: self.set_fixed_frame(self.fixed_frame_input.value, user=True))
+            # viser runs on_update for the view's own assignments too (client None): only a
+            # person's choice pins the frame; the automatic odom -> map switch must stay possible.
+            self.fixed_frame_input.on_update(lambda event: self.set_fixed_frame(
+                self.fixed_frame_input.value, user=event.client is not None))
             self.grid_input = gui.add_checkbox('Grid', self.config.grid.enabled)
             self.grid_input.on_update(lambda _: setattr(self.grid, 'visible', self.grid_input.value))
             camera = gui.add_button_group('Camera', ['Top-down', '3D orbit'])
