@@ -337,3 +337,25 @@ def test_fixed_frame_moves_to_map_when_it_appears_unless_someone_chose(domain):
         view._slow_step(0.0)
         assert view.ctx.fixed_frame == 'odom' and view.fixed_frame_input.value == 'odom'
 
+
+def test_ctrl_c_stops_the_view_within_launchs_grace(spawn, tmp_path):
+    """Under `zros launch`, Ctrl-C (SIGINT) ends the view with a page open before the launch's
+    sigterm_timeout: viser's stop waits for an idle connection Chromium opened at page load."""
+    import signal
+    import sys
+
+    from zros.view.headless import Browser, find_chromium
+    if find_chromium() is None:
+        pytest.skip('Debian chromium is not installed (.ci/run installs it where apt-get is available)')
+    launch = tmp_path / 'view.launch.yaml'
+    launch.write_text('launch:\n- node: {pkg: zros_view, exec: view, name: view, output: screen,\n'
+                      '          param: [{name: port, value: 0}]}\n')
+    child = spawn.command(sys.executable, '-m', 'zros', 'launch', str(launch), name='launch')
+    url = child.wait_for_output('Serving the view on', 60).split('Serving the view on ', 1)[1].split()[0]
+    with Browser(width=1000, height=700) as browser:
+        browser.open(url, wait_for='document.querySelector("canvas")', timeout=60)
+        browser.wait_for('!!document.querySelector("[data-status]")', timeout=30)   # the page talks to the view
+        child.popen.send_signal(signal.SIGINT)
+        assert child.wait(timeout=30) == 0, child.output()[-3000:]
+    output = child.output()
+    assert 'failed to terminate' not in output and 'process has finished cleanly' in output, output[-3000:]

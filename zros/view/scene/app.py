@@ -43,6 +43,7 @@ RQT_PANEL_WIDTH = 760           # [px] the pages, when an rqt command opened the
 RQT_GRAPH_PANEL_WIDTH = 1200    # [px] ... on the Graph page (rqt_graph): a navigation stack's graph is wide
 RENDER_RATE = 30.0              # [Hz] the most any display is redrawn
 SLOW_PERIOD = 0.5               # [s] graph reads, pages, status
+SERVER_STOP_WAIT = 1.0          # [s] close() waits this long for viser's server thread (see close)
 TELEOP_PERIOD = 0.1             # [s] /cmd_vel while a pad direction is held
 _STATUS_COLORS = {OK: '#16a34a', WARN: '#d97706', ERROR: '#dc2626', DISABLED: '#9ca3af'}
 _TOOL_HINTS = {
@@ -679,8 +680,14 @@ class SceneView:
             page.close()
         for display in list(self.displays):
             display.unsubscribe()
-        with contextlib.redirect_stdout(io.StringIO()):
-            self.server.stop()
+        # viser's stop() closes the listening socket and the websockets at once, then waits (up to
+        # 5 s) for every TCP connection to end, including a second, idle one Chromium keeps open,
+        # which websockets drops only at its opening timeout: Ctrl-C on a view with a page open
+        # took 5 s, past `zros launch`'s SIGINT grace. Nothing is served by then, so the rest of
+        # the wait happens on a daemon thread.
+        stopper = threading.Thread(target=self.server.stop, name='zros-view-stop', daemon=True)
+        stopper.start()
+        stopper.join(SERVER_STOP_WAIT)
 
     def __enter__(self) -> 'SceneView':
         return self
