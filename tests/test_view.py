@@ -338,6 +338,30 @@ def test_fixed_frame_moves_to_map_when_it_appears_unless_someone_chose(domain):
         assert view.ctx.fixed_frame == 'odom' and view.fixed_frame_input.value == 'odom'
 
 
+def test_screenshot_waits_for_the_map(spawn, zros_cli, tmp_path):
+    """`zros view --screenshot` saves the page once its displays are drawn: the map's texture
+    is decoded after the message that says `N x M cells`, so the shot must wait for it."""
+    from zros.view.headless import find_chromium
+    from zros.view.scene.config import DisplayConfig, GridConfig, ViewConfig, dump_view
+    from zros.view.scene.convert import UNKNOWN_RGB
+    if find_chromium() is None:
+        pytest.skip('Debian chromium is not installed (.ci/run installs it where apt-get is available)')
+    spawn.node('zros_view', 'fake_robot', '--ros-args', '-p', 'speed:=0.0')
+    config = tmp_path / 'map.view.yaml'
+    config.write_text(dump_view(ViewConfig(fixed_frame='map', grid=GridConfig(enabled=False),
+                                           camera={'mode': 'top-down', 'distance': 9.0},
+                                           displays=[DisplayConfig('Map', 'Map', '/map', options={'alpha': 1.0})])))
+    shot = tmp_path / 'shot.png'
+    result = zros_cli('view', '-d', str(config), '--port', '0', '--screenshot', str(shot), '--timeout', '40',
+                      timeout=120)
+    assert result.returncode == 0 and f'wrote {shot}' in result.stdout, result.stdout + result.stderr
+    assert 'not every display was drawn' not in result.stderr
+    pixels = decode_png(shot.read_bytes())[..., :3].astype(int)
+    unknown = (np.abs(pixels - UNKNOWN_RGB).max(axis=2) <= 12).sum()       # the grey-green round the room
+    walls = (pixels.max(axis=2) <= 40).sum()                                # black walls and pillars
+    assert unknown > 20_000 and walls > 2_000, f'no map in {shot}: {unknown} unknown, {walls} wall pixels'
+
+
 def test_ctrl_c_stops_the_view_within_launchs_grace(spawn, tmp_path):
     """Under `zros launch`, Ctrl-C (SIGINT) ends the view with a page open before the launch's
     sigterm_timeout: viser's stop waits for an idle connection Chromium opened at page load."""
