@@ -686,8 +686,9 @@ class SceneView:
         # took 5 s, past `zros launch`'s SIGINT grace. Nothing is served by then, so the rest of
         # the wait happens on a daemon thread.
         stopper = threading.Thread(target=self.server.stop, name='zros-view-stop', daemon=True)
-        stopper.start()
-        stopper.join(SERVER_STOP_WAIT)
+        with contextlib.redirect_stdout(io.StringIO()):          # viser says "Server stopped"
+            stopper.start()
+            stopper.join(SERVER_STOP_WAIT)
 
     def __enter__(self) -> 'SceneView':
         return self
