@@ -296,8 +296,8 @@ def test_browser_shows_the_turtlesim_trail(spawn, view, tmp_path):
 
 
 def test_a_fixed_frame_alone_still_shows_every_topic(context):
-    """The simulator's launch file starts the view with `fixed_frame: odom` and no config file:
-    every topic must still be added as it appears (not TF alone)."""
+    """A launch file that starts the view with `fixed_frame: odom` and no config file: every
+    topic must still be added as it appears (not TF alone), and the frame stays odom."""
     from zros.view.scene.node import ViewNode
     node = ViewNode('view', fixed_frame='odom', port=0, context=context)
     try:
@@ -305,3 +305,81 @@ def test_a_fixed_frame_alone_still_shows_every_topic(context):
         assert not node.view._fixed_auto                 # TF's map appearing later does not move it
     finally:
         node.destroy_node()
+
+
+def _static_transform(broadcaster: Any, parent: str, child: str, x: float) -> None:
+    from interfaces.geometry_msgs.msg import TransformStamped
+    transform = TransformStamped()
+    transform.header.frame_id, transform.child_frame_id = parent, child
+    transform.transform.translation.x = x
+    transform.transform.rotation.w = 1.0
+    broadcaster.sendTransform(transform)
+
+
+def test_fixed_frame_moves_to_map_when_it_appears_unless_someone_chose(domain):
+    """The view starts before SLAM: odom first, then map as soon as TF has it (the dropdown's
+    own on_update, run by viser for the view's assignments too, must not count as a choice);
+    a frame picked by hand stays."""
+    from conftest import background_node
+    from zros.tf2_ros import StaticTransformBroadcaster
+    from zros.view.scene.app import SceneView
+    with background_node('robot_tf') as robot, background_node('view_frames') as node, \
+            SceneView(node, port=0) as view:
+        static = StaticTransformBroadcaster(robot)
+        _static_transform(static, 'odom', 'base_footprint', 0.5)
+        wait_until(lambda: view.ctx.fixed_frame == 'odom', 20, message='the fixed frame odom (no map yet)')
+        assert view.fixed_frame_input.value == 'odom'
+        _static_transform(static, 'map', 'odom', 1.0)             # SLAM starts: map appears
+        wait_until(lambda: view.ctx.fixed_frame == 'map', 20, message='the fixed frame to move to map')
+        assert view.fixed_frame_input.value == 'map' and view._fixed_auto
+        view.set_fixed_frame('odom', user=True)                  # someone picks odom
+        view._slow_step(0.0)                                      # what the slow loop does, twice
+        view._slow_step(0.0)
+        assert view.ctx.fixed_frame == 'odom' and view.fixed_frame_input.value == 'odom'
+
+
+def test_screenshot_waits_for_the_map(spawn, zros_cli, tmp_path):
+    """`zros view --screenshot` saves the page once its displays are drawn: the map's texture
+    is decoded after the message that says `N x M cells`, so the shot must wait for it."""
+    from zros.view.headless import find_chromium
+    from zros.view.scene.config import DisplayConfig, GridConfig, ViewConfig, dump_view
+    from zros.view.scene.convert import UNKNOWN_RGB
+    if find_chromium() is None:
+        pytest.skip('Debian chromium is not installed (.ci/run installs it where apt-get is available)')
+    spawn.node('zros_view', 'fake_robot', '--ros-args', '-p', 'speed:=0.0')
+    config = tmp_path / 'map.view.yaml'
+    config.write_text(dump_view(ViewConfig(fixed_frame='map', grid=GridConfig(enabled=False),
+                                           camera={'mode': 'top-down', 'distance': 9.0},
+                                           displays=[DisplayConfig('Map', 'Map', '/map', options={'alpha': 1.0})])))
+    shot = tmp_path / 'shot.png'
+    result = zros_cli('view', '-d', str(config), '--port', '0', '--screenshot', str(shot), '--timeout', '40',
+                      timeout=120)
+    assert result.returncode == 0 and f'wrote {shot}' in result.stdout, result.stdout + result.stderr
+    assert 'not every display was drawn' not in result.stderr
+    pixels = decode_png(shot.read_bytes())[..., :3].astype(int)
+    unknown = (np.abs(pixels - UNKNOWN_RGB).max(axis=2) <= 12).sum()       # the grey-green round the room
+    walls = (pixels.max(axis=2) <= 40).sum()                                # black walls and pillars
+    assert unknown > 20_000 and walls > 2_000, f'no map in {shot}: {unknown} unknown, {walls} wall pixels'
+
+
+def test_ctrl_c_stops_the_view_within_launchs_grace(spawn, tmp_path):
+    """Under `zros launch`, Ctrl-C (SIGINT) ends the view with a page open before the launch's
+    sigterm_timeout: viser's stop waits for an idle connection Chromium opened at page load."""
+    import signal
+    import sys
+
+    from zros.view.headless import Browser, find_chromium
+    if find_chromium() is None:
+        pytest.skip('Debian chromium is not installed (.ci/run installs it where apt-get is available)')
+    launch = tmp_path / 'view.launch.yaml'
+    launch.write_text('launch:\n- node: {pkg: zros_view, exec: view, name: view, output: screen,\n'
+                      '          param: [{name: port, value: 0}]}\n')
+    child = spawn.command(sys.executable, '-m', 'zros', 'launch', str(launch), name='launch')
+    url = child.wait_for_output('Serving the view on', 60).split('Serving the view on ', 1)[1].split()[0]
+    with Browser(width=1000, height=700) as browser:
+        browser.open(url, wait_for='document.querySelector("canvas")', timeout=60)
+        browser.wait_for('!!document.querySelector("[data-status]")', timeout=30)   # the page talks to the view
+        child.popen.send_signal(signal.SIGINT)
+        assert child.wait(timeout=30) == 0, child.output()[-3000:]
+    output = child.output()
+    assert 'failed to terminate' not in output and 'process has finished cleanly' in output, output[-3000:]

@@ -278,11 +278,22 @@ def test_teleop_pad_publishes_cmd_vel(world):
         world.node.destroy_subscription(subscription)
 
 
-def test_graph_and_console_pages(world):
+def test_graph_and_console_pages(world, tmp_path):
     world.browser.click_text('Graph')
-    world.browser.wait_for('[...document.querySelectorAll("svg text")].some(t => t.textContent === "/fake_robot")',
+    shown = '[...document.querySelectorAll("[data-graph] [data-vertex]")].map(g => g.dataset.vertex)'
+    vertices = world.browser.wait_for(f'(() => {{ const v = {shown}; return v.includes("n:/fake_robot") '
+                                      '&& v.includes("t:/scan") && v; })()', timeout=20)
+    assert 't:/tf' not in vertices and 't:/rosout' not in vertices       # rqt_graph's default hides
+    # Left to right: /fake_robot publishes /scan, which the view's node subscribes to.
+    left = '(v => document.querySelector(`[data-graph] [data-vertex="${v}"]`).getBoundingClientRect().x)'
+    assert world.browser.evaluate(f'{left}("n:/fake_robot") < {left}("t:/scan") '
+                                  f'&& {left}("t:/scan") < {left}("n:/browser_test")')
+    world.browser.toggle('tf')                                          # show tf: /tf and /tf_static appear
+    world.browser.wait_for(f'(() => {{ const v = {shown}; return v.includes("t:/tf") && v.includes("t:/tf_static"); }})()',
                            timeout=20)
-    world.browser.wait_for('[...document.querySelectorAll("svg text")].some(t => t.textContent === "/scan")')
+    _save(world, tmp_path, 'graph_page.png')
+    world.browser.toggle('tf')
+    world.browser.wait_for(f'!{shown}.includes("t:/tf")', timeout=20)
     world.browser.click_text('Console')
     world.node.get_logger().warn('the console shows this line')
     world.browser.wait_for('document.body.innerText.includes("the console shows this line")', timeout=20)

@@ -1,8 +1,10 @@
 """The scene view's Python half, without a browser: message -> scene conversion, the tools'
-messages, .rviz and view files, the graph drawing and the console filter."""
+messages, .rviz and view files, the graph drawing (layout, rqt_graph's hides) and the console filter."""
 from __future__ import annotations
 
+import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -11,7 +13,14 @@ from zros.view.scene import config as view_config
 from zros.view.scene import convert, tools
 from zros.view.scene.console import LogBuffer, to_html
 from zros.view.scene.geometry import Transform, quat_from_yaw, yaw_of
+from zros.view.scene.graph_hides import Hides, apply_hides
+from zros.view.scene.graph_layout import layered_layout
 from zros.view.scene.graph_svg import layout, to_svg
+
+#: `zros graph --json --include-hidden --include-debug` of turtlebot3_world + navigation2.launch.py,
+#: plus the Nav2 nodes zros does not start (velocity_smoother, smoother_server, collision_monitor)
+#: and rviz2 with its usual topics: a Nav2-sized graph (17 nodes, 61 topics, 165 edges).
+NAV2_GRAPH = Path(__file__).parent / 'data' / 'nav2_graph.json'
 
 
 # -- geometry ---------------------------------------------------------------------------------
@@ -302,18 +311,105 @@ def test_bad_config_files(tmp_path, text, message):
 
 
 # -- graph and console ---------------------------------------------------------------------------
+def _nav2_graph() -> dict:
+    content = json.loads(NAV2_GRAPH.read_text())
+    content['edges'] = [tuple(edge) for edge in content['edges']]
+    return content
+
+
+def _assert_readable(placed, edges) -> int:
+    """No two boxes overlap; every edge's route runs from its src box to its dst box, left to
+    right (or, reversed to break a cycle, right to left all the way). Returns the reversed count."""
+    boxes = np.array([(b.x, b.y, b.x + b.width, b.y + b.height) for b in placed.boxes.values()])
+    apart = ((boxes[:, None, 2] <= boxes[None, :, 0]) | (boxes[None, :, 2] <= boxes[:, None, 0])
+             | (boxes[:, None, 3] <= boxes[None, :, 1]) | (boxes[None, :, 3] <= boxes[:, None, 1]))
+    np.fill_diagonal(apart, True)
+    assert apart.all(), 'boxes overlap'
+    assert boxes[:, 2].max() <= placed.width and boxes[:, 3].max() <= placed.height and boxes.min() >= 0
+    reversed_count = 0
+    for src, dst in edges:
+        points = np.array(placed.routes[(src, dst)])
+        a, b = placed.boxes[src], placed.boxes[dst]
+        steps = np.diff(points[:, 0])
+        if a.layer < b.layer:
+            assert (steps >= 0).all() and points[0, 0] == a.x + a.width and points[-1, 0] == b.x, (src, dst)
+        else:
+            reversed_count += 1
+            assert a.layer > b.layer and (steps <= 0).all() and points[-1, 0] == b.x + b.width, (src, dst)
+        assert a.y <= points[0, 1] <= a.y + a.height and b.y <= points[-1, 1] <= b.y + b.height
+    return reversed_count
+
+
 def test_graph_layout_runs_left_to_right_and_survives_cycles():
     content = {'nodes': ['/talker', '/listener', '/relay'],
                'topics': {'/chatter': ['std_msgs/msg/String'], '/echo': ['std_msgs/msg/String']},
                'edges': [('n:/talker', 't:/chatter'), ('t:/chatter', 'n:/listener'), ('t:/chatter', 'n:/relay'),
                          ('n:/relay', 't:/echo'), ('t:/echo', 'n:/talker')]}
     placed = layout(content)
-    assert set(placed) == {'n:/talker', 'n:/listener', 'n:/relay', 't:/chatter', 't:/echo'}
-    assert placed['n:/talker'][0] < placed['t:/chatter'][0] < placed['n:/listener'][0]
+    assert set(placed.boxes) == {'n:/talker', 'n:/listener', 'n:/relay', 't:/chatter', 't:/echo'}
+    layers = {v: b.layer for v, b in placed.boxes.items()}
+    assert layers['n:/talker'] < layers['t:/chatter'] < layers['n:/listener']
+    assert _assert_readable(placed, content['edges']) == 1           # one edge closes the cycle
     svg = to_svg(content)
     assert svg.startswith('<svg') and svg.count('<ellipse') == 3 and svg.count('<rect') == 2
     assert svg.count('marker-end') == 5 and '/chatter' in svg
     assert 'no nodes' in to_svg({'nodes': [], 'topics': {}, 'edges': []})
+
+
+def test_layered_layout_of_a_dag_points_every_edge_right_and_spans_long_edges():
+    # a -> b -> c -> d and a -> d: the long edge crosses two layers through dummy points.
+    edges = [('a', 'b'), ('b', 'c'), ('c', 'd'), ('a', 'd'), ('e', 'd')]
+    placed = layered_layout('abcde', edges, {v: 50.0 for v in 'abcde'})
+    assert [placed.boxes[v].layer for v in 'abcd'] == [0, 1, 2, 3]
+    assert placed.boxes['e'].layer == 2                  # a source sits next to its successor, not in layer 0
+    assert _assert_readable(placed, edges) == 0
+    assert len(placed.routes[('a', 'd')]) == 2 + 2 * 2   # two ends, in and out of each crossed column
+
+
+def test_layered_layout_removes_avoidable_crossings():
+    # Name order would cross a->y with b->x; the barycentre sweeps untangle it.
+    edges = [('a', 'y'), ('b', 'x'), ('y', 'p'), ('x', 'q')]
+    placed = layered_layout(['a', 'b', 'x', 'y', 'p', 'q'], edges, {})
+    y = {v: placed.boxes[v].y for v in placed.boxes}
+    assert (y['a'] < y['b']) == (y['y'] < y['x']) == (y['p'] < y['q'])
+
+
+def test_nav2_graph_is_laid_out_in_layers_without_overlaps():
+    content = _nav2_graph()
+    for hides in (Hides(), Hides(False, False, False, False, False)):
+        shown = apply_hides(content, hides)
+        placed = layout(shown)
+        assert set(placed.boxes) == {'n:' + n for n in shown['nodes']} | {'t:' + t for t in shown['topics']}
+        reversed_count = _assert_readable(placed, shown['edges'])
+        assert reversed_count <= len(shown['edges']) // 10         # cycles cost a few edges, not the picture
+    everything = layout(content)
+    assert max(b.layer for b in everything.boxes.values()) >= 4     # layered, not one strip
+    assert '<path data-edge=' in to_svg(content)
+
+
+def test_rqt_graph_hides():
+    content = _nav2_graph()
+    default = apply_hides(content)
+    topics, nodes = set(default['topics']), set(default['nodes'])
+    assert {'/scan', '/odom', '/map', '/cmd_vel', '/cmd_vel_nav', '/local_costmap/costmap_raw'} <= topics
+    for gone in ('/tf', '/tf_static', '/rosout', '/parameter_events', '/clock',    # tf, debug, params
+                 '/amcl/transition_event', '/plan', '/amcl_pose',                   # dead sinks (rviz2 is debug)
+                 '/navigate_to_pose/_action/status', '/initialpose'):               # hidden; leaf (only rviz2 publishes)
+        assert gone not in topics, gone
+    assert '/rviz2' not in nodes and '/amcl' in nodes and '/waypoint_follower' in nodes   # nodes stay without edges
+    shown = {'t:' + t for t in topics} | {'n:' + n for n in nodes}
+    assert all(s in shown and d in shown for s, d in default['edges'])
+    # Each checkbox off brings its own back.
+    assert {'/tf', '/tf_static'} <= set(apply_hides(content, Hides(tf=False))['topics'])
+    assert '/parameter_events' in apply_hides(content, Hides(params=False))['topics']
+    debug = apply_hides(content, Hides(debug=False))
+    assert '/rviz2' in debug['nodes'] and {'/plan', '/initialpose'} <= set(debug['topics'])
+    assert '/rosout' in apply_hides(content, Hides(debug=False, dead_sinks=False))['topics']
+    sinks = apply_hides(content, Hides(dead_sinks=False, leaf_topics=False))
+    assert {'/amcl_pose', '/amcl/transition_event'} <= set(sinks['topics'])
+    assert '/amcl_pose' not in apply_hides(content, Hides(dead_sinks=False))['topics']   # a leaf topic too
+    nothing = apply_hides(content, Hides(False, False, False, False, False))
+    assert nothing['topics'] == content['topics'] and sorted(nothing['edges']) == sorted(content['edges'])
 
 
 def test_console_filters():

@@ -1,9 +1,10 @@
-"""`zros view [-d FILE] [--fixed-frame F] [--port P] [--topic T]`: the scene view in the browser.
+"""`zros view [-d FILE] [--fixed-frame F] [--port P] [--topic T] [--screenshot PNG]`: the scene view in the browser.
 
 RViz's role (3D scene, displays, 2D Pose Estimate / Nav2 Goal tools, teleop) with the topics,
 graph, console and image pages beside it (zros.view.scene). Without `-d` every topic a display
 can draw is shown as it appears. It prints the page's URL and the image page's, and runs until
-Ctrl-C. Module-level imports stay light: the CLI imports every verb at start.
+Ctrl-C; with `--screenshot` it instead saves one picture of the page, once its displays are
+drawn (headless Chromium), and exits. Module-level imports stay light: the CLI imports every verb at start.
 """
 from __future__ import annotations
 
@@ -25,6 +26,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='an image topic to show first (e.g. /turtlesim/image)')
     parser.add_argument('--use-sim-time', action='store_true',
                         help='stamp the tools\' messages with /clock time, as the rest of a simulated robot does')
+    parser.add_argument('--screenshot', metavar='PNG', default='',
+                        help='save one screenshot of the page (headless Chromium) once its displays are drawn, '
+                             'then exit')
+    parser.add_argument('--timeout', type=float, default=20.0,
+                        help='with --screenshot: seconds to wait for the displays to be drawn (default 20)')
     parser.set_defaults(handler=cmd_view)
 
 
@@ -54,6 +60,11 @@ def serve(args: argparse.Namespace, *, page: str = '', plot: list[str] | None = 
                 from None
         executor = SingleThreadedExecutor(context=ctx)
         executor.add_node(node)
+        if getattr(args, 'screenshot', ''):
+            try:
+                return _screenshot(node, executor, args.screenshot, args.timeout)
+            finally:
+                node.destroy_node()
         verb = 'zros rqt' if page else 'zros view'
         print(f'{verb}: serving {node.view.url} (Ctrl-C to stop)', flush=True)
         print(f'{verb}: full-size images at {node.images.page_url()}', flush=True)
@@ -67,3 +78,32 @@ def serve(args: argparse.Namespace, *, page: str = '', plot: list[str] | None = 
         return 0
     finally:
         ctx.shutdown()
+
+
+def _screenshot(node, executor, path: str, timeout: float) -> int:
+    """Spin the view while headless Chromium takes its one screenshot (zros.view.headless.one_shot)."""
+    import sys
+    import threading
+
+    from zros.errors import CliError
+    from zros.view.headless import BrowserError, one_shot
+    outcome: dict[str, object] = {}
+
+    def shoot() -> None:
+        try:
+            outcome['drawn'] = one_shot(node.view.url, path, timeout=timeout)
+        except (BrowserError, OSError) as exc:
+            outcome['error'] = exc
+    shooter = threading.Thread(target=shoot, name='zros-view-screenshot', daemon=True)
+    shooter.start()
+    while shooter.is_alive():
+        executor.spin_once(timeout_sec=0.1)
+    if 'error' in outcome:
+        error = outcome['error']
+        reason = error.strerror if isinstance(error, OSError) and error.strerror else str(error)
+        raise CliError(f'cannot take the screenshot {path}: {reason}')
+    if not outcome.get('drawn'):
+        print(f'zros view: not every display was drawn within {timeout:g} s; saved the page as it was',
+              file=sys.stderr)
+    print(f'zros view: wrote {path}', flush=True)
+    return 0

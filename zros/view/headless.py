@@ -8,6 +8,7 @@ The tests and benchmarks/view.py use this module for that; it needs Debian's `ch
 
     with Browser(width=1000, height=700) as browser:
         browser.open(url, wait_for='document.querySelector("canvas")')
+        browser.wait_drawn(timeout=20)           # the scene view's displays (a map's texture too)
         pixels = browser.screenshot()            # (H, W, 3) uint8
         browser.drag((400, 300), (460, 300))
 """
@@ -26,7 +27,24 @@ from typing import Any, Callable
 
 import numpy as np
 
-__all__ = ['Browser', 'BrowserError', 'find_chromium']
+__all__ = ['Browser', 'BrowserError', 'find_chromium', 'one_shot']
+
+# Counts the images a page is decoding: viser's client turns an image node (a map) into a blob URL,
+# loads it as a texture and revokes the URL once the texture is made (or failed).
+_IMAGE_WATCH = '''(() => {
+  const create = URL.createObjectURL, revoke = URL.revokeObjectURL, images = new Set();
+  window.__zrosImages = {pending: () => images.size, doneAt: 0};
+  URL.createObjectURL = function (object) {
+    const url = create.call(URL, object);
+    if (object && typeof object.type === 'string' && object.type.startsWith('image/')) images.add(url);
+    return url;
+  };
+  URL.revokeObjectURL = function (url) {
+    if (images.delete(url)) window.__zrosImages.doneAt = performance.now();
+    return revoke.call(URL, url);
+  };
+})();'''
+DRAWN_SETTLE = 0.6     # [s] drawn-looking this long: a texture made is on screen after viser's 250 ms settle window
 
 _FLAGS = ('--headless', '--no-sandbox', '--disable-gpu', '--enable-unsafe-swiftshader',
           '--disable-background-networking', '--disable-component-update', '--disable-sync',
@@ -80,6 +98,7 @@ class Browser:
         self.events: list[dict[str, Any]] = []
         self.send('Page.enable')
         self.send('Runtime.enable')
+        self.send('Page.addScriptToEvaluateOnNewDocument', source=_IMAGE_WATCH)
         self.send('Emulation.setDeviceMetricsOverride', width=width, height=height, deviceScaleFactor=1,
                   mobile=False)
 
@@ -170,6 +189,36 @@ class Browser:
         if wait_for:
             self.wait_for(f"!!({wait_for})", timeout)
 
+    def wait_drawn(self, timeout: float = 20.0) -> bool:
+        """Wait until the scene view in the page has drawn what its displays received, so that a
+        screenshot shows it: no display still says it is waiting for its first message, no image
+        (a map's texture) is still being decoded, and both held for DRAWN_SETTLE seconds.
+
+        The display statuses come over the same websocket as the scene, but viser's client
+        decodes a texture after the message that carried it and draws it on a later frame: a
+        screenshot taken when the Map display already says `118 x 108 cells` can miss the map.
+
+        Returns:
+            True once drawn; False if `timeout` seconds passed first (the page is as drawn as it got).
+        """
+        from zros.view.scene.displays.base import WAITING
+        check = ('(() => { const w = window.__zrosImages; if (!w || !document.querySelector("canvas")) return false;'
+                 ' const waiting = [...document.querySelectorAll("[data-status]")].some(e => e.textContent.trim() === '
+                 f'{json.dumps(WAITING)}); return !waiting && w.pending() === 0 '
+                 f'&& performance.now() - w.doneAt > {DRAWN_SETTLE * 1000:.0f}; }})()')
+        deadline = time.monotonic() + timeout
+        since = None
+        while time.monotonic() < deadline:
+            now = time.monotonic()
+            if not self.evaluate(check):
+                since = None
+            elif since is None:
+                since = now
+            elif now - since >= DRAWN_SETTLE:
+                return True
+            time.sleep(0.1)
+        return False
+
     def screenshot(self) -> np.ndarray:
         """The page as (H, W, 3) RGB uint8 pixels."""
         from zros.view.png import decode_png
@@ -257,6 +306,14 @@ class Browser:
         self.send('Input.dispatchKeyEvent', type='keyDown', key='Tab', code='Tab', windowsVirtualKeyCode=9)
         self.send('Input.dispatchKeyEvent', type='keyUp', key='Tab', code='Tab', windowsVirtualKeyCode=9)
 
+    def toggle(self, label: str) -> None:
+        """Click the checkbox (or switch) labelled `label`, as a user does.
+
+        Raises:
+            BrowserError: no such checkbox appeared within `timeout`.
+        """
+        self.click(*self._centre(self._labelled(label), f'checkbox labelled {label!r}'))
+
     def choose(self, label: str, option: str) -> None:
         """Open the dropdown labelled `label` and click its option `option`.
 
@@ -310,3 +367,23 @@ class Browser:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+def one_shot(url: str, path: str | os.PathLike, *, timeout: float = 20.0, width: int = 1400,
+             height: int = 850) -> bool:
+    """Open the scene view at `url` in headless Chromium, wait for its displays to be drawn
+    (`Browser.wait_drawn`, at most `timeout` seconds) and write one PNG screenshot to `path`.
+
+    Returns:
+        True if everything was drawn before the shot; False if the timeout came first.
+    Raises:
+        BrowserError: Chromium is missing, or the page did not load within `timeout`.
+        OSError: `path` cannot be written.
+    """
+    with Browser(width=width, height=height) as browser:
+        started = time.monotonic()
+        browser.open(url, wait_for='document.querySelector("canvas")', timeout=timeout)
+        browser.evaluate('document.querySelectorAll(".mantine-Notification-closeButton").forEach(b => b.click())')
+        drawn = browser.wait_drawn(max(0.0, timeout - (time.monotonic() - started)))
+        browser.save_screenshot(path)
+    return drawn

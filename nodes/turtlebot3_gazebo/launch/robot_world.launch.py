@@ -43,5 +43,5 @@ def generate_launch_description():
              output='screen', parameters=[{'use_sim_time': use_sim_time, 'robot_description': robot_description}]),
         Node(package='zros_view', executable='view', name='view', output='screen',
              condition=IfCondition(LaunchConfiguration('view')),
-             parameters=[{'use_sim_time': use_sim_time, 'fixed_frame': 'odom'}]),
+             parameters=[{'use_sim_time': use_sim_time}]),   # fixed frame: odom, then map once SLAM or AMCL has it
     ])

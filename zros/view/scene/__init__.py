@@ -1,8 +1,8 @@
 """zros.view.scene: RViz's role in the browser, on viser.
 
 `SceneView` serves the page; `load_config` reads `.rviz` files and zros view files; the message
-conversion (`convert`), TF seam (`frames`), tools (`tools`), graph drawing (`graph_svg`) and
-console filtering (`console`) are plain Python, tested without a browser. viser is imported only
+conversion (`convert`), TF seam (`frames`), tools (`tools`), graph drawing (`graph_hides`,
+`graph_layout`, `graph_svg`) and console filtering (`console`) are plain Python, tested without a browser. viser is imported only
 when a view starts.
 """
 from __future__ import annotations

@@ -40,8 +40,10 @@ __all__ = ['SceneView', 'DEFAULT_PORT', 'ViewError', 'PANEL_WIDTHS']
 DEFAULT_PORT = 8080
 PANEL_WIDTHS = (340, 400)       # [px] the control panel (docked left) and the pages (docked right)
 RQT_PANEL_WIDTH = 760           # [px] the pages, when an rqt command opened the view on one
+RQT_GRAPH_PANEL_WIDTH = 1200    # [px] ... on the Graph page (rqt_graph): a navigation stack's graph is wide
 RENDER_RATE = 30.0              # [Hz] the most any display is redrawn
 SLOW_PERIOD = 0.5               # [s] graph reads, pages, status
+SERVER_STOP_WAIT = 1.0          # [s] close() waits this long for viser's server thread (see close)
 TELEOP_PERIOD = 0.1             # [s] /cmd_vel while a pad direction is held
 _STATUS_COLORS = {OK: '#16a34a', WARN: '#d97706', ERROR: '#dc2626', DISABLED: '#9ca3af'}
 _TOOL_HINTS = {
@@ -219,7 +221,10 @@ class SceneView:
         with gui.add_folder('Global Options'):
             frames = [self.ctx.fixed_frame]
             self.fixed_frame_input = gui.add_dropdown('Fixed Frame', frames, initial_value=self.ctx.fixed_frame)
-            self.fixed_frame_input.on_update(lambda _: self.set_fixed_frame(self.fixed_frame_input.value, user=True))
+            # viser runs on_update for the view's own assignments too (client None): only a
+            # person's choice pins the frame; the automatic odom -> map switch must stay possible.
+            self.fixed_frame_input.on_update(lambda event: self.set_fixed_frame(
+                self.fixed_frame_input.value, user=event.client is not None))
             self.grid_input = gui.add_checkbox('Grid', self.config.grid.enabled)
             self.grid_input.on_update(lambda _: setattr(self.grid, 'visible', self.grid_input.value))
             camera = gui.add_button_group('Camera', ['Top-down', '3D orbit'])
@@ -258,7 +263,8 @@ class SceneView:
             save.on_click(lambda _: self._save_from_gui())
         self.side = gui.add_panel()
         self.side.dock_right()
-        self.side.set_width(RQT_PANEL_WIDTH if first_page else PANEL_WIDTHS[1])
+        self.side.set_width(RQT_GRAPH_PANEL_WIDTH if first_page == 'Graph' else RQT_PANEL_WIDTH if first_page
+                            else PANEL_WIDTHS[1])
         self.images_page = ImagesPage(image_page_url)
         pages = [TopicsPage(), PlotPage(plot), ServicesPage(), ParametersPage(), self.images_page, GraphPage(),
                  ConsolePage()]
@@ -674,8 +680,15 @@ class SceneView:
             page.close()
         for display in list(self.displays):
             display.unsubscribe()
-        with contextlib.redirect_stdout(io.StringIO()):
-            self.server.stop()
+        # viser's stop() closes the listening socket and the websockets at once, then waits (up to
+        # 5 s) for every TCP connection to end, including a second, idle one Chromium keeps open,
+        # which websockets drops only at its opening timeout: Ctrl-C on a view with a page open
+        # took 5 s, past `zros launch`'s SIGINT grace. Nothing is served by then, so the rest of
+        # the wait happens on a daemon thread.
+        stopper = threading.Thread(target=self.server.stop, name='zros-view-stop', daemon=True)
+        with contextlib.redirect_stdout(io.StringIO()):          # viser says "Server stopped"
+            stopper.start()
+            stopper.join(SERVER_STOP_WAIT)
 
     def __enter__(self) -> 'SceneView':
         return self

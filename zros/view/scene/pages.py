@@ -20,6 +20,7 @@ from collections import deque
 from typing import TYPE_CHECKING, Any, Callable, Iterable
 
 from zros.view.scene.console import LEVELS, LogBuffer, to_html
+from zros.view.scene.graph_hides import Hides, apply_hides
 from zros.view.scene.graph_svg import to_svg
 
 if TYPE_CHECKING:
@@ -208,35 +209,52 @@ class ImagesPage(Page):
 
 
 class GraphPage(Page):
-    """rqt_graph's picture: nodes and the topics between them, redrawn when the graph changes."""
+    """rqt_graph's picture: nodes and the topics between them, left to right, redrawn when the
+    graph changes; rqt_graph's "Hide" checkboxes (zros.view.scene.graph_hides), all on at first."""
 
     title, icon = 'Graph', 'topology-star-3'
+    #: Hides field -> (checkbox label, hint), in rqt_graph's order.
+    HIDES = {'dead_sinks': ('Dead sinks', 'Hide topics nothing subscribes to'),
+             'leaf_topics': ('Leaf topics', 'Hide topics with one connection only'),
+             'debug': ('Debug', 'Hide debugging nodes and topics (/rosout, viewers, hidden names)'),
+             'tf': ('tf', 'Hide /tf and /tf_static'),
+             'params': ('Params', 'Hide /parameter_events')}
 
     def __init__(self) -> None:
         self.view: 'SceneView | None' = None
         self.picture: Any = None
-        self.options: Any = None
+        self.hide_boxes: dict[str, Any] = {}
+        self.fit: Any = None
         self._key: Any = None
         self.svg = ''
 
     def build(self, view: 'SceneView') -> None:
         self.view = view
-        self.options = view.gui.add_checkbox('Hidden and debug too', False,
-                                             hint='Show hidden nodes/topics, /rosout and /parameter_events')
+        with view.gui.add_folder('Hide'):
+            for field, (label, hint) in self.HIDES.items():
+                self.hide_boxes[field] = view.gui.add_checkbox(label, True, hint=hint)
+        self.fit = view.gui.add_checkbox('Fit width', False, hint="Shrink the picture to the panel's width "
+                                         "(rqt_graph's Fit in View); otherwise it scrolls at full size")
         self.picture = view.gui.add_html('')
+
+    def hides(self) -> Hides:
+        """The hides the checkboxes ask for."""
+        return Hides(**{field: bool(box.value) for field, box in self.hide_boxes.items()})
 
     def refresh(self, now: float) -> None:
         from zros.cli.graph import graph_content
         if self.view is None:
             return
-        everything = bool(self.options.value)
-        content = graph_content(self.view.graph_entities(), include_hidden=everything, include_debug=everything)
-        key = (repr(content), everything)
+        hides = self.hides()
+        content = apply_hides(graph_content(self.view.graph_entities(), include_hidden=True, include_debug=True),
+                              hides)
+        fit = bool(self.fit.value)
+        key = (repr(content), hides, fit)
         if key == self._key:
             return
         self._key = key
-        self.svg = to_svg(content)
-        self.picture.content = f'<div style="overflow:auto;max-height:75vh">{self.svg}</div>'
+        self.svg = to_svg(content, fit=fit)
+        self.picture.content = f'<div data-graph="1" style="overflow:auto;max-height:80vh">{self.svg}</div>'
 
 
 class ConsolePage(Page):

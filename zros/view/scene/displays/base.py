@@ -24,11 +24,12 @@ if TYPE_CHECKING:
     from zros.node import Node
     from zros.view.scene.frames import Frames
 
-__all__ = ['Display', 'DisplayContext', 'Status', 'OK', 'WARN', 'ERROR', 'DISABLED', 'SILENT_AFTER', 'stamp_ns',
+__all__ = ['Display', 'DisplayContext', 'Status', 'OK', 'WARN', 'ERROR', 'DISABLED', 'SILENT_AFTER', 'WAITING', 'stamp_ns',
            'slug']
 
 OK, WARN, ERROR, DISABLED = 'ok', 'warn', 'error', 'disabled'
 SILENT_AFTER = 5.0          # [s] without a message (and no publisher) before the display says so
+WAITING = 'waiting for the first message'   # a display's status until it has drawn or knows why not
 PENDING_FOR = 1.0           # [s] a message waits for its transform before the failure is shown
 
 
@@ -84,7 +85,7 @@ class Display:
         self._last_message_at = 0.0
         self._created_at = time.monotonic()
         self.received = 0
-        self.status = Status(WARN, 'waiting for the first message' if topic else 'ok')
+        self.status = Status(WARN, WAITING if topic else 'ok')
         self.on_status: Callable[['Display'], None] | None = None
 
     # -- subscription (node's executor thread) ---------------------------------------------
@@ -241,7 +242,7 @@ class Display:
         self.root.visible = enabled
         if enabled:
             self.subscribe()
-            self.status = Status(WARN, 'waiting for the first message')
+            self.status = Status(WARN, WAITING)
         else:
             self.unsubscribe()
             self._set_status(DISABLED, 'disabled')
