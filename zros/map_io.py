@@ -42,7 +42,7 @@ from zros.view.png import PngError, decode_png, encode_png
 
 __all__ = ['MapFileError', 'MapNotFoundError', 'MapMetadataError', 'MapImageError', 'MapYaml', 'OccupancyMap', 'MAP_MODES', 'IMAGE_FORMATS', 'DEFAULT_OCCUPIED_THRESH',
            'DEFAULT_FREE_THRESH', 'read_map_yaml', 'read_image', 'image_to_occupancy', 'load_map',
-           'occupancy_to_image', 'save_map', 'map_to_msg', 'map_from_msg', 'yaw_of_quaternion']
+           'occupancy_to_image', 'save_map', 'map_to_msg', 'map_from_msg', 'resample', 'yaw_of_quaternion']
 
 MAP_MODES = ('trinary', 'scale', 'raw')
 IMAGE_FORMATS = ('pgm', 'png')
@@ -380,6 +380,23 @@ def map_from_msg(msg: Any) -> OccupancyMap:
     o = msg.info.origin
     return OccupancyMap(data.reshape(height, width).copy(), float(msg.info.resolution),
                         (float(o.position.x), float(o.position.y), yaw_of_quaternion(o.orientation)))
+
+
+def resample(grid: OccupancyMap, resolution: float) -> OccupancyMap:
+    """The same area at another cell size: each new cell takes the cell of the old map under
+    its centre, or the highest value among the old cells whose centres fall in it (so a wall
+    one cell thick survives a coarser map). The origin stays."""
+    if math.isclose(resolution, grid.resolution):
+        return grid
+    scale = grid.resolution / resolution
+    height, width = max(1, math.ceil(grid.height * scale)), max(1, math.ceil(grid.width * scale))
+    rows = np.minimum(((np.arange(height) + 0.5) / scale).astype(int), grid.height - 1)
+    cols = np.minimum(((np.arange(width) + 0.5) / scale).astype(int), grid.width - 1)
+    data = grid.data[np.ix_(rows, cols)].astype(np.int16)
+    old_rows = np.minimum(((np.arange(grid.height) + 0.5) * scale).astype(int), height - 1)
+    old_cols = np.minimum(((np.arange(grid.width) + 0.5) * scale).astype(int), width - 1)
+    np.maximum.at(data, (old_rows[:, None], old_cols[None, :]), grid.data.astype(np.int16))
+    return OccupancyMap(data.astype(np.int8), float(resolution), grid.origin)
 
 
 def yaw_of_quaternion(q: Any) -> float:

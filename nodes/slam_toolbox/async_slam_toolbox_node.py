@@ -72,7 +72,9 @@ NODE_PARAMETERS: dict[str, Any] = {
 class SlamNode(Node):
     """The ROS face of zros.slam.Slam (module docstring)."""
 
-    def __init__(self, node_name: str = 'slam_toolbox', **kwargs: Any) -> None:
+    def __init__(self, node_name: str = 'slam_toolbox', *, publish_map: bool = True, **kwargs: Any) -> None:
+        """`publish_map`: publish /map and /map_metadata (cartographer_ros's cartographer_node
+        leaves that to its occupancy grid node, which reads `~/dynamic_map`)."""
         super().__init__(node_name, **kwargs)
         self._wake = threading.Condition()
         self._stopping = False
@@ -107,7 +109,8 @@ class SlamNode(Node):
         self.create_service(DeserializePoseGraph, '~/deserialize_map', self._on_deserialize)
         self.create_service(Pause, '~/pause_new_measurements', self._on_pause)
         wall = Clock(clock_type=ClockType.STEADY_TIME)
-        self.create_timer(self._p['map_update_interval'], self._publish_map, clock=wall)
+        if publish_map:
+            self.create_timer(self._p['map_update_interval'], self._publish_map, clock=wall)
         if self._p['transform_publish_period'] > 0:
             self.create_timer(self._p['transform_publish_period'], self._publish_transform, clock=wall)
         self._worker = threading.Thread(target=self._work, name='slam', daemon=True)
