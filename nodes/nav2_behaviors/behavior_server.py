@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import math
 import sys
-import threading
 from typing import Any, Callable
 
 import numpy as np
@@ -23,13 +22,13 @@ from zros.executors import ExternalShutdownException, spin_nodes
 from zros.lifecycle import LifecycleNode
 from zros.navigation.controller import angle_diff
 from zros.navigation.costmap import INSCRIBED_INFLATED_OBSTACLE, NO_INFORMATION
+from zros.navigation.costmap_ros import CostmapSubscriber
 from zros.navigation.node_support import Nav2Params, duration_msg, lookup_pose
 from zros.navigation.servers import GoalRunner, gated_action_server
 from zros.tf2_ros import Buffer, TransformListener
 
 from interfaces.geometry_msgs.msg import Twist
 from interfaces.nav2_msgs.action import BackUp, DriveOnHeading, Spin, Wait
-from interfaces.nav2_msgs.msg import Costmap
 
 
 class BehaviorServer(LifecycleNode):
@@ -48,33 +47,19 @@ class BehaviorServer(LifecycleNode):
         topic = prm.get('costmap_topic', 'local_costmap/costmap_raw')
         prm.get('behavior_plugins', ['spin', 'backup', 'drive_on_heading', 'wait'])
         prm.report_unused()
-        self._costmap: Any = None
-        self._costmap_lock = threading.Lock()
         self.goals = GoalRunner(self, stop=self._stop)
         self.cmd_pub = self.create_lifecycle_publisher(Twist, 'cmd_vel', 1)
-        from zros.qos import DurabilityPolicy, QoSProfile
-        self.create_subscription(Costmap, topic, self._on_costmap,
-                                 QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
+        self.costmap = CostmapSubscriber(self, topic)
         gated_action_server(self, Spin, 'spin', self._spin)
         gated_action_server(self, BackUp, 'backup', lambda h: self._drive(h, BackUp, backwards=True))
         gated_action_server(self, DriveOnHeading, 'drive_on_heading', lambda h: self._drive(h, DriveOnHeading))
         gated_action_server(self, Wait, 'wait', self._wait)
 
-    def _on_costmap(self, msg: Any) -> None:
-        with self._costmap_lock:
-            self._costmap = msg
-
     def _blocked(self, points: np.ndarray) -> bool:
         """True if any (N, 2) point of `local_frame` is in an inscribed or lethal cell."""
-        with self._costmap_lock:
-            cm = self._costmap
-        if cm is None or cm.header.frame_id not in ('', self.local_frame):
+        if self.costmap.frame_id not in ('', self.local_frame):
             return False
-        md = cm.metadata
-        grid = np.asarray(cm.data, np.uint8).reshape(md.size_y, md.size_x)
-        cells = np.floor((points - (md.origin.position.x, md.origin.position.y)) / md.resolution).astype(int)
-        inside = (cells[:, 0] >= 0) & (cells[:, 1] >= 0) & (cells[:, 0] < md.size_x) & (cells[:, 1] < md.size_y)
-        costs = grid[cells[inside, 1], cells[inside, 0]]
+        costs = self.costmap.cost_at(points)
         return bool(((costs >= INSCRIBED_INFLATED_OBSTACLE) & (costs != NO_INFORMATION)).any())
 
     def _pose(self) -> tuple[float, float, float]:
