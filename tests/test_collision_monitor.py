@@ -3,12 +3,10 @@ limit, approach, min_points, the slowest wins), then the node as a process betwe
 `cmd_vel_smoothed` and `cmd_vel`, with the scan put in the base frame through TF."""
 from __future__ import annotations
 
-import threading
-
 import numpy as np
 import pytest
 
-from conftest import wait_until
+from conftest import activate, wait_until
 from zros.navigation.collision_monitor import Zone, decide, points_in_polygon, scan_points
 
 SQUARE = np.array([[0.3, 0.3], [0.3, -0.3], [-0.3, -0.3], [-0.3, 0.3]])
@@ -99,10 +97,7 @@ PARAMS = '''collision_monitor:
 '''
 
 
-def test_node_stops_and_slows_the_robot_on_the_scan(spawn, make_context, tmp_path):
-    from zros.executors import SingleThreadedExecutor
-    from zros.lifecycle import LifecycleClient
-    from zros.node import Node
+def test_node_stops_and_slows_the_robot_on_the_scan(spawn, probe, tmp_path):
     from zros.tf2_ros import StaticTransformBroadcaster
     from interfaces.geometry_msgs.msg import TransformStamped, Twist
     from interfaces.nav2_msgs.msg import CollisionMonitorState
@@ -110,13 +105,8 @@ def test_node_stops_and_slows_the_robot_on_the_scan(spawn, make_context, tmp_pat
     params = tmp_path / 'params.yaml'
     params.write_text(PARAMS)
     monitor = spawn.node('nav2_collision_monitor', 'collision_monitor', '--ros-args', '--params-file', params)
-    node = Node('probe', context=make_context())
-    executor = SingleThreadedExecutor(context=node.context)
-    executor.add_node(node)
-    threading.Thread(target=executor.spin, daemon=True).start()
-    lifecycle = LifecycleClient(node, 'collision_monitor')
-    assert lifecycle.wait_for_services(timeout_sec=15), monitor.output()
-    assert lifecycle.change_state('configure', timeout_sec=10) and lifecycle.change_state('activate', timeout_sec=10)
+    node = probe
+    activate(node, 'collision_monitor', monitor)
 
     # The scanner sits 0.1 m behind base_footprint's origin, turned by pi: a wall "behind" it is ahead.
     static = StaticTransformBroadcaster(node)
@@ -158,7 +148,6 @@ def test_node_stops_and_slows_the_robot_on_the_scan(spawn, make_context, tmp_pat
     wait_until(lambda: any(s.action_type == CollisionMonitorState.STOP and s.polygon_name == 'PolygonStop'
                            for s in states), 5, message='the stop reported on state_topic')
     monitor.wait_for_output('Robot to stop due to PolygonStop polygon', timeout=5)
-    executor.shutdown(timeout_sec=1)
 
 
 def test_a_bad_polygon_fails_in_one_line(zros_cli, domain, tmp_path):

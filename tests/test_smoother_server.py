@@ -3,11 +3,10 @@ cusps kept), then the smoother_server process answering `smooth_path` and BasicN
 smoothPath."""
 from __future__ import annotations
 
-import threading
-
 import numpy as np
 import pytest
 
+from conftest import activate
 from zros.navigation.costmap import LETHAL_OBSTACLE
 from zros.navigation.path_smoother import (SimpleSmootherParams, approximate_yaws, directional_segments,
                                            smooth_path)
@@ -103,25 +102,15 @@ print('unknown id:', navigator.smoothPath(path_msg(zigzag, np.zeros(40), 'map', 
 '''
 
 
-def test_smoother_server_and_basic_navigator(spawn, make_context):
+def test_smoother_server_and_basic_navigator(spawn, probe):
     import ast
 
-    from zros.executors import SingleThreadedExecutor
-    from zros.lifecycle import LifecycleClient
-    from zros.node import Node
     from zros.qos import DurabilityPolicy, QoSProfile
     from interfaces.nav2_msgs.action import SmoothPath
     from interfaces.nav2_msgs.msg import Costmap
     from interfaces.nav_msgs.msg import Path
     server = spawn.node('nav2_smoother', 'smoother_server')
-    ctx = make_context()
-    probe = Node('probe', context=ctx)
-    executor = SingleThreadedExecutor(context=ctx)
-    executor.add_node(probe)
-    threading.Thread(target=executor.spin, daemon=True).start()
-    lifecycle = LifecycleClient(probe, 'smoother_server')
-    assert lifecycle.wait_for_services(timeout_sec=15), server.output()
-    assert lifecycle.change_state('configure', timeout_sec=10) and lifecycle.change_state('activate', timeout_sec=10)
+    activate(probe, 'smoother_server', server)
     costmap_pub = probe.create_publisher(Costmap, 'global_costmap/costmap_raw',
                                          QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
     costmap_pub.publish(_costmap_msg(probe.get_clock().now().to_msg()))
@@ -143,4 +132,3 @@ def test_smoother_server_and_basic_navigator(spawn, make_context):
     assert lines['error code'] == str(SmoothPath.Result.SMOOTHED_PATH_IN_COLLISION)
     assert lines['unknown id'] == f'None {SmoothPath.Result.INVALID_SMOOTHER}'
     assert published and len(published[0].poses) == len(zigzag)
-    executor.shutdown(timeout_sec=1)

@@ -3,12 +3,10 @@ scale_velocities, the stop on input timeout), then the node as a process between
 and `cmd_vel` as Nav2's navigation_launch.py remaps it."""
 from __future__ import annotations
 
-import threading
-
 import numpy as np
 import pytest
 
-from conftest import wait_until
+from conftest import activate, wait_until
 from zros.navigation.velocity_smoother import VelocitySmoother, VelocitySmootherParams
 
 FREQ = 10.0
@@ -74,10 +72,7 @@ def test_closed_loop_starts_from_the_measured_velocity_and_bad_input_is_refused(
         VelocitySmoother(VelocitySmootherParams(feedback='SOMETIMES'))
 
 
-def test_node_smooths_cmd_vel_nav_into_cmd_vel(spawn, make_context, tmp_path):
-    from zros.executors import SingleThreadedExecutor
-    from zros.lifecycle import LifecycleClient
-    from zros.node import Node
+def test_node_smooths_cmd_vel_nav_into_cmd_vel(spawn, probe, tmp_path):
     from interfaces.geometry_msgs.msg import Twist
     params = tmp_path / 'params.yaml'
     params.write_text('velocity_smoother:\n  ros__parameters:\n    smoothing_frequency: 20.0\n'
@@ -86,13 +81,8 @@ def test_node_smooths_cmd_vel_nav_into_cmd_vel(spawn, make_context, tmp_path):
                       '    velocity_timeout: 0.5\n    use_realtime_priority: false\n')
     smoother = spawn.node('nav2_velocity_smoother', 'velocity_smoother', '--ros-args', '--params-file', params,
                           '-r', 'cmd_vel:=cmd_vel_nav', '-r', 'cmd_vel_smoothed:=cmd_vel')
-    node = Node('probe', context=make_context())
-    executor = SingleThreadedExecutor(context=node.context)
-    executor.add_node(node)
-    threading.Thread(target=executor.spin, daemon=True).start()
-    lifecycle = LifecycleClient(node, 'velocity_smoother')
-    assert lifecycle.wait_for_services(timeout_sec=15), smoother.output()
-    assert lifecycle.change_state('configure', timeout_sec=10) and lifecycle.change_state('activate', timeout_sec=10)
+    node = probe
+    activate(node, 'velocity_smoother', smoother)
 
     out: list = []
     node.create_subscription(Twist, 'cmd_vel', out.append, 10)
@@ -110,4 +100,3 @@ def test_node_smooths_cmd_vel_nav_into_cmd_vel(spawn, make_context, tmp_path):
     assert all(t.angular.z == pytest.approx(0.5) for t in out[-3:])
     wait_until(lambda: out[-1].linear.x == 0.0 and out[-1].angular.z == 0.0, 10,
                message='a zero command after velocity_timeout without input')
-    executor.shutdown(timeout_sec=1)
