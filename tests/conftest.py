@@ -24,7 +24,7 @@ from zros.testing import DomainLock, ProcessGroup, spin_until, wait_until
 from zros.testing.domains import ALL_SETTINGS, HUB_BASE_PORT, isolated_environment
 from zros.testing.processes import kill_group
 
-__all__ = ['REPO', 'wait_until', 'spin_until', 'run_cli', 'assert_clean_failure', 'CliResult']
+__all__ = ['REPO', 'wait_until', 'spin_until', 'run_cli', 'assert_clean_failure', 'CliResult', 'activate']
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -198,6 +198,36 @@ def log_records() -> list:
     add_sink(sink)
     yield records
     remove_sink(sink)
+
+
+@pytest.fixture
+def probe(make_context: Callable[[], Any]) -> Any:
+    """A node named `probe` in its own context, spun by a SingleThreadedExecutor on a daemon
+    thread (the test thread publishes and waits); the executor stops at teardown."""
+    import threading
+
+    from zros.executors import ExternalShutdownException, SingleThreadedExecutor
+    from zros.node import Node
+    node = Node('probe', context=make_context())
+    executor = SingleThreadedExecutor(context=node.context)
+    executor.add_node(node)
+
+    def spin() -> None:
+        with contextlib.suppress(ExternalShutdownException):
+            executor.spin()
+    threading.Thread(target=spin, daemon=True).start()
+    yield node
+    executor.shutdown(timeout_sec=1)
+
+
+def activate(node: Any, target: str, child: Any) -> None:
+    """Configure then activate the lifecycle node `target` (run by the process `child`) as a
+    lifecycle manager would; the test fails with the child's output if it cannot."""
+    from zros.lifecycle import LifecycleClient
+    lifecycle = LifecycleClient(node, target)
+    assert lifecycle.wait_for_services(timeout_sec=15), child.output()
+    assert lifecycle.change_state('configure', timeout_sec=10), child.output()
+    assert lifecycle.change_state('activate', timeout_sec=10), child.output()
 
 
 @contextlib.contextmanager

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import math
 import sys
-import threading
 from typing import Any, Callable
 
 import numpy as np
@@ -28,13 +27,13 @@ from zros.lifecycle import LifecycleNode
 from zros.navigation.assisted_teleop import collision_scale, projected_poses
 from zros.navigation.controller import angle_diff
 from zros.navigation.costmap import INSCRIBED_INFLATED_OBSTACLE, NO_INFORMATION
+from zros.navigation.costmap_ros import CostmapSubscriber
 from zros.navigation.node_support import Nav2Params, duration_msg, lookup_pose
 from zros.navigation.servers import GoalRunner, gated_action_server
 from zros.tf2_ros import Buffer, TransformListener
 
 from interfaces.geometry_msgs.msg import Twist
 from interfaces.nav2_msgs.action import AssistedTeleop, BackUp, DriveOnHeading, Spin, Wait
-from interfaces.nav2_msgs.msg import Costmap
 from interfaces.std_msgs.msg import Empty
 
 
@@ -57,13 +56,9 @@ class BehaviorServer(LifecycleNode):
         teleop_topic = prm.get('cmd_vel_teleop', 'cmd_vel_teleop')
         prm.get('behavior_plugins', ['spin', 'backup', 'drive_on_heading', 'assisted_teleop', 'wait'])
         prm.report_unused()
-        self._costmap: Any = None
-        self._costmap_lock = threading.Lock()
         self.goals = GoalRunner(self, stop=self._stop)
         self.cmd_pub = self.create_lifecycle_publisher(Twist, 'cmd_vel', 1)
-        from zros.qos import DurabilityPolicy, QoSProfile
-        self.create_subscription(Costmap, topic, self._on_costmap,
-                                 QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
+        self.costmap = CostmapSubscriber(self, topic)
         gated_action_server(self, Spin, 'spin', self._spin)
         gated_action_server(self, BackUp, 'backup', lambda h: self._drive(h, BackUp, backwards=True))
         gated_action_server(self, DriveOnHeading, 'drive_on_heading', lambda h: self._drive(h, DriveOnHeading))
@@ -77,10 +72,6 @@ class BehaviorServer(LifecycleNode):
     def _on_teleop(self, msg: Any) -> None:
         self._teleop = (msg.linear.x, msg.linear.y, msg.angular.z)
 
-    def _on_costmap(self, msg: Any) -> None:
-        with self._costmap_lock:
-            self._costmap = msg
-
     def _blocked(self, points: np.ndarray) -> bool:
         """True if any (N, 2) point of `local_frame` is in an inscribed or lethal cell."""
         return bool(self._blocked_each(points).any())
@@ -88,18 +79,10 @@ class BehaviorServer(LifecycleNode):
     def _blocked_each(self, points: np.ndarray) -> np.ndarray:
         """Per (N, 2) point of `local_frame`: in an inscribed or lethal cell (False off the map
         or without a costmap)."""
-        with self._costmap_lock:
-            cm = self._costmap
-        blocked = np.zeros(len(points), bool)
-        if cm is None or cm.header.frame_id not in ('', self.local_frame):
-            return blocked
-        md = cm.metadata
-        grid = np.asarray(cm.data, np.uint8).reshape(md.size_y, md.size_x)
-        cells = np.floor((points - (md.origin.position.x, md.origin.position.y)) / md.resolution).astype(int)
-        inside = (cells[:, 0] >= 0) & (cells[:, 1] >= 0) & (cells[:, 0] < md.size_x) & (cells[:, 1] < md.size_y)
-        costs = grid[cells[inside, 1], cells[inside, 0]]
-        blocked[inside] = (costs >= INSCRIBED_INFLATED_OBSTACLE) & (costs != NO_INFORMATION)
-        return blocked
+        costs = self.costmap.cost_at(points) if self.costmap.frame_id in ('', self.local_frame) else None
+        if costs is None:
+            return np.zeros(len(points), bool)
+        return (costs >= INSCRIBED_INFLATED_OBSTACLE) & (costs != NO_INFORMATION)
 
     def _pose(self) -> tuple[float, float, float]:
         return lookup_pose(self.tf_buffer, self.local_frame, self.robot_base_frame)

@@ -22,6 +22,7 @@ from typing import Any
 
 import zros
 from zros.action import ActionClient
+from zros.duration import Duration
 from zros.node import Node
 from zros.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
@@ -30,7 +31,7 @@ from interfaces.geometry_msgs.msg import PoseWithCovarianceStamped
 from interfaces.lifecycle_msgs.srv import GetState
 from interfaces.nav2_msgs.action import (AssistedTeleop, BackUp, ComputePathThroughPoses, ComputePathToPose,
                                          DriveOnHeading, FollowPath, FollowWaypoints, NavigateThroughPoses,
-                                         NavigateToPose, Spin)
+                                         NavigateToPose, SmoothPath, Spin)
 from interfaces.nav2_msgs.srv import ClearEntireCostmap, GetCostmap, LoadMap, ManageLifecycleNodes
 
 __all__ = ['BasicNavigator', 'TaskResult']
@@ -62,6 +63,7 @@ class BasicNavigator(Node):
         self.follow_path_client = ActionClient(self, FollowPath, 'follow_path')
         self.compute_path_to_pose_client = ActionClient(self, ComputePathToPose, 'compute_path_to_pose')
         self.compute_path_through_poses_client = ActionClient(self, ComputePathThroughPoses, 'compute_path_through_poses')
+        self.smoother_client = ActionClient(self, SmoothPath, 'smooth_path')
         self.spin_client = ActionClient(self, Spin, 'spin')
         self.backup_client = ActionClient(self, BackUp, 'backup')
         self.drive_on_heading_client = ActionClient(self, DriveOnHeading, 'drive_on_heading')
@@ -305,6 +307,16 @@ class BasicNavigator(Node):
                           ComputePathThroughPoses.Goal(start=start, goals=list(goals), planner_id=planner_id,
                                                        use_start=use_start),
                           'ComputePathThroughPoses')
+
+    def smoothPath(self, path: Any, smoother_id: str = '', max_duration: float = 2.0,
+                   check_for_collision: bool = False) -> Any:
+        """The smoother_server's smoothing of nav_msgs/Path `path` (None if it failed)."""
+        self.info('Smoothing path...')
+        return self._path(self.smoother_client,
+                          SmoothPath.Goal(path=path, smoother_id=smoother_id,
+                                          max_smoothing_duration=Duration(seconds=max_duration).to_msg(),
+                                          check_for_collisions=check_for_collision),
+                          'SmoothPath')
 
     # -- maps and costmaps ---------------------------------------------------------------------
     def _call(self, client: Any, request: Any, what: str) -> Any:

@@ -5,6 +5,9 @@ It is a node of its own (`global_costmap` in namespace `global_costmap`, `local_
 parameter files (`global_costmap: global_costmap: ros__parameters: ...`) apply unchanged. It
 publishes `<name>/costmap` (nav_msgs/OccupancyGrid, Nav2's cost-to-occupancy table) and
 `<name>/costmap_raw` (nav2_msgs/Costmap), and serves `<name>/clear_entirely_<name>`.
+
+Servers that only read a costmap another node keeps (behavior_server, smoother_server) use
+`CostmapSubscriber` on its `costmap_raw` topic, as Nav2's nav2_costmap_2d::CostmapSubscriber.
 """
 from __future__ import annotations
 
@@ -13,12 +16,12 @@ from typing import Any, Callable
 
 import numpy as np
 
-from zros.navigation.costmap import CostmapParams, LayeredCostmap, to_occupancy
+from zros.navigation.costmap import NO_INFORMATION, CostmapParams, LayeredCostmap, to_occupancy
 from zros.navigation.node_support import Nav2Params, lookup_pose
 from zros.node import Node
 from zros.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
-__all__ = ['CostmapNode']
+__all__ = ['CostmapNode', 'CostmapSubscriber']
 
 
 class CostmapNode(Node):
@@ -190,3 +193,41 @@ class CostmapNode(Node):
         raw.data = master.ravel()
         return grid, raw
 
+
+
+class CostmapSubscriber:
+    """The latest nav2_msgs/Costmap on `topic` (transient local, as costmaps publish it), and
+    costs looked up in it. Thread-safe: the subscription callback swaps the message under a lock."""
+
+    def __init__(self, node: Any, topic: str) -> None:
+        from interfaces.nav2_msgs.msg import Costmap
+        self._lock = threading.Lock()
+        self._msg: Any = None
+        node.create_subscription(Costmap, topic, self._on_costmap,
+                                 QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
+
+    def _on_costmap(self, msg: Any) -> None:
+        with self._lock:
+            self._msg = msg
+
+    @property
+    def frame_id(self) -> str | None:
+        """The costmap's frame, None before the first costmap arrives."""
+        with self._lock:
+            return None if self._msg is None else self._msg.header.frame_id
+
+    def cost_at(self, xy: np.ndarray) -> np.ndarray | None:
+        """Costs at (N, 2) points of the costmap's frame [m] (NO_INFORMATION outside it), or None
+        before the first costmap arrives."""
+        with self._lock:
+            msg = self._msg
+        if msg is None:
+            return None
+        md = msg.metadata
+        grid = np.asarray(msg.data, np.uint8).reshape(md.size_y, md.size_x)
+        cells = np.floor((np.asarray(xy, np.float64).reshape(-1, 2) - (md.origin.position.x, md.origin.position.y))
+                         / md.resolution).astype(np.int64)
+        inside = (cells[:, 0] >= 0) & (cells[:, 1] >= 0) & (cells[:, 0] < md.size_x) & (cells[:, 1] < md.size_y)
+        out = np.full(len(cells), NO_INFORMATION, np.uint8)
+        out[inside] = grid[cells[inside, 1], cells[inside, 0]]
+        return out

@@ -23,6 +23,7 @@ from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from zros.navigation.costmap import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION, LayeredCostmap
+from zros.navigation.path_smoother import taut_step
 
 __all__ = ['PlanningError', 'GridPlanner', 'smooth_path', 'path_yaws',
            'UNKNOWN', 'START_OUTSIDE_MAP', 'GOAL_OUTSIDE_MAP', 'START_OCCUPIED', 'GOAL_OCCUPIED',
@@ -171,12 +172,14 @@ class GridPlanner:
 def smooth_path(points: np.ndarray, costmap: LayeredCostmap, *, w_data: float = 0.2, w_smooth: float = 0.3,
                 iterations: int = 200) -> np.ndarray:
     """Pull the path taut (Nav2 SimpleSmoother's update, all points at once per iteration); a point
-    that would move into an inscribed or lethal cell keeps its previous position. The ends stay."""
+    that would move into an inscribed or lethal cell keeps its previous position, and the rest go
+    on (unlike the smoother_server's SimpleSmoother, which stops: the planner's paths may start
+    touching a wall and must still be smoothed). The ends stay."""
     original = np.asarray(points, np.float64)
     path = original.copy()
     for _ in range(iterations):
         inner = path[1:-1]
-        update = inner + w_data * (original[1:-1] - inner) + w_smooth * (path[:-2] + path[2:] - 2 * inner)
+        update = taut_step(path, original, w_data, w_smooth)
         bad = costmap.cost_at(update) >= INSCRIBED_INFLATED_OBSTACLE
         bad &= costmap.cost_at(inner) < INSCRIBED_INFLATED_OBSTACLE
         update[bad] = inner[bad]

@@ -2,8 +2,9 @@
     zros launch nav2_bringup navigation_launch.py use_sim_time:=True params_file:=/path/to/params.yaml
 controller_server, planner_server, behavior_server, bt_navigator and waypoint_follower, brought
 up in that order by lifecycle_manager_navigation (autostart). Nav2's smoother_server and
-velocity_smoother are not separate nodes in zros (the planner smooths its paths; the controller
-limits its own accelerations), so they are not in the list. See docs/navigation.md.
+velocity_smoother are left out here (the planner smooths its paths; the controller limits its
+own accelerations and publishes `cmd_vel` itself); zros has them for Nav2's own launch file,
+which remaps the controller to `cmd_vel_nav`. See docs/navigation.md.
 """
 import os
 
