@@ -77,7 +77,7 @@ class GazeboNode(Node):
         self._wake = threading.Event()
         self._thread: threading.Thread | None = None
         self._robots: dict[str, _Robot] = {}
-        world = load_world(self._string('world', 'empty_world'))
+        world = load_world(self._string('world', 'empty_world'), on_warning=self.get_logger().warn)
         self._world_name = world.name
         self._sim = Simulation(world, seed=self._integer('seed', 0), on_collision=self._on_collision)
         self._rtf = self._number('real_time_factor', 1.0, minimum=0.0)
@@ -257,7 +257,8 @@ class GazeboNode(Node):
             except (SimError, ValueError) as exc:
                 response.success, response.status_message = False, str(exc)
                 return response
-        response.success, response.status_message = True, f"spawned '{name}'"
+        response.success = True
+        response.status_message = f'SpawnEntity: Successfully spawned entity [{name}]'   # Gazebo's words
         return response
 
     def _on_delete_entity(self, request: Any, response: Any) -> Any:
