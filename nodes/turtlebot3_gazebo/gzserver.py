@@ -36,7 +36,8 @@ from zros.qos import QoSProfile
 from zros.sim import (LDS_01, TURTLEBOT3_IMU, LidarSpec, Pose2D, SimError, SimRobot, Simulation, load_world, rasterize,
                       robot_spec, wrap_angle)
 
-from interfaces.gazebo_msgs.srv import DeleteEntity, GetEntityState, GetModelList, SetEntityState, SpawnEntity
+from interfaces.gazebo_msgs.srv import (DeleteEntity, GetEntityState, GetModelList, GetModelState, SetEntityState,
+                                        SetModelState, SpawnEntity)
 from interfaces.nav_msgs.srv import GetMap
 from interfaces.rcl_interfaces.msg import SetParametersResult
 from interfaces.rosgraph_msgs.msg import Clock
@@ -208,6 +209,8 @@ class GazeboNode(Node):
         self.create_service(GetEntityState, '/get_entity_state', self._on_get_entity_state)
         self.create_service(SetEntityState, '/set_entity_state', self._on_set_entity_state)
         self.create_service(GetModelList, '/get_model_list', self._on_get_model_list)
+        self.create_service(GetModelState, '/get_model_state', self._on_get_model_state)    # ROS 1's names,
+        self.create_service(SetModelState, '/set_model_state', self._on_set_model_state)    # still in courses
         self.create_service(ControlWorld, f'/world/{self._world_name}/control', self._on_control_world)
         self.create_service(GetMap, '/sim/get_map', self._on_get_map)
 
@@ -261,47 +264,76 @@ class GazeboNode(Node):
         response.status_message = f'SpawnEntity: Successfully spawned entity [{name}]'   # Gazebo's words
         return response
 
+    def _entity_name(self, name: str) -> str:
+        """The robot `name` means: its own name, or `turtlebot3_<model>` for a TurtleBot3 spawned
+        under its model's name (TurtleBot3's launch spawns `burger`; courses ask for
+        `turtlebot3_burger`). Unknown names come back unchanged (caller holds the lock)."""
+        if name not in self._robots and name.startswith('turtlebot3_'):
+            short = name.removeprefix('turtlebot3_')
+            if short in self._robots and self._robots[short].sim.spec.model == short:
+                return short
+        return name
+
     def _on_delete_entity(self, request: Any, response: Any) -> Any:
         with self._lock:
-            robot = self._robots.pop(request.name, None)
+            name = self._entity_name(request.name)
+            robot = self._robots.pop(name, None)
             if robot is None:
                 response.success = False
                 response.status_message = f"no entity named '{request.name}'"
                 return response
-            self._sim.remove_robot(request.name)
+            self._sim.remove_robot(name)
             robot.io.destroy()
         response.success, response.status_message = True, f"deleted '{request.name}'"
         return response
 
-    def _on_get_entity_state(self, request: Any, response: Any) -> Any:
+    def _true_state(self, name: str, header: Any, pose_msg: Any, twist_msg: Any) -> bool:
+        """Fill a header and a Pose and Twist (world frame) with a robot's true state; False if
+        there is no such robot."""
         with self._lock:
-            robot = self._robots.get(request.name)
-            stamp(response.header, self._sim.time_ns)
-            response.header.frame_id = 'world'
+            robot = self._robots.get(self._entity_name(name))
+            stamp(header, self._sim.time_ns)
+            header.frame_id = 'world'
             if robot is None:
-                response.success = False
-                return response
+                return False
             pose, (linear, angular) = robot.sim.pose, robot.sim.velocity
+        pose_msg.position.x, pose_msg.position.y = pose.x, pose.y
+        pose_msg.orientation.z, pose_msg.orientation.w = math.sin(pose.yaw / 2), math.cos(pose.yaw / 2)
+        twist_msg.linear.x = linear * math.cos(pose.yaw)
+        twist_msg.linear.y = linear * math.sin(pose.yaw)
+        twist_msg.angular.z = angular
+        return True
+
+    def _on_get_entity_state(self, request: Any, response: Any) -> Any:
         state = response.state
-        state.name, state.reference_frame = request.name, 'world'
-        state.pose.position.x, state.pose.position.y = pose.x, pose.y
-        state.pose.orientation.z, state.pose.orientation.w = math.sin(pose.yaw / 2), math.cos(pose.yaw / 2)
-        state.twist.linear.x = linear * math.cos(pose.yaw)
-        state.twist.linear.y = linear * math.sin(pose.yaw)
-        state.twist.angular.z = angular
-        response.success = True
+        response.success = self._true_state(request.name, response.header, state.pose, state.twist)
+        if response.success:
+            state.name, state.reference_frame = request.name, 'world'
         return response
 
-    def _on_set_entity_state(self, request: Any, response: Any) -> Any:
-        state = request.state
-        pose = Pose2D(state.pose.position.x, state.pose.position.y, _yaw(state.pose.orientation))
+    def _on_get_model_state(self, request: Any, response: Any) -> Any:
+        response.success = self._true_state(request.model_name, response.header, response.pose, response.twist)
+        response.status_message = ('GetModelState: got properties' if response.success
+                                   else f"GetModelState: model '{request.model_name}' does not exist")
+        return response
+
+    def _teleport(self, name: str, pose_msg: Any) -> tuple[bool, str]:
+        pose = Pose2D(pose_msg.position.x, pose_msg.position.y, _yaw(pose_msg.orientation))
         with self._lock:
             try:
-                self._sim.teleport(state.name, pose)
-                response.success = True
+                self._sim.teleport(self._entity_name(name), pose)
             except SimError as exc:
                 self.get_logger().warn(f'set_entity_state: {exc}')
-                response.success = False
+                return False, str(exc)
+        return True, f"moved '{name}'"
+
+    def _on_set_entity_state(self, request: Any, response: Any) -> Any:
+        response.success, _ = self._teleport(request.state.name, request.state.pose)
+        return response
+
+    def _on_set_model_state(self, request: Any, response: Any) -> Any:
+        response.success, response.status_message = self._teleport(request.model_state.model_name,
+                                                                   request.model_state.pose)
         return response
 
     def _on_get_model_list(self, request: Any, response: Any) -> Any:
