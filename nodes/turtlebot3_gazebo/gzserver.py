@@ -33,8 +33,10 @@ from zros.errors import CliError
 from zros.executors import ExternalShutdownException, spin_nodes
 from zros.node import Node
 from zros.qos import QoSProfile
-from zros.sim import (LDS_01, TURTLEBOT3_IMU, LidarSpec, Pose2D, SimError, SimRobot, Simulation, load_world, rasterize,
-                      robot_spec, wrap_angle)
+from zros.sim import (LDS_01, TURTLEBOT3_IMU, LidarSpec, Pose2D, RobotSpec, SimError, SimRobot, Simulation, load_world,
+                      rasterize, robot_spec, wrap_angle)
+from zros.sim.model_file import robot_from_xml, turtlebot3_named
+from zros.sim.sdf import SdfError
 
 from interfaces.gazebo_msgs.srv import (DeleteEntity, GetEntityState, GetModelList, GetModelState, SetEntityState,
                                         SetModelState, SpawnEntity)
@@ -160,15 +162,17 @@ class GazeboNode(Node):
         self._wake.set()
 
     # -- robots -------------------------------------------------------------------------------
-    def _spawn(self, name: str, model: str, namespace: str, pose: Pose2D, publish_frames: bool) -> _Robot:
+    def _spawn(self, name: str, model: str, namespace: str, pose: Pose2D, publish_frames: bool, *,
+               spec: RobotSpec | None = None, lidar: LidarSpec | None = None) -> _Robot:
         """Add a robot and its topics (caller holds the lock, or is the constructor);
-        `publish_frames`: publish its fixed and wheel frames (no robot_state_publisher for it)."""
-        spec = robot_spec(model)
+        `publish_frames`: publish its fixed and wheel frames (no robot_state_publisher for it);
+        `spec`, `lidar`: from its model file (else the TurtleBot3 `model`'s)."""
+        spec = spec or robot_spec(model)
         namespace = namespace.strip('/')
         if any(r.io.namespace == namespace for r in self._robots.values()):
             raise SimError(f"namespace '/{namespace}' is already used by another robot; give each "
                            'robot its own robot_namespace')
-        lidar = self._sim_lidar()
+        lidar = lidar or self._sim_lidar()
         sim_robot = self._sim.add_robot(name, pose, spec=spec, lidar=lidar, slip_stddev=self._slip)
         sim_robot.command_timeout = self._cmd_vel_timeout or None
         try:
@@ -249,14 +253,24 @@ class GazeboNode(Node):
             robot.sim.odom.reset()
 
     def _on_spawn_entity(self, request: Any, response: Any) -> Any:
-        model = next((m for m in ('waffle_pi', 'waffle', 'burger') if m in request.xml), _default_model())
+        model = turtlebot3_named(request.xml, _default_model())
+        spec = lidar = None
+        if '<model' in request.xml or '<robot' in request.xml:
+            try:
+                robot_model = robot_from_xml(request.xml, fallback=_default_model(), source=f'<{request.name} XML>')
+            except SdfError as exc:
+                response.success, response.status_message = False, str(exc)
+                return response
+            spec, lidar = robot_model.spec, robot_model.lidar
+            if robot_model.warning:
+                self.get_logger().warn(robot_model.warning)
         p = request.initial_pose
         pose = Pose2D(p.position.x, p.position.y, _yaw(p.orientation))
         name = request.name or f'{model}_{len(self._robots)}'
         with self._lock:
             try:
                 # No launch file started a robot_state_publisher for it: its frames come from here.
-                self._spawn(name, model, request.robot_namespace, pose, True)
+                self._spawn(name, model, request.robot_namespace, pose, True, spec=spec, lidar=lidar)
             except (SimError, ValueError) as exc:
                 response.success, response.status_message = False, str(exc)
                 return response
