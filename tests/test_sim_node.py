@@ -350,6 +350,28 @@ def test_reset_world_get_map_and_run_to_time(fresh: Harness) -> None:
     assert clocks[-1].clock.sec == 2
 
 
+def test_seed_003s_gazebo_calls_work_as_printed(fresh: Harness, zros_cli: Any) -> None:
+    """`/get_model_state` (ROS 1's GetModelState) and `/set_entity_state` with the course's name
+    `turtlebot3_burger` for the robot TurtleBot3's launch spawns as `burger`."""
+    from interfaces.gazebo_msgs.srv import GetModelState, SetModelState
+    result = zros_cli('service', 'call', '/get_model_state', 'gazebo_msgs/GetModelState',
+                      '{model_name: turtlebot3_burger}', timeout=30)
+    assert result.returncode == 0 and 'success=True' in result.stdout, result
+    assert 'position=geometry_msgs.msg.Point(x=-2.0, y=-0.5' in result.stdout, result
+    result = zros_cli('service', 'call', '/set_entity_state', 'gazebo_msgs/SetEntityState',
+                      '{state: {name: turtlebot3_burger, pose: {position: {x: 2.0, y: 1.0}}}}', timeout=30)
+    assert result.returncode == 0 and 'success=True' in result.stdout, result
+    assert fresh.state()[:2] == (2.0, 1.0)
+    response = fresh.call(GetModelState, '/get_model_state', model_name='turtlebot3_waffle')
+    assert not response.success and response.status_message == "GetModelState: model 'turtlebot3_waffle' does not exist"
+    request = SetModelState.Request()
+    request.model_state.model_name = 'burger'
+    request.model_state.pose.position.x = 0.0      # the middle pillar
+    response = fresh.call(SetModelState, '/set_model_state', model_state=request.model_state)
+    assert not response.success and 'obstacle' in response.status_message
+    assert fresh.state()[:2] == (2.0, 1.0)
+
+
 def test_unpaused_the_clock_runs_faster_than_real_time(sim: Harness) -> None:
     from zros.parameter import Parameter
     from interfaces.rcl_interfaces.srv import SetParameters

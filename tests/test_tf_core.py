@@ -108,6 +108,20 @@ def test_lookup_errors_say_what_is_wrong():
     assert core.can_transform_core('map', 'base_scan', Time(seconds=9.0))[0] is False
 
 
+def test_clear_after_a_jump_back_in_time_keeps_static_transforms():
+    """tf2 clears only the dynamic caches: after /reset_simulation the latched /tf_static frames
+    are not sent again, and a buffer that dropped them could never join map and base_link."""
+    core = _chain_buffer()
+    core.clear()
+    assert not core.can_transform_core('odom', 'base_footprint', Time())[0]
+    t = core.lookup_transform_core('base_footprint', 'base_scan', Time()).transform.translation
+    assert (t.x, t.y, t.z) == pytest.approx((-0.032, 0.0, 0.182))
+    assert 'base_footprint' in core.all_frames_as_string() and 'odom' not in core.all_frames_as_string()
+    # New dynamic data after the jump (time restarted near 0) joins the static frames again.
+    core._insert('base_footprint', 'odom', 5_000_000, _yaw(0.0, 1.0), 'test', False, 'w1')
+    assert core.lookup_transform_core('odom', 'base_scan', Time()).transform.translation.x == pytest.approx(0.968)
+
+
 def test_reparented_frame_and_cache_window():
     core = BufferCore()
     core._insert('robot', 'odom', 1_000_000_000, _yaw(0.0, 1.0), 'a', False, 'w')

@@ -5,11 +5,12 @@
 """
 from __future__ import annotations
 
+import argparse
 from dataclasses import dataclass, field
 
-from zros.errors import ZrosError
+from zros.errors import CliError, ZrosError
 
-__all__ = ['RosArgs', 'parse_ros_args', 'remove_ros_args', 'RosArgsError']
+__all__ = ['RosArgs', 'parse_ros_args', 'remove_ros_args', 'RosArgsError', 'NodeArgumentParser']
 
 
 class RosArgsError(ZrosError, ValueError):
@@ -94,3 +95,11 @@ def parse_ros_args(argv: list[str]) -> RosArgs:
             elif flag in ('-e', '--enclave'):
                 result.enclave = value
     return result
+
+
+class NodeArgumentParser(argparse.ArgumentParser):
+    """The parser of a node's own options (what `remove_ros_args` leaves: gazebo_ros's gzserver
+    and spawn_entity.py): a bad command line is one CliError line, not argparse's usage block."""
+
+    def error(self, message: str) -> None:   # type: ignore[override]
+        raise CliError(f'{self.prog}: {message} (see {self.prog} -h)')

@@ -33,10 +33,13 @@ from zros.errors import CliError
 from zros.executors import ExternalShutdownException, spin_nodes
 from zros.node import Node
 from zros.qos import QoSProfile
-from zros.sim import (LDS_01, TURTLEBOT3_IMU, LidarSpec, Pose2D, SimError, SimRobot, Simulation, load_world, rasterize,
-                      robot_spec, wrap_angle)
+from zros.sim import (LDS_01, TURTLEBOT3_IMU, LidarSpec, Pose2D, RobotSpec, SimError, SimRobot, Simulation, load_world,
+                      rasterize, robot_spec, wrap_angle)
+from zros.sim.model_file import robot_from_xml, turtlebot3_named
+from zros.sim.sdf import SdfError
 
-from interfaces.gazebo_msgs.srv import DeleteEntity, GetEntityState, GetModelList, SetEntityState, SpawnEntity
+from interfaces.gazebo_msgs.srv import (DeleteEntity, GetEntityState, GetModelList, GetModelState, SetEntityState,
+                                        SetModelState, SpawnEntity)
 from interfaces.nav_msgs.srv import GetMap
 from interfaces.rcl_interfaces.msg import SetParametersResult
 from interfaces.rosgraph_msgs.msg import Clock
@@ -77,7 +80,7 @@ class GazeboNode(Node):
         self._wake = threading.Event()
         self._thread: threading.Thread | None = None
         self._robots: dict[str, _Robot] = {}
-        world = load_world(self._string('world', 'empty_world'))
+        world = load_world(self._string('world', 'empty_world'), on_warning=self.get_logger().warn)
         self._world_name = world.name
         self._sim = Simulation(world, seed=self._integer('seed', 0), on_collision=self._on_collision)
         self._rtf = self._number('real_time_factor', 1.0, minimum=0.0)
@@ -159,15 +162,17 @@ class GazeboNode(Node):
         self._wake.set()
 
     # -- robots -------------------------------------------------------------------------------
-    def _spawn(self, name: str, model: str, namespace: str, pose: Pose2D, publish_frames: bool) -> _Robot:
+    def _spawn(self, name: str, model: str, namespace: str, pose: Pose2D, publish_frames: bool, *,
+               spec: RobotSpec | None = None, lidar: LidarSpec | None = None) -> _Robot:
         """Add a robot and its topics (caller holds the lock, or is the constructor);
-        `publish_frames`: publish its fixed and wheel frames (no robot_state_publisher for it)."""
-        spec = robot_spec(model)
+        `publish_frames`: publish its fixed and wheel frames (no robot_state_publisher for it);
+        `spec`, `lidar`: from its model file (else the TurtleBot3 `model`'s)."""
+        spec = spec or robot_spec(model)
         namespace = namespace.strip('/')
         if any(r.io.namespace == namespace for r in self._robots.values()):
             raise SimError(f"namespace '/{namespace}' is already used by another robot; give each "
                            'robot its own robot_namespace')
-        lidar = self._sim_lidar()
+        lidar = lidar or self._sim_lidar()
         sim_robot = self._sim.add_robot(name, pose, spec=spec, lidar=lidar, slip_stddev=self._slip)
         sim_robot.command_timeout = self._cmd_vel_timeout or None
         try:
@@ -208,6 +213,8 @@ class GazeboNode(Node):
         self.create_service(GetEntityState, '/get_entity_state', self._on_get_entity_state)
         self.create_service(SetEntityState, '/set_entity_state', self._on_set_entity_state)
         self.create_service(GetModelList, '/get_model_list', self._on_get_model_list)
+        self.create_service(GetModelState, '/get_model_state', self._on_get_model_state)    # ROS 1's names,
+        self.create_service(SetModelState, '/set_model_state', self._on_set_model_state)    # still in courses
         self.create_service(ControlWorld, f'/world/{self._world_name}/control', self._on_control_world)
         self.create_service(GetMap, '/sim/get_map', self._on_get_map)
 
@@ -246,61 +253,101 @@ class GazeboNode(Node):
             robot.sim.odom.reset()
 
     def _on_spawn_entity(self, request: Any, response: Any) -> Any:
-        model = next((m for m in ('waffle_pi', 'waffle', 'burger') if m in request.xml), _default_model())
+        model = turtlebot3_named(request.xml, _default_model())
+        spec = lidar = None
+        if '<model' in request.xml or '<robot' in request.xml:
+            try:
+                robot_model = robot_from_xml(request.xml, fallback=_default_model(), source=f'<{request.name} XML>')
+            except SdfError as exc:
+                response.success, response.status_message = False, str(exc)
+                return response
+            spec, lidar = robot_model.spec, robot_model.lidar
+            if robot_model.warning:
+                self.get_logger().warn(robot_model.warning)
         p = request.initial_pose
         pose = Pose2D(p.position.x, p.position.y, _yaw(p.orientation))
         name = request.name or f'{model}_{len(self._robots)}'
         with self._lock:
             try:
                 # No launch file started a robot_state_publisher for it: its frames come from here.
-                self._spawn(name, model, request.robot_namespace, pose, True)
+                self._spawn(name, model, request.robot_namespace, pose, True, spec=spec, lidar=lidar)
             except (SimError, ValueError) as exc:
                 response.success, response.status_message = False, str(exc)
                 return response
-        response.success, response.status_message = True, f"spawned '{name}'"
+        response.success = True
+        response.status_message = f'SpawnEntity: Successfully spawned entity [{name}]'   # Gazebo's words
         return response
+
+    def _entity_name(self, name: str) -> str:
+        """The robot `name` means: its own name, or `turtlebot3_<model>` for a TurtleBot3 spawned
+        under its model's name (TurtleBot3's launch spawns `burger`; courses ask for
+        `turtlebot3_burger`). Unknown names come back unchanged (caller holds the lock)."""
+        if name not in self._robots and name.startswith('turtlebot3_'):
+            short = name.removeprefix('turtlebot3_')
+            if short in self._robots and self._robots[short].sim.spec.model == short:
+                return short
+        return name
 
     def _on_delete_entity(self, request: Any, response: Any) -> Any:
         with self._lock:
-            robot = self._robots.pop(request.name, None)
+            name = self._entity_name(request.name)
+            robot = self._robots.pop(name, None)
             if robot is None:
                 response.success = False
                 response.status_message = f"no entity named '{request.name}'"
                 return response
-            self._sim.remove_robot(request.name)
+            self._sim.remove_robot(name)
             robot.io.destroy()
         response.success, response.status_message = True, f"deleted '{request.name}'"
         return response
 
-    def _on_get_entity_state(self, request: Any, response: Any) -> Any:
+    def _true_state(self, name: str, header: Any, pose_msg: Any, twist_msg: Any) -> bool:
+        """Fill a header and a Pose and Twist (world frame) with a robot's true state; False if
+        there is no such robot."""
         with self._lock:
-            robot = self._robots.get(request.name)
-            stamp(response.header, self._sim.time_ns)
-            response.header.frame_id = 'world'
+            robot = self._robots.get(self._entity_name(name))
+            stamp(header, self._sim.time_ns)
+            header.frame_id = 'world'
             if robot is None:
-                response.success = False
-                return response
+                return False
             pose, (linear, angular) = robot.sim.pose, robot.sim.velocity
+        pose_msg.position.x, pose_msg.position.y = pose.x, pose.y
+        pose_msg.orientation.z, pose_msg.orientation.w = math.sin(pose.yaw / 2), math.cos(pose.yaw / 2)
+        twist_msg.linear.x = linear * math.cos(pose.yaw)
+        twist_msg.linear.y = linear * math.sin(pose.yaw)
+        twist_msg.angular.z = angular
+        return True
+
+    def _on_get_entity_state(self, request: Any, response: Any) -> Any:
         state = response.state
-        state.name, state.reference_frame = request.name, 'world'
-        state.pose.position.x, state.pose.position.y = pose.x, pose.y
-        state.pose.orientation.z, state.pose.orientation.w = math.sin(pose.yaw / 2), math.cos(pose.yaw / 2)
-        state.twist.linear.x = linear * math.cos(pose.yaw)
-        state.twist.linear.y = linear * math.sin(pose.yaw)
-        state.twist.angular.z = angular
-        response.success = True
+        response.success = self._true_state(request.name, response.header, state.pose, state.twist)
+        if response.success:
+            state.name, state.reference_frame = request.name, 'world'
         return response
 
-    def _on_set_entity_state(self, request: Any, response: Any) -> Any:
-        state = request.state
-        pose = Pose2D(state.pose.position.x, state.pose.position.y, _yaw(state.pose.orientation))
+    def _on_get_model_state(self, request: Any, response: Any) -> Any:
+        response.success = self._true_state(request.model_name, response.header, response.pose, response.twist)
+        response.status_message = ('GetModelState: got properties' if response.success
+                                   else f"GetModelState: model '{request.model_name}' does not exist")
+        return response
+
+    def _teleport(self, name: str, pose_msg: Any) -> tuple[bool, str]:
+        pose = Pose2D(pose_msg.position.x, pose_msg.position.y, _yaw(pose_msg.orientation))
         with self._lock:
             try:
-                self._sim.teleport(state.name, pose)
-                response.success = True
+                self._sim.teleport(self._entity_name(name), pose)
             except SimError as exc:
                 self.get_logger().warn(f'set_entity_state: {exc}')
-                response.success = False
+                return False, str(exc)
+        return True, f"moved '{name}'"
+
+    def _on_set_entity_state(self, request: Any, response: Any) -> Any:
+        response.success, _ = self._teleport(request.state.name, request.state.pose)
+        return response
+
+    def _on_set_model_state(self, request: Any, response: Any) -> Any:
+        response.success, response.status_message = self._teleport(request.model_state.model_name,
+                                                                   request.model_state.pose)
         return response
 
     def _on_get_model_list(self, request: Any, response: Any) -> Any:

@@ -140,9 +140,11 @@ def main(argv: list[str] | None = None) -> int:
         return 0
 
 
-def entry_point() -> None:
+def entry_point(argv: list[str] | None = None) -> None:
+    """The `zros` command; with `argv`, a command that is a fixed zros command line (the
+    `gzserver` and `gzclient` scripts are `zros run gazebo_ros gzserver ARGS...`)."""
     try:
-        code = main()
+        code = main(argv)
     except KeyboardInterrupt:   # Ctrl-C before a verb's own handling (while importing, say)
         code = 130
     from zros.context import exit_process

@@ -6,7 +6,9 @@ Executables are looked up in this order:
 2. a ROS package's executables (zros.ament_index_python.ros_packages): the `console_scripts` of
    its setup.py or installed distribution, and the files in an install prefix's `lib/PKG/`;
 3. `EXECUTABLE.py` in the folder the package index (zros.ament_index_python.packages) finds for
-   PKG: on `ZROS_NODE_PATH`, else shipped with zros (the module `nodes.PKG.EXECUTABLE`).
+   PKG: on `ZROS_NODE_PATH`, else shipped with zros (the module `nodes.PKG.EXECUTABLE`). Such a
+   file also answers to its file name, `EXECUTABLE.py`: ROS's CMake packages install Python
+   scripts under that name (`ros2 run gazebo_ros spawn_entity.py`), so launch files say so.
 Every executable is loaded with zros.import_hook installed, so unmodified rclpy code runs as it is.
 The module's `main()` is called with sys.argv set to [EXECUTABLE, args...], the way
 ros2 run's executables see their arguments (`--ros-args` included).
@@ -27,7 +29,7 @@ from importlib import metadata
 from pathlib import Path
 from typing import Any, Callable
 
-__all__ = ['add_arguments', 'main_passthrough', 'find_executable', 'list_executables']
+__all__ = ['add_arguments', 'main_passthrough', 'find_executable', 'list_executables', 'executable_name']
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -63,6 +65,21 @@ def list_executables(package: str) -> list[str]:
     if ros_package is not None:
         found.update(ros_package.executables)
     return sorted(found)
+
+
+def executable_name(package: str, executable: str, executables: list[str]) -> str | None:
+    """The name `executable` is listed under in `executables` (those of `package`), or None.
+
+    A package folder's `spawn_entity.py` is the executable `spawn_entity`, and answers to
+    `spawn_entity.py` too: the name CMake-installed Python scripts keep (gazebo_ros's)."""
+    if executable in executables:
+        return executable
+    stem = executable[:-3] if executable.endswith('.py') else ''
+    from zros.ament_index_python.packages import executable_directories
+    folder = executable_directories().get(package)
+    if stem in executables and folder is not None and (folder / executable).is_file():
+        return stem
+    return None
 
 
 def _ros_executable(package: Any, executable: str) -> Callable[[], Any]:
@@ -109,6 +126,7 @@ def find_executable(package: str, executable: str) -> Callable[[], Any]:
     if package not in packages:
         raise CliError(with_suggestion(f"Package '{package}' not found", package, packages))
     executables = list_executables(package)
+    executable = executable_name(package, executable, executables) or executable
     if executable not in executables:
         raise CliError(with_suggestion(f"No executable '{executable}' found in package '{package}'", executable,
                                        executables, otherwise=f" (available: {', '.join(executables) or 'none'})"))

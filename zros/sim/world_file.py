@@ -32,6 +32,8 @@ __all__ = ['WorldFileError', 'load_world', 'parse_world', 'world_names', 'world_
 
 WORLDS_DIR = Path(__file__).resolve().parent / 'worlds'
 _SUFFIXES = ('.yaml', '.yml', '.json')
+#: Gazebo classic's world files, read by zros.sim.sdf.
+SDF_SUFFIXES = ('.world', '.sdf')
 
 
 class WorldFileError(ZrosError, ValueError):
@@ -47,20 +49,25 @@ def world_path(world: str | os.PathLike) -> Path:
     """The file of `world`: a path as given, or a shipped world's name (`turtlebot3_world`)."""
     text = os.fspath(world)
     path = Path(text).expanduser()
-    if path.suffix in _SUFFIXES or os.sep in text or path.exists():
+    if path.suffix in _SUFFIXES + SDF_SUFFIXES or os.sep in text or path.exists():
         if not path.is_file():
             raise WorldFileError(f'{text}: no such world file')
         return path
     shipped = WORLDS_DIR / f'{text}.yaml'
     if not shipped.is_file():
         raise WorldFileError(f"unknown world '{text}' (shipped worlds: {', '.join(world_names())}; "
-                             'or give the path of a .yaml/.json world file)')
+                             'or give the path of a .world/.sdf/.yaml/.json world file)')
     return shipped
 
 
-def load_world(world: str | os.PathLike) -> World:
-    """Read a world file (a path, or the name of a shipped world); WorldFileError if it is bad."""
+def load_world(world: str | os.PathLike, *, on_warning: Callable[[str], None] | None = None) -> World:
+    """Read a world file (a path, or the name of a shipped world); WorldFileError if it is bad.
+    A Gazebo world (`.world`, `.sdf`) is cut at the lidar's height (zros.sim.sdf); what it
+    leaves out is told to `on_warning`, one line each."""
     path = world_path(world)
+    if path.suffix in SDF_SUFFIXES:
+        from zros.sim.sdf import load_sdf_world
+        return load_sdf_world(path, on_warning=on_warning)
     try:
         text = path.read_text(encoding='utf-8')
     except (OSError, UnicodeDecodeError) as exc:

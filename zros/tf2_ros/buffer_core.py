@@ -244,10 +244,14 @@ class BufferCore:
         """Hook for subclasses (Buffer wakes its waiters)."""
 
     def clear(self) -> None:
-        """Forget every frame (e.g. after simulated time jumped back)."""
+        """Forget every dynamic transform (e.g. after simulated time jumped back: a
+        /reset_simulation). Static transforms stay, as tf2's clear() keeps its static caches:
+        /tf_static is latched and sent once, so nothing would bring them back."""
         with self._lock:
-            self._caches.clear()
-            self._parents_seen.clear()
+            self._caches = {child: cache for child, cache in self._caches.items() if cache.static}
+            self._parents_seen = {parent for parent in self._parents_seen if parent not in self._caches}
+            self._parents_seen.update(cache.parents[-1] for cache in self._caches.values()
+                                      if cache.parents[-1] not in self._caches)
 
     # -- lookups -----------------------------------------------------------------------------
     def lookup_transform_core(self, target_frame: str, source_frame: str, time: Any) -> Any:

@@ -520,14 +520,14 @@ class Node(ExecuteProcess):
 
 
 def _check_node_executable(package: str, executable: str, package_origin: Origin, exec_origin: Origin) -> None:
-    from zros.cli.run import list_executables, list_packages
+    from zros.cli.run import executable_name, list_executables, list_packages
     from zros.errors import with_suggestion
     packages = list_packages()
     if package not in packages:
         raise LaunchFileError(package_origin, with_suggestion(f"package '{package}' not found", package, packages,
                                                               otherwise=f" (packages: {', '.join(packages)})"))
     executables = list_executables(package)
-    if executable not in executables:
+    if executable_name(package, executable, executables) is None:
         raise LaunchFileError(exec_origin, with_suggestion(
             f"no executable '{executable}' in package '{package}'", executable, executables,
             otherwise=f" (executables: {', '.join(executables) or 'none'})"))
