@@ -455,16 +455,10 @@ class Supervisor:
 
     def _abandon_transitions(self, process: _Process | None = None) -> None:
         """Stop the transition commands for `process` (None: all): it exited, or the launch ends."""
+        from zros.testing.processes import kill_group
         for transition in [t for t in self._transitions if process is None or t.process is process]:
             self._transitions.remove(transition)
-            try:
-                os.killpg(transition.popen.pid, signal.SIGKILL)
-            except (ProcessLookupError, PermissionError):
-                pass
-            try:
-                transition.popen.wait(timeout=5)
-            except subprocess.TimeoutExpired:  # pragma: no cover - SIGKILL does not fail
-                pass
+            kill_group(transition.popen)
             transition.popen.stdout.close()
 
     def _schedule(self, delay: float, kind: str, callback: Callable[[], None]) -> None:
