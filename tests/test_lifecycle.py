@@ -10,7 +10,8 @@ import pytest
 
 from conftest import assert_clean_failure, wait_until
 from zros.lifecycle import LifecycleNode, State, TransitionCallbackReturn, TransitionError
-from zros.lifecycle.state_machine import LifecycleStateMachine
+from zros.lifecycle.autostart import waits_for_transitions
+from zros.lifecycle.state_machine import LifecycleStateMachine, successful_steps
 
 
 def test_state_machine_walk_and_refusals():
@@ -31,6 +32,19 @@ def test_state_machine_walk_and_refusals():
     machine.begin('shutdown')
     assert machine.finish(TransitionCallbackReturn.SUCCESS).goal.label == 'finalized'
     assert machine.available_transitions() == []
+
+
+def test_the_steps_of_a_successful_transition_and_who_waits_for_them():
+    def steps(transition_id):
+        return [(t.label, t.start.label, t.goal.label) for t in successful_steps(transition_id)]
+    assert steps(1) == [('configure', 'unconfigured', 'configuring'), ('transition_success', 'configuring', 'inactive')]
+    assert steps(3) == [('activate', 'inactive', 'activating'), ('transition_success', 'activating', 'active')]
+    assert steps(7) == [('shutdown', 'active', 'shuttingdown'), ('transition_success', 'shuttingdown', 'finalized')]
+    with pytest.raises(TransitionError, match='no public lifecycle transition with id 8'):
+        successful_steps(8)
+    assert not waits_for_transitions(use_lifecycle_manager=False, env={})
+    assert waits_for_transitions(use_lifecycle_manager=True, env={})
+    assert waits_for_transitions(use_lifecycle_manager=False, env={'ZROS_LIFECYCLE_LAUNCH': '1'})
 
 
 def test_lifecycle_node_callbacks_publisher_and_events(make_context, spin_for, capfd):

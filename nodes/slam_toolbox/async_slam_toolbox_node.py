@@ -20,9 +20,17 @@ Out: `map -> odom` on /tf every `transform_publish_period` wall seconds (stamped
 `~/dynamic_map` (nav_msgs/GetMap), `~/save_map`, `~/serialize_map`, `~/deserialize_map`,
 `~/pause_new_measurements` (slam_toolbox/srv/*).
 
+A lifecycle node (`slam_toolbox/get_state`, `change_state`, ...) that works only while
+active, as Jazzy's slam_toolbox. Started the Humble way (`zros run`, a launch file's `Node`,
+zros's own launch files) it configures and activates itself at once, so it maps as Humble's
+does and answers `active`; started by a launch file's `LifecycleNode` (Jazzy's
+online_async_launch.py) or with `use_lifecycle_manager: true`, it waits in `unconfigured` for
+the launch's ChangeState events or a lifecycle manager (zros.lifecycle.autostart).
+
 Parameters: the frames and timing above (slam_toolbox's names and defaults where they
-exist), `mode` (mapping), and every field of zros.slam.SlamParameters by its name. A parameter
-of the wrong type or out of range stops the node with one line naming it.
+exist), `mode` (mapping), `use_lifecycle_manager` (false), and every field of
+zros.slam.SlamParameters by its name. A parameter of the wrong type or out of range stops the
+node with one line naming it (when it waits for transitions: fails `configure`, and says why).
 """
 from __future__ import annotations
 
@@ -40,6 +48,8 @@ from zros.clock import Clock, ClockType
 from zros.duration import Duration
 from zros.errors import CliError
 from zros.executors import ExternalShutdownException, spin_nodes
+from zros.lifecycle import LifecycleNodeMixin, State, TransitionCallbackReturn
+from zros.lifecycle.autostart import waits_for_transitions
 from zros.map_io import MapFileError, map_to_msg, save_map, yaw_of_quaternion
 from zros.node import Node
 from zros.qos import DurabilityPolicy, QoSProfile, qos_profile_sensor_data
@@ -69,24 +79,64 @@ NODE_PARAMETERS: dict[str, Any] = {
 }
 
 
-class SlamNode(Node):
+class SlamNode(LifecycleNodeMixin, Node):
     """The ROS face of zros.slam.Slam (module docstring)."""
 
     def __init__(self, node_name: str = 'slam_toolbox', *, publish_map: bool = True, **kwargs: Any) -> None:
         """`publish_map`: publish /map and /map_metadata (cartographer_ros's cartographer_node
         leaves that to its occupancy grid node, which reads `~/dynamic_map`)."""
-        super().__init__(node_name, **kwargs)
+        Node.__init__(self, node_name, **kwargs)
+        self._map_publishing = publish_map
         self._wake = threading.Condition()
         self._stopping = False
+        self._active = False
         self._worker: threading.Thread | None = None
-        self._p = {name: self.declare_parameter(name, default).value for name, default in NODE_PARAMETERS.items()}
-        self._check_node_parameters()
+        self._entities: list[Any] = []
+        for name, default in NODE_PARAMETERS.items():
+            self.declare_parameter(name, default)
         defaults = SlamParameters()
-        values = {f.name: self.declare_parameter(f.name, getattr(defaults, f.name)).value for f in fields(SlamParameters)}
+        for f in fields(SlamParameters):
+            self.declare_parameter(f.name, getattr(defaults, f.name))
+        managed = self.declare_parameter('use_lifecycle_manager', False).value
+        waits = waits_for_transitions(use_lifecycle_manager=bool(managed))
+        if not waits:
+            self._settings()   # a bad parameter stops the node here, with one line
+        # The lifecycle services last: whoever drives the node calls them as soon as they appear.
+        LifecycleNodeMixin.__init__(self)
+        if waits:
+            self.get_logger().info('Waiting unconfigured for its lifecycle transitions (configure, activate) '
+                                   'from the launch or a lifecycle manager')
+        else:
+            self.trigger_configure()
+            self.trigger_activate()
+
+    def _settings(self) -> tuple[dict[str, Any], SlamParameters]:
+        """The node's parameters and the algorithm's, checked; CliError names a bad one."""
+        values = {name: self.get_parameter(name).value for name in NODE_PARAMETERS}
+        self._check_node_parameters(values)
         try:
-            self._slam = Slam(SlamParameters(**values))
+            return values, SlamParameters(**{f.name: self.get_parameter(f.name).value for f in fields(SlamParameters)})
         except ValueError as exc:
             raise CliError(f'{self.get_name()}: parameter {exc}') from None
+
+    def _check_node_parameters(self, p: dict[str, Any]) -> None:
+        if p['mode'] != 'mapping':
+            raise CliError(f"{self.get_name()}: parameter 'mode': only 'mapping' is supported, got {p['mode']!r}")
+        for name in ('map_update_interval', 'transform_timeout'):
+            if not p[name] > 0:
+                raise CliError(f"{self.get_name()}: parameter '{name}' must be > 0 [s], got {p[name]!r}")
+        for name in ('transform_publish_period', 'minimum_time_interval'):
+            if p[name] < 0:
+                raise CliError(f"{self.get_name()}: parameter '{name}' must be >= 0 [s], got {p[name]!r}")
+
+    # -- lifecycle -------------------------------------------------------------------------------
+    def on_configure(self, state: State) -> TransitionCallbackReturn:
+        try:
+            self._p, parameters = self._settings()
+        except CliError as exc:
+            self.get_logger().error(f'Cannot configure: {exc}')
+            return TransitionCallbackReturn.FAILURE
+        self._slam = Slam(parameters)
         self._lock = threading.Lock()                 # around self._slam (not thread-safe)
         self._pending: LaserScan | None = None
         self._paused = False
@@ -102,43 +152,69 @@ class SlamNode(Node):
         self._map_pub = self.create_publisher(OccupancyGrid, 'map', MAP_QOS)
         self._metadata_pub = self.create_publisher(MapMetaData, 'map_metadata', MAP_QOS)
         self._pose_pub = self.create_publisher(PoseWithCovarianceStamped, 'pose', 10)
-        self.create_subscription(LaserScan, self._p['scan_topic'], self._on_scan, qos_profile_sensor_data)
-        self.create_service(GetMap, '~/dynamic_map', self._on_dynamic_map)
-        self.create_service(SaveMap, '~/save_map', self._on_save_map)
-        self.create_service(SerializePoseGraph, '~/serialize_map', self._on_serialize)
-        self.create_service(DeserializePoseGraph, '~/deserialize_map', self._on_deserialize)
-        self.create_service(Pause, '~/pause_new_measurements', self._on_pause)
+        keep = self._entities.append
+        for entity in (self._map_pub, self._metadata_pub, self._pose_pub, self._tf_broadcaster.pub_tf):
+            keep(entity)
+        keep(self.create_subscription(LaserScan, self._p['scan_topic'], self._on_scan, qos_profile_sensor_data))
+        keep(self.create_service(GetMap, '~/dynamic_map', self._on_dynamic_map))
+        keep(self.create_service(SaveMap, '~/save_map', self._on_save_map))
+        keep(self.create_service(SerializePoseGraph, '~/serialize_map', self._on_serialize))
+        keep(self.create_service(DeserializePoseGraph, '~/deserialize_map', self._on_deserialize))
+        keep(self.create_service(Pause, '~/pause_new_measurements', self._on_pause))
         wall = Clock(clock_type=ClockType.STEADY_TIME)
-        if publish_map:
-            self.create_timer(self._p['map_update_interval'], self._publish_map, clock=wall)
+        if self._map_publishing:
+            keep(self.create_timer(self._p['map_update_interval'], self._publish_map, clock=wall))
         if self._p['transform_publish_period'] > 0:
-            self.create_timer(self._p['transform_publish_period'], self._publish_transform, clock=wall)
+            keep(self.create_timer(self._p['transform_publish_period'], self._publish_transform, clock=wall))
+        self._stopping = False
         self._worker = threading.Thread(target=self._work, name='slam', daemon=True)
         self._worker.start()
-        self.get_logger().info(f"Mapping at {values['resolution']:g} m/cell from '{self._p['scan_topic']}' "
+        self.get_logger().info(f"Mapping at {parameters.resolution:g} m/cell from '{self._p['scan_topic']}' "
                                f"({self._p['odom_frame']} -> {self._p['base_frame']}); map -> odom on /tf")
+        return TransitionCallbackReturn.SUCCESS
 
-    def _check_node_parameters(self) -> None:
-        if self._p['mode'] != 'mapping':
-            raise CliError(f"{self.get_name()}: parameter 'mode': only 'mapping' is supported, got {self._p['mode']!r}")
-        for name in ('map_update_interval', 'transform_timeout'):
-            if not self._p[name] > 0:
-                raise CliError(f"{self.get_name()}: parameter '{name}' must be > 0 [s], got {self._p[name]!r}")
-        for name in ('transform_publish_period', 'minimum_time_interval'):
-            if self._p[name] < 0:
-                raise CliError(f"{self.get_name()}: parameter '{name}' must be >= 0 [s], got {self._p[name]!r}")
+    def on_activate(self, state: State) -> TransitionCallbackReturn:
+        self._active = True
+        return super().on_activate(state)
 
-    def destroy_node(self) -> None:
+    def on_deactivate(self, state: State) -> TransitionCallbackReturn:
+        self._active = False
+        return super().on_deactivate(state)
+
+    def on_cleanup(self, state: State) -> TransitionCallbackReturn:
+        self._release()
+        return super().on_cleanup(state)
+
+    def on_shutdown(self, state: State) -> TransitionCallbackReturn:
+        self._release()
+        return super().on_shutdown(state)
+
+    def _release(self) -> None:
+        """Undo on_configure: stop the worker, destroy what it created."""
+        self._active = False
+        self._stop_worker()
+        for entity in reversed(self._entities):
+            self._destroy_entity(entity)
+        self._entities.clear()
+        if hasattr(self, '_tf_listener'):
+            self._tf_listener.unregister()
+            del self._tf_listener
+
+    def _stop_worker(self) -> None:
         with self._wake:
             self._stopping = True
             self._wake.notify()
         if self._worker is not None:
             self._worker.join(timeout=2.0)
+            self._worker = None
+
+    def destroy_node(self) -> None:
+        self._stop_worker()
         super().destroy_node()
 
     # -- scans ----------------------------------------------------------------------------------
     def _on_scan(self, msg: LaserScan) -> None:
-        if self._paused:
+        if self._paused or not self._active:
             return
         with self._wake:
             self._pending = msg
@@ -201,7 +277,7 @@ class SlamNode(Node):
 
     # -- outputs --------------------------------------------------------------------------------
     def _publish_transform(self) -> None:
-        if self._map_to_odom is None:
+        if self._map_to_odom is None or not self._active:
             return
         x, y, yaw = self._map_to_odom
         t = TransformStamped()
@@ -224,7 +300,7 @@ class SlamNode(Node):
         return map_to_msg(grid, frame_id=self._p['map_frame'], stamp=self.get_clock().now().to_msg())
 
     def _publish_map(self) -> None:
-        if not self._map_stale:
+        if not self._map_stale or not self._active:
             return
         self._map_stale = False
         msg = self._current_map()

@@ -1,11 +1,14 @@
 """`zros lifecycle nodes|get|set|list`: ros2lifecycle's verbs and output formats.
 
 A lifecycle node is one that serves `<node>/get_state` (lifecycle_msgs/srv/GetState).
+`set --wait SECONDS` (zros's) first waits for the node to appear: what a launch's
+`EmitEvent(event=ChangeState(...))` runs right after starting the node.
 """
 from __future__ import annotations
 
 import argparse
 import sys
+import time
 
 from zros.cli.common import absolute_node_name, cli_context, cli_node, graph_entities, is_hidden
 from zros.errors import CliError, ServiceCallError
@@ -30,6 +33,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     p.add_argument('node_name', help='Name of the node')
     p.add_argument('transition', help='The transition, by label (configure) or id (1)')
     p.add_argument('--include-hidden-nodes', action='store_true', help='Consider hidden nodes as well')
+    p.add_argument('--wait', type=_seconds, default=0.0, metavar='SECONDS',
+                   help='Wait up to SECONDS for the node and its lifecycle services to appear (zros)')
     p.set_defaults(handler=cmd_set)
     p = sub.add_parser('list', help='Output a list of available transitions')
     p.add_argument('node_name', help='Name of the node')
@@ -45,10 +50,24 @@ def lifecycle_node_names(entities: list, include_hidden: bool = False) -> list[s
     return sorted(n for n in names if include_hidden or not is_hidden(n))
 
 
-def _target(ctx, name: str, include_hidden: bool) -> str:
+def _seconds(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = -1.0
+    if not value >= 0:
+        raise argparse.ArgumentTypeError(f"expected a number of seconds >= 0, got '{text}'")
+    return value
+
+
+def _target(ctx, name: str, include_hidden: bool, wait: float = 0.0) -> str:
+    """The node's absolute name, once it serves get_state (looked for up to `wait` seconds)."""
     target = absolute_node_name(name)
-    if target not in lifecycle_node_names(graph_entities(ctx), include_hidden=True):
-        raise CliError('Node not found')
+    deadline = time.monotonic() + wait
+    while target not in lifecycle_node_names(graph_entities(ctx), include_hidden=True):
+        if time.monotonic() >= deadline:
+            raise CliError('Node not found' + (f' (waited {wait:g} s)' if wait else ''))
+        time.sleep(0.2)
     return target
 
 
@@ -88,8 +107,11 @@ def cmd_get(args: argparse.Namespace) -> int:
 def cmd_set(args: argparse.Namespace) -> int:
     from zros.lifecycle import LifecycleClient
     with cli_context() as ctx:
-        target = _target(ctx, args.node_name, args.include_hidden_nodes)
+        deadline = time.monotonic() + args.wait
+        target = _target(ctx, args.node_name, args.include_hidden_nodes, args.wait)
         client = LifecycleClient(cli_node(ctx), target)
+        if args.wait and not client.wait_for_services(timeout_sec=max(0.0, deadline - time.monotonic())):
+            raise CliError(f"Node '{target}' does not serve its lifecycle services (waited {args.wait:g} s)")
         try:
             transitions = client.available_transitions(timeout_sec=5.0)
             chosen = next((t for t in transitions if t.label == args.transition), None) or next(

@@ -63,6 +63,10 @@ class _ProcessEventHandler:
     def describe(self) -> str:
         return type(self).__name__
 
+    def transition_filter(self, context: Any) -> Any:
+        """Which lifecycle steps the handler fires on (OnStateTransition's); None for the others."""
+        return None
+
 
 class OnProcessStart(_ProcessEventHandler):
     """`OnProcessStart(target_action=node, on_start=[...] or f(event, context))`."""

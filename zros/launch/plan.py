@@ -17,7 +17,8 @@ from zros.launch.context import DeclaredArgument
 from zros.launch.errors import Origin
 
 __all__ = ['ParamsFile', 'GeneratedParams', 'NodeInfo', 'ProcessSpec', 'LogMessage', 'TimerEffect',
-           'ShutdownEffect', 'EventHandlerEffect', 'CallEffect', 'Effect', 'Plan', 'OUTPUT_MODES']
+           'ShutdownEffect', 'EventHandlerEffect', 'CallEffect', 'ChangeStateEffect', 'Effect', 'Plan',
+           'OUTPUT_MODES']
 
 OUTPUT_MODES = ('log', 'screen', 'both', 'own_log')
 
@@ -72,6 +73,7 @@ class ProcessSpec:
     on_exit_shutdown: bool = False
     origin: Origin | None = None
     node: NodeInfo | None = None
+    lifecycle: bool = False                         # started by a LifecycleNode action
     source: Any = field(default=None, compare=False, repr=False)   # the action that made it
 
     def command(self, params_paths: list[str]) -> list[str]:
@@ -121,19 +123,36 @@ class CallEffect(NamedTuple):
     origin: Origin | None = None
 
 
+class ChangeStateEffect(NamedTuple):
+    """Ask the lifecycle nodes of the launch that `matcher` picks, among those running at this
+    point, for a transition (launch_ros's ChangeState event). The supervisor runs it as
+    `zros lifecycle set` (zros.launch.lifecycle)."""
+
+    matcher: Any               # called with a LifecycleNode action
+    transition_id: int
+    label: str                 # 'configure'
+    origin: Origin | None = None
+
+    def matches(self, spec: 'ProcessSpec') -> bool:
+        return spec.lifecycle and bool(self.matcher(spec.source))
+
+
 class EventHandlerEffect(NamedTuple):
-    """Effects to carry out when a process starts or exits (OnProcessStart / OnProcessExit).
+    """Effects to carry out when a process starts or exits (OnProcessStart / OnProcessExit),
+    or a lifecycle node of the launch goes through a transition it requested (OnStateTransition).
 
     `target` is the action whose processes it watches (None: every process). `effects` were
     resolved with the launch; `deferred`, when set, is a handler function resolved only when
-    the event happens (`deferred(event) -> effects`).
+    the event happens (`deferred(event) -> effects`). `transition` (a StateTransitionFilter)
+    says which lifecycle steps a 'transition' handler fires on.
     """
 
-    event: str                 # 'start', 'exit' or 'shutdown'
+    event: str                 # 'start', 'exit', 'shutdown' or 'transition'
     target: Any
     effects: list
     deferred: Any = None
     origin: Origin | None = None
+    transition: Any = None
 
     def matches(self, spec: 'ProcessSpec') -> bool:
         return self.target is None or spec.source is self.target
@@ -153,7 +172,7 @@ class EventHandlerEffect(NamedTuple):
         return self.deferred(Shutdown(reason=reason))
 
 
-Effect = Union[ProcessSpec, LogMessage, TimerEffect, ShutdownEffect, EventHandlerEffect, CallEffect]
+Effect = Union[ProcessSpec, LogMessage, TimerEffect, ShutdownEffect, EventHandlerEffect, CallEffect, ChangeStateEffect]
 
 
 @dataclass
@@ -211,18 +230,27 @@ class Plan:
                 lines.append(f'{indent}shutdown' + (f': {effect.reason}' if effect.reason else ''))
             elif isinstance(effect, CallEffect):
                 lines.append(f'{indent}{effect.label}')
+            elif isinstance(effect, ChangeStateEffect):
+                lines.append(f'{indent}change state of {self._targets(effect, numbers, "a lifecycle node")}: '
+                             f'{effect.label} [{effect.transition_id}]')
             elif isinstance(effect, EventHandlerEffect):
-                lines.append(f'{indent}on shutdown:' if effect.event == 'shutdown'
-                             else f'{indent}on {effect.event} of {self._targets(effect, numbers)}:')
+                if effect.event == 'shutdown':
+                    lines.append(f'{indent}on shutdown:')
+                elif effect.event == 'transition':
+                    lines.append(f'{indent}on state transition {effect.transition.describe()} of '
+                                 f'{self._targets(effect, numbers, "any lifecycle node")}:')
+                else:
+                    lines.append(f'{indent}on {effect.event} of {self._targets(effect, numbers)}:')
                 if effect.deferred is not None:
                     lines.append(f'{indent}  (actions from {effect.deferred}, resolved then)')
                 self._describe_effects(effect.effects, lines, numbers, indent + '  ')
 
-    def _targets(self, handler: EventHandlerEffect, numbers: dict) -> str:
-        if handler.target is None:
-            return 'any process'
+    def _targets(self, effect: EventHandlerEffect | ChangeStateEffect, numbers: dict, anyone: str = 'any process') -> str:
+        """The processes an event handler watches, or a ChangeState reaches, by name."""
+        if isinstance(effect, EventHandlerEffect) and effect.target is None:
+            return anyone
         names = [numbers.get(id(spec), spec.label) for spec in self._all_processes(self.effects)
-                 if handler.matches(spec)]
+                 if effect.matches(spec)]
         return ', '.join(f'[{name}]' for name in names) or 'a process that is never started'
 
     def _all_processes(self, effects: list) -> list[ProcessSpec]:

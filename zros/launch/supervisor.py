@@ -31,8 +31,8 @@ from pathlib import Path
 from typing import Any, Callable, TextIO
 
 from zros.launch.errors import LaunchError
-from zros.launch.plan import (CallEffect, EventHandlerEffect, GeneratedParams, LogMessage, Plan, ProcessSpec,
-                              ShutdownEffect, TimerEffect)
+from zros.launch.plan import (CallEffect, ChangeStateEffect, EventHandlerEffect, GeneratedParams, LogMessage, Plan,
+                              ProcessSpec, ShutdownEffect, TimerEffect)
 
 __all__ = ['Supervisor', 'ProcessObserver', 'LaunchLog', 'make_log_dir', 'default_log_base']
 
@@ -192,6 +192,23 @@ class _Process:
             self.log = None
 
 
+class _Transition:
+    """A lifecycle transition requested of one process's node, under way as a child command."""
+
+    def __init__(self, process: _Process, effect: ChangeStateEffect, popen: subprocess.Popen) -> None:
+        self.process = process
+        self.start = process.starts      # the node's process as it was when asked
+        self.effect = effect
+        self.popen = popen
+
+    def output(self) -> str:
+        """What the command printed (it has exited; a one-line answer fits in the pipe)."""
+        try:
+            return self.popen.stdout.read().decode('utf-8', errors='replace').strip()
+        finally:
+            self.popen.stdout.close()
+
+
 class Supervisor:
     """Runs a Plan to the end.
 
@@ -236,6 +253,7 @@ class Supervisor:
         self._wakeup_lock = threading.Lock()    # request_shutdown() never writes to a closed fd
         self._context = None
         self._handlers: list[EventHandlerEffect] = []
+        self._transitions: list[_Transition] = []
         self._child_exited = False      # SIGCHLD came in since the last `_reap()`
         self._reaped_at = 0.0
         self._unflushed: set[_Process] = set()   # per-process logs written since the last flush
@@ -362,11 +380,86 @@ class Supervisor:
                 return
             elif isinstance(effect, CallEffect):
                 effect.function()
+            elif isinstance(effect, ChangeStateEffect):
+                self._change_state(effect)
 
     def _dispatch(self, event: str, process: _Process, code: int | None = None) -> None:
         """Carry out the OnProcessStart / OnProcessExit handlers that watch this process."""
         for handler in [h for h in self._handlers if h.event == event and h.matches(process.spec)]:
             self._run_effects(handler.effects_for(process.name, process.popen.pid, code, process.command))
+
+    # -- lifecycle transitions -------------------------------------------------------------------
+    def _change_state(self, effect: ChangeStateEffect) -> None:
+        """Start `zros lifecycle set` for each running lifecycle node the event is aimed at."""
+        targets = []
+        for process in self._processes:
+            try:
+                if process.running and effect.matches(process.spec):
+                    targets.append(process)
+            except Exception as exc:  # noqa: BLE001 - a user's matcher function failing is reported, not fatal
+                self.log.error('launch', f'ChangeState {effect.label}: lifecycle_node_matcher failed: '
+                                         f'{type(exc).__name__}: {exc}')
+                return
+        if not targets:
+            self.log.warning('launch', f"ChangeState '{effect.label}': no running lifecycle node of this launch "
+                                       'matches; nothing to do')
+        for process in targets:
+            self._start_transition(process, effect)
+
+    def _start_transition(self, process: _Process, effect: ChangeStateEffect) -> None:
+        from zros.launch.lifecycle import TRANSITION_WAIT_S
+        node = process.spec.node.display_name()
+        cmd = [sys.executable, '-m', 'zros', 'lifecycle', 'set', node, str(effect.transition_id),
+               '--wait', f'{TRANSITION_WAIT_S:g}']
+        self.log.debug(process.name, f"lifecycle transition '{effect.label}': {shlex.join(cmd)}")
+        try:
+            popen = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                     env=self._environment(process.spec), start_new_session=True,
+                                     preexec_fn=self._preexec)
+        except OSError as exc:
+            self.log.error(process.name, f"cannot request lifecycle transition '{effect.label}' of {node}: {exc}")
+            return
+        self._transitions.append(_Transition(process, effect, popen))
+
+    def _reap_transitions(self) -> None:
+        for transition in [t for t in self._transitions if t.popen.poll() is not None]:
+            self._transitions.remove(transition)
+            output = transition.output()
+            process, effect = transition.process, transition.effect
+            if not process.running or process.starts != transition.start:
+                continue   # the node's process is gone (or respawned): the answer is about the old one
+            node = process.spec.node.display_name()
+            if transition.popen.returncode != 0:
+                reason = output.splitlines()[-1] if output else f'exit code {transition.popen.returncode}'
+                self.log.error(process.name, f"failed to make lifecycle transition '{effect.label}' of {node}: {reason}")
+                continue
+            self._transition_done(process, effect)
+
+    def _transition_done(self, process: _Process, effect: ChangeStateEffect) -> None:
+        """Report both steps of a successful transition to the OnStateTransition handlers."""
+        from zros.launch.lifecycle import StateTransition
+        from zros.lifecycle.state_machine import successful_steps
+        steps = successful_steps(effect.transition_id)
+        self.log.info(process.name, f"lifecycle transition '{effect.label}' of {process.spec.node.display_name()} "
+                                    f'done: now {steps[-1].goal.label}')
+        for step in steps:
+            event = StateTransition(process.spec.source, step.label, step.start.label, step.goal.label, process.name)
+            for handler in [h for h in self._handlers if h.event == 'transition' and h.matches(process.spec)]:
+                try:
+                    fires = handler.transition.matches(event)
+                except Exception as exc:  # noqa: BLE001 - a user's matcher function failing is reported, not fatal
+                    self.log.error('launch', f'OnStateTransition matcher failed: {type(exc).__name__}: {exc}')
+                    continue
+                if fires:
+                    self._run_effects(handler.effects)
+
+    def _abandon_transitions(self, process: _Process | None = None) -> None:
+        """Stop the transition commands for `process` (None: all): it exited, or the launch ends."""
+        from zros.testing.processes import kill_group
+        for transition in [t for t in self._transitions if process is None or t.process is process]:
+            self._transitions.remove(transition)
+            kill_group(transition.popen)
+            transition.popen.stdout.close()
 
     def _schedule(self, delay: float, kind: str, callback: Callable[[], None]) -> None:
         heapq.heappush(self._timers, (time.monotonic() + delay, next(self._timer_seq), kind, callback))
@@ -490,6 +583,7 @@ class Supervisor:
                         self._close_stream(process, stream)
             self._flush_logs()
             self._on_exit(process, code)
+        self._reap_transitions()
 
     def _on_exit(self, process: _Process, code: int) -> None:
         spec, pid = process.spec, process.popen.pid
@@ -499,6 +593,7 @@ class Supervisor:
             cmd = spec.shell_text if spec.shell_text is not None else ' '.join(process.command)
             self.log.error(process.name, f"process has died [pid {pid}, exit code {code}, cmd '{cmd}'].")
         self._observer.exited(process.name, spec, pid, code, process.command)
+        self._abandon_transitions(process)
         self._dispatch('exit', process, code)
         if spec.on_exit_shutdown:
             self.shutdown(f'process[{process.name}] exited and has on_exit: shutdown')
@@ -523,6 +618,7 @@ class Supervisor:
         self._on_shutdown(reason)
         self._timers = [t for t in self._timers if t[2] == 'escalate']
         heapq.heapify(self._timers)
+        self._abandon_transitions()
         for process in self._processes:
             if process.running:
                 self._signal(process, signal.SIGINT)
@@ -579,6 +675,7 @@ class Supervisor:
 
     def _kill_all(self) -> None:
         """Last resort when run() ends early (an exception): nothing may outlive the launch."""
+        self._abandon_transitions()
         for process in self._processes:
             if process.popen is None:
                 continue
@@ -604,7 +701,8 @@ class Supervisor:
         # Escalation timers of processes that already exited keep nothing alive.
         if self._keep_alive and not self._shutting_down:
             return True
-        return any(p.running for p in self._processes) or any(t[2] != 'escalate' for t in self._timers)
+        return (any(p.running for p in self._processes) or bool(self._transitions)
+                or any(t[2] != 'escalate' for t in self._timers))
 
     def _flush_logs(self) -> None:
         self.log.flush()

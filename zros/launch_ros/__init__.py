@@ -5,6 +5,6 @@ classes are zros.launch's own (the YAML `node`, `push_ros_namespace`, ... tags b
 """
 from __future__ import annotations
 
-from zros.launch_ros import actions, descriptions, parameter_descriptions, substitutions
+from zros.launch_ros import actions, descriptions, event_handlers, events, parameter_descriptions, substitutions
 
-__all__ = ['actions', 'descriptions', 'parameter_descriptions', 'substitutions']
+__all__ = ['actions', 'descriptions', 'event_handlers', 'events', 'parameter_descriptions', 'substitutions']

@@ -1,13 +1,12 @@
 """launch_ros.actions: `Node` and the actions that set what later nodes get."""
 from __future__ import annotations
 
-from typing import Any
-
 from zros.launch.actions.composable import ComposableNodeContainer, LoadComposableNodes
 from zros.launch.actions.group import PushRosNamespace
 from zros.launch.actions.process import Node
 from zros.launch.actions.ros import SetParameter, SetRemap, SetUseSimTime
 from zros.launch.files import module_getattr
+from zros.launch.lifecycle import LifecycleNode
 
 __all__ = ['Node', 'LifecycleNode', 'PushRosNamespace', 'PushROSNamespace', 'SetParameter', 'SetRemap',
            'SetUseSimTime', 'ComposableNodeContainer', 'LoadComposableNodes']
@@ -17,10 +16,3 @@ __getattr__ = module_getattr(__name__)
 #: launch_ros's newer spelling.
 PushROSNamespace = PushRosNamespace
 
-
-class LifecycleNode(Node):
-    """`LifecycleNode(name=..., namespace=..., ...)`: a Node whose executable is a lifecycle node;
-    its transitions are driven by the node itself or a lifecycle manager, not by the launch."""
-
-    def __init__(self, *, name: Any, namespace: Any, **kwargs: Any) -> None:
-        super().__init__(name=name, namespace=namespace, **kwargs)

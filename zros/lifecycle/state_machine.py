@@ -13,7 +13,8 @@ import enum
 from typing import NamedTuple
 
 __all__ = ['LifecycleState', 'TransitionCallbackReturn', 'TransitionDescription', 'LifecycleStateMachine',
-           'STATES', 'PUBLIC_TRANSITIONS', 'RESULT_TRANSITIONS', 'TransitionError']
+           'STATES', 'PUBLIC_TRANSITIONS', 'RESULT_TRANSITIONS', 'TransitionError', 'public_transition',
+           'successful_steps']
 
 
 class LifecycleState(NamedTuple):
@@ -83,6 +84,27 @@ RESULT_TRANSITIONS = tuple(
                           (success, failure, FINALIZED if state is ERRORPROCESSING else ERRORPROCESSING)[offset])
     for state, (base, success, failure) in _RESULTS.items()
     for offset, result in enumerate(TransitionCallbackReturn))
+
+
+def public_transition(transition_id: int) -> TransitionDescription:
+    """The public transition with this id (lifecycle_msgs/Transition's TRANSITION_CONFIGURE = 1
+    ... TRANSITION_ACTIVE_SHUTDOWN = 7); TransitionError for any other id."""
+    for t in PUBLIC_TRANSITIONS:
+        if t.transition_id == transition_id:
+            return t
+    offered = ', '.join(f'{t.transition_id} ({t.label} from {t.start.label})' for t in PUBLIC_TRANSITIONS)
+    raise TransitionError(f'no public lifecycle transition with id {transition_id!r} (ids: {offered})')
+
+
+def successful_steps(transition_id: int) -> tuple[TransitionDescription, TransitionDescription]:
+    """The two steps a node publishes on `transition_event` when this public transition
+    succeeds: into the transition state, then `transition_success` out of it (configure:
+    unconfigured -> configuring, configuring -> inactive). What a launch that requested the
+    transition reports to its OnStateTransition handlers."""
+    begin = public_transition(transition_id)
+    success = TransitionCallbackReturn.SUCCESS.to_label()
+    end = next(t for t in RESULT_TRANSITIONS if t.start == begin.goal and t.label == success)
+    return begin, end
 
 
 class LifecycleStateMachine:

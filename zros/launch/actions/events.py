@@ -1,4 +1,5 @@
-"""`RegisterEventHandler`: run actions when a process starts or exits."""
+"""`RegisterEventHandler`: run actions when a process starts or exits, the launch shuts down,
+or a lifecycle node goes through a transition the launch requested."""
 from __future__ import annotations
 
 from typing import Any
@@ -13,7 +14,7 @@ __all__ = ['RegisterEventHandler']
 
 class RegisterEventHandler(Action):
     """`RegisterEventHandler(OnProcessExit(target_action=..., on_exit=[...]))` (or OnProcessStart,
-    OnShutdown).
+    OnShutdown, launch_ros's OnStateTransition).
 
     A list of actions is resolved now, in a scope of its own (like a timer's), and carried out
     when the event happens; a handler function runs then, in a copy of the context as it is
@@ -21,11 +22,13 @@ class RegisterEventHandler(Action):
     """
 
     def __init__(self, event_handler: Any, **kwargs: Any) -> None:
+        from zros.launch.lifecycle import OnStateTransition
         super().__init__(**kwargs)
-        if not isinstance(event_handler, (OnProcessStart, OnProcessExit, OnShutdown)):
+        if not isinstance(event_handler, (OnProcessStart, OnProcessExit, OnShutdown, OnStateTransition)):
             raise LaunchFileError(self.origin.with_key('event_handler'),
                                   f'zros.launch.event_handlers has no {type(event_handler).__name__}; '
-                                  'supported: OnProcessExit, OnProcessStart, OnShutdown')
+                                  'supported: OnProcessExit, OnProcessStart, OnShutdown, '
+                                  'launch_ros.event_handlers.OnStateTransition')
         self.event_handler = event_handler
 
     def sub_actions(self) -> list[Action]:
@@ -38,9 +41,10 @@ class RegisterEventHandler(Action):
             deferred = Deferred(handler.function, context.snapshot(), handler.origin)
             context.emit(EventHandlerEffect(handler.event, handler.target_action, [], deferred, handler.origin))
             return []
+        transition = handler.transition_filter(context)
         context.begin_capture()
 
         def wrap(effects: list) -> EventHandlerEffect:
-            return EventHandlerEffect(handler.event, handler.target_action, effects, None, handler.origin)
+            return EventHandlerEffect(handler.event, handler.target_action, effects, None, handler.origin, transition)
         return [PushScope(origin=self.origin), *handler.actions, PopScope(origin=self.origin),
                 EndCapture(origin=self.origin, wrap=wrap)]

@@ -1,5 +1,5 @@
 """`Shutdown` (`shutdown`) and `EmitEvent(event=Shutdown())`: end the whole launch when this
-point is reached."""
+point is reached; `EmitEvent(event=ChangeState(...))`: ask a lifecycle node for a transition."""
 from __future__ import annotations
 
 from typing import Any
@@ -8,7 +8,7 @@ from zros.launch.action import Action, ActionKwargs, Parser, launch_tag
 from zros.launch.entity import Entity, Scalar
 from zros.launch.errors import LaunchFileError
 from zros.launch.events import Shutdown as ShutdownEvent
-from zros.launch.plan import ShutdownEffect
+from zros.launch.plan import ChangeStateEffect, ShutdownEffect
 from zros.launch.template import Text
 
 __all__ = ['Shutdown', 'EmitEvent']
@@ -19,18 +19,26 @@ class ShutdownKwargs(ActionKwargs, total=False):
 
 
 class EmitEvent(Action):
-    """`EmitEvent(event=...)`. zros's launch knows one event, `launch.events.Shutdown`: every
-    process is stopped (SIGINT, then SIGTERM, then SIGKILL)."""
+    """`EmitEvent(event=...)`. zros's launch knows two events: `launch.events.Shutdown` (every
+    process is stopped: SIGINT, then SIGTERM, then SIGKILL) and
+    `launch_ros.events.lifecycle.ChangeState` (zros.launch.lifecycle)."""
 
     def __init__(self, *, event: Any, **kwargs: Any) -> None:
+        from zros.launch.lifecycle import ChangeState
         super().__init__(**kwargs)
-        if not isinstance(event, ShutdownEvent):
+        if not isinstance(event, (ShutdownEvent, ChangeState)):
             raise LaunchFileError(self.origin.with_key('event'),
-                                  f'zros.launch.events has no {type(event).__name__}; supported: Shutdown')
+                                  f'zros.launch.events has no {type(event).__name__}; supported: Shutdown, '
+                                  'launch_ros.events.lifecycle.ChangeState')
         self.event = event
-        self.reason = self._optional_text(event.reason, 'event')
+        self.reason = self._optional_text(event.reason, 'event') if isinstance(event, ShutdownEvent) else None
 
     def execute(self, context: Any) -> None:
+        if not isinstance(self.event, ShutdownEvent):
+            event = self.event
+            context.emit(ChangeStateEffect(event.lifecycle_node_matcher, event.transition_id,
+                                           event.transition.label, self.origin))
+            return
         reason = self.reason.perform(context) if self.reason is not None else ''
         context.emit(ShutdownEffect(reason, self.origin))
 
