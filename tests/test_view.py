@@ -327,11 +327,13 @@ def test_fixed_frame_moves_to_map_when_it_appears_unless_someone_chose(domain):
             SceneView(node, port=0) as view:
         static = StaticTransformBroadcaster(robot)
         _static_transform(static, 'odom', 'base_footprint', 0.5)
-        wait_until(lambda: view.ctx.fixed_frame == 'odom', 20, message='the fixed frame odom (no map yet)')
-        assert view.fixed_frame_input.value == 'odom'
+        # the dropdown follows the view's frame on the view's own thread: wait for both
+        wait_until(lambda: view.ctx.fixed_frame == 'odom' and view.fixed_frame_input.value == 'odom', 20,
+                   message='the fixed frame odom (no map yet)')
         _static_transform(static, 'map', 'odom', 1.0)             # SLAM starts: map appears
-        wait_until(lambda: view.ctx.fixed_frame == 'map', 20, message='the fixed frame to move to map')
-        assert view.fixed_frame_input.value == 'map' and view._fixed_auto
+        wait_until(lambda: view.ctx.fixed_frame == 'map' and view.fixed_frame_input.value == 'map', 20,
+                   message='the fixed frame to move to map')
+        assert view._fixed_auto
         view.set_fixed_frame('odom', user=True)                  # someone picks odom
         view._slow_step(0.0)                                      # what the slow loop does, twice
         view._slow_step(0.0)

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 import sys
+import threading
 from typing import Any, Callable
 
 import numpy as np
