@@ -95,3 +95,32 @@ def test_a_missing_source_file_is_one_line(tmp_path: Path):
                      timeout=60)
     assert result.returncode != 0 and 'Traceback' not in result.stderr
     assert "RewrittenYaml: cannot read" in result.stderr and 'nope.yaml' in result.stderr, result
+
+
+def test_parse_multirobot_pose_reads_the_command_line(monkeypatch):
+    from zros.nav2_common.launch import ParseMultiRobotPose
+    monkeypatch.setattr('sys.argv', ['zros', 'launch', 'nav2_bringup', 'cloned_multi_tb3_simulation_launch.py',
+                                     'robots:=robot1={x: 1.0, y: 1.0}; robot2={x: -1.0, y: 1.0, yaw: 1.57};'])
+    robots = ParseMultiRobotPose('robots').value()
+    assert list(robots) == ['robot1', 'robot2']
+    assert robots['robot2'] == {'x': -1.0, 'y': 1.0, 'z': 0.0, 'roll': 0.0, 'pitch': 0.0, 'yaw': 1.57}
+    monkeypatch.setattr('sys.argv', ['zros', 'launch', 'x.launch.py'])
+    assert ParseMultiRobotPose('robots').value() == {}
+
+
+def test_a_multi_robot_launch_reads_robots_from_the_command_line(tmp_path: Path):
+    launch = tmp_path / 'multi.launch.py'
+    launch.write_text('''
+from launch import LaunchDescription
+from launch.actions import LogInfo
+from nav2_common.launch import ParseMultiRobotPose
+
+
+def generate_launch_description():
+    robots = ParseMultiRobotPose('robots').value()
+    return LaunchDescription([LogInfo(msg=f"{name} at {pose['x']} {pose['y']}") for name, pose in robots.items()])
+''')
+    result = run_cli('launch', launch, 'robots:=tb1={x: 2.0, y: 0.5}; tb2={x: -2.0}', '--print', '--log-dir',
+                     tmp_path / 'log', timeout=60)
+    assert result.returncode == 0, result
+    assert 'tb1 at 2.0 0.5' in result.stdout and 'tb2 at -2.0 0.0' in result.stdout, result.stdout

@@ -55,6 +55,16 @@ def resolve(path: str, *, launch_arguments: dict[str, str] | None = None,
                            environment=environment, log_dir=log_dir)
 
 
+#: Launch arguments a launch file read from the command line itself while it was loaded
+#: (nav2_common's ParseMultiRobotPose reads `robots:=` from sys.argv): known, not typos.
+_READ_FROM_COMMAND_LINE: set[str] = set()
+
+
+def note_command_line_read(name: str) -> None:
+    """Record that the launch file read launch argument `name` from the command line."""
+    _READ_FROM_COMMAND_LINE.add(name)
+
+
 def resolve_actions(actions: list, path: str, *, launch_arguments: dict[str, str] | None = None,
                     environment: dict[str, str] | None = None, log_dir: str = '') -> Plan:
     """`resolve()` for actions already loaded from `path` (a launch test's
@@ -67,7 +77,7 @@ def resolve_actions(actions: list, path: str, *, launch_arguments: dict[str, str
     _walk(actions, context)
     context.leave_file()
     known = (set(context.declared) | set(context.known_arguments) | context.read_configurations
-             | set(BUILTIN_CONFIGURATIONS))
+             | set(BUILTIN_CONFIGURATIONS) | _READ_FROM_COMMAND_LINE)
     unknown = [name for name in launch_arguments if name not in known]
     if unknown:
         declared = ', '.join(context.declared_names()) or 'none'
