@@ -213,3 +213,20 @@ def test_assisted_teleop_projects_the_command_and_slows_before_a_collision():
     later = clear.copy()
     later[4:] = True                                               # first collision at t = 0.5 s
     assert np.isclose(collision_scale(times, later, 1.0), 0.5)
+
+
+def test_clearing_a_square_around_or_outside_a_point_forgets_only_those_marks():
+    costmap = LayeredCostmap(CostmapParams(resolution=0.1, width=4.0, height=4.0, rolling_window=True,
+                                           use_static_layer=False, use_inflation_layer=False))
+    costmap.move_to(0.0, 0.0)
+    angles = np.linspace(-np.pi, np.pi, 360, endpoint=False)
+    costmap.add_scan((0.0, 0.0), angles, np.where(np.abs(angles) < 0.2, 0.55, 1.55), 0.1, 3.5)
+    marks = lambda: np.argwhere(costmap._obstacles == LETHAL_OBSTACLE)   # noqa: E731
+    assert len(marks()) > 0
+    near = costmap.cell_centres(marks()[:, 1], marks()[:, 0])
+    assert (np.hypot(*near.T) < 1.0).any() and (np.hypot(*near.T) > 1.0).any()
+    costmap.clear_square((0.0, 0.0), 2.0)                            # around: the close marks go
+    left = costmap.cell_centres(marks()[:, 1], marks()[:, 0])
+    assert len(left) > 0 and (np.abs(left) > 1.0).any(axis=1).all()
+    costmap.clear_square((0.0, 0.0), 2.0, outside=True)              # except: the rest goes
+    assert len(marks()) == 0

@@ -32,7 +32,8 @@ from interfaces.lifecycle_msgs.srv import GetState
 from interfaces.nav2_msgs.action import (AssistedTeleop, BackUp, ComputePathThroughPoses, ComputePathToPose,
                                          DriveOnHeading, FollowPath, FollowWaypoints, NavigateThroughPoses,
                                          NavigateToPose, SmoothPath, Spin)
-from interfaces.nav2_msgs.srv import ClearEntireCostmap, GetCostmap, LoadMap, ManageLifecycleNodes
+from interfaces.nav2_msgs.srv import (ClearCostmapAroundPose, ClearCostmapAroundRobot, ClearCostmapExceptRegion,
+                                      ClearEntireCostmap, GetCostmap, LoadMap, ManageLifecycleNodes)
 
 __all__ = ['BasicNavigator', 'TaskResult']
 
@@ -76,6 +77,12 @@ class BasicNavigator(Node):
             ClearEntireCostmap, 'global_costmap/clear_entirely_global_costmap')
         self.clear_costmap_local_srv = self.create_client(
             ClearEntireCostmap, 'local_costmap/clear_entirely_local_costmap')
+        self.clear_costmap_except_region_srv = self.create_client(
+            ClearCostmapExceptRegion, 'local_costmap/clear_costmap_except_region')
+        self.clear_costmap_around_robot_srv = self.create_client(
+            ClearCostmapAroundRobot, 'local_costmap/clear_costmap_around_robot')
+        self.clear_costmap_around_pose_srv = self.create_client(
+            ClearCostmapAroundPose, 'local_costmap/clear_costmap_around_pose')
         self.get_costmap_global_srv = self.create_client(GetCostmap, 'global_costmap/get_costmap')
         self.get_costmap_local_srv = self.create_client(GetCostmap, 'local_costmap/get_costmap')
 
@@ -343,6 +350,25 @@ class BasicNavigator(Node):
 
     def clearGlobalCostmap(self) -> None:
         self._call(self.clear_costmap_global_srv, ClearEntireCostmap.Request(), 'Clear global costmaps')
+
+    def clearCostmapExceptRegion(self, reset_distance: float) -> None:
+        """Forget the local costmap's obstacles outside the square of side `reset_distance` [m]
+        around the robot (Nav2 Jazzy)."""
+        self._call(self.clear_costmap_except_region_srv,
+                   ClearCostmapExceptRegion.Request(reset_distance=float(reset_distance)), 'ClearCostmapExceptRegion')
+
+    def clearCostmapAroundRobot(self, reset_distance: float) -> None:
+        """Forget the local costmap's obstacles in the square of side `reset_distance` [m]
+        around the robot (Nav2 Jazzy)."""
+        self._call(self.clear_costmap_around_robot_srv,
+                   ClearCostmapAroundRobot.Request(reset_distance=float(reset_distance)), 'ClearCostmapAroundRobot')
+
+    def clearCostmapAroundPose(self, pose: Any, reset_distance: float) -> None:
+        """Forget the local costmap's obstacles in the square of side `reset_distance` [m]
+        around `pose` (a PoseStamped; Nav2 Jazzy)."""
+        self._call(self.clear_costmap_around_pose_srv,
+                   ClearCostmapAroundPose.Request(pose=pose, reset_distance=float(reset_distance)),
+                   'ClearCostmapAroundPose')
 
     def getGlobalCostmap(self) -> Any:
         return self._call(self.get_costmap_global_srv, GetCostmap.Request(), 'Get global costmaps').map

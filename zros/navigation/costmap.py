@@ -240,6 +240,13 @@ class LayeredCostmap:
         """Forget every obstacle mark (the clear_entirely_* services)."""
         self._obstacles[:] = NO_INFORMATION
 
+    def clear_square(self, centre: tuple[float, float], size: float, *, outside: bool = False) -> None:
+        """Forget the obstacle marks in the square of side `size` [m] centred on `centre`, or
+        outside it (Nav2's clear_around_* and clear_except_* services)."""
+        centres = self.cell_centres(*np.meshgrid(np.arange(self.shape[1]), np.arange(self.shape[0])))
+        within = (np.abs(centres - np.asarray(centre, np.float64)) <= size / 2).all(axis=-1)
+        self._obstacles[within != outside] = NO_INFORMATION
+
     # -- the master grid -------------------------------------------------------------------------
     def update(self) -> np.ndarray:
         """Rebuild the master grid from the layers and return it."""

@@ -4,7 +4,9 @@ It is a node of its own (`global_costmap` in namespace `global_costmap`, `local_
 `local_costmap`), living in the process of the server that uses it, as in Nav2, so that Nav2's
 parameter files (`global_costmap: global_costmap: ros__parameters: ...`) apply unchanged. It
 publishes `<name>/costmap` (nav_msgs/OccupancyGrid, Nav2's cost-to-occupancy table) and
-`<name>/costmap_raw` (nav2_msgs/Costmap), and serves `<name>/clear_entirely_<name>`.
+`<name>/costmap_raw` (nav2_msgs/Costmap), and serves `<name>/clear_entirely_<name>`,
+`clear_except_<name>`, `clear_around_<name>` and `clear_around_pose_<name>` (also under the
+`clear_costmap_*` names Jazzy's BasicNavigator calls).
 
 Servers that only read a costmap another node keeps (behavior_server, smoother_server) use
 `CostmapSubscriber` on its `costmap_raw` topic, as Nav2's nav2_costmap_2d::CostmapSubscriber.
@@ -87,6 +89,15 @@ class CostmapNode(Node):
         if obstacle:
             self.create_subscription(LaserScan, self.scan_topic, self._on_scan, 5)
         self.create_service(ClearEntireCostmap, f'clear_entirely_{name}', self._on_clear)
+        from interfaces.nav2_msgs.srv import ClearCostmapAroundPose, ClearCostmapAroundRobot, ClearCostmapExceptRegion
+        # Nav2's names, and the ones Jazzy's BasicNavigator calls (clear_costmap_*), which Nav2's
+        # own costmaps do not serve
+        for prefix in (f'clear_except_{name}', 'clear_costmap_except_region'):
+            self.create_service(ClearCostmapExceptRegion, prefix, lambda q, r: self._clear_square(q, r, outside=True))
+        for prefix in (f'clear_around_{name}', 'clear_costmap_around_robot'):
+            self.create_service(ClearCostmapAroundRobot, prefix, lambda q, r: self._clear_square(q, r, outside=False))
+        for prefix in (f'clear_around_pose_{name}', 'clear_costmap_around_pose'):
+            self.create_service(ClearCostmapAroundPose, prefix, self._clear_around_pose)
         self.create_service(GetCostmap, 'get_costmap', self._on_get_costmap)
         self.create_timer(1.0 / max(update_frequency, 0.1), self.update)
         self.create_timer(1.0 / max(publish_frequency, 0.1), self.publish)
@@ -127,6 +138,32 @@ class CostmapNode(Node):
             self.costmap.clear()
         self.update()
         self.get_logger().info(f'Received request to clear entirely the {self.get_name()}')
+        return response
+
+    def _clear_square(self, request: Any, response: Any, *, outside: bool) -> Any:
+        try:
+            x, y, _ = self.robot_pose()
+        except Exception:  # noqa: BLE001 - tf2's exceptions
+            self.get_logger().error('Cannot clear map because robot pose cannot be retrieved.')
+            return response
+        with self.lock:
+            self.costmap.clear_square((x, y), float(request.reset_distance), outside=outside)
+        self.update()
+        return response
+
+    def _clear_around_pose(self, request: Any, response: Any) -> Any:
+        pose = request.pose
+        frame = pose.header.frame_id or self.global_frame
+        try:
+            fx, fy, fyaw = lookup_pose(self.tf_buffer, self.global_frame, frame)
+        except Exception:  # noqa: BLE001 - tf2's exceptions
+            self.get_logger().error(f'Cannot clear map around a pose in {frame!r}: no transform to {self.global_frame!r}')
+            return response
+        px, py = pose.pose.position.x, pose.pose.position.y
+        centre = (fx + px * np.cos(fyaw) - py * np.sin(fyaw), fy + px * np.sin(fyaw) + py * np.cos(fyaw))
+        with self.lock:
+            self.costmap.clear_square(centre, float(request.reset_distance))
+        self.update()
         return response
 
     def _on_get_costmap(self, request: Any, response: Any) -> Any:
