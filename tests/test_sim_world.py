@@ -12,7 +12,7 @@ from zros.sim.raycast import cast_fan
 
 
 def test_shipped_worlds_load_with_their_spawn_poses() -> None:
-    assert world_names() == ['empty_world', 'turtlebot3_house', 'turtlebot3_world']
+    assert world_names() == ['empty_world', 'turtlebot3_bighouse', 'turtlebot3_house', 'turtlebot3_world']
     world = load_world('turtlebot3_world')
     assert (world.spawn.x, world.spawn.y) == (-2.0, -0.5)
     assert len(world.circles) == 9 and len(world.edges) == 12 + 5 * 6
@@ -22,6 +22,27 @@ def test_shipped_worlds_load_with_their_spawn_poses() -> None:
     for name in world_names():   # nobody starts inside a wall
         w = load_world(name)
         assert not w.collides(w.spawn.x, w.spawn.y, 0.105)
+
+
+def test_the_bighouse_is_big_closed_and_every_room_is_reachable() -> None:
+    """seed 000's bighouse (zros's own, docs/robot.md): 2-3 times turtlebot3_house, rooms deeper
+    than the lidar's range, and a burger can drive from the spawn into every room."""
+    from scipy import ndimage
+    big, house = load_world('turtlebot3_bighouse'), load_world('turtlebot3_house')
+    area = lambda w: (w.bounds()[2] - w.bounds()[0]) * (w.bounds()[3] - w.bounds()[1])   # noqa: E731
+    assert 2.0 <= area(big) / area(house) <= 3.0
+    raster = rasterize(big, 0.05)
+    free = ~ndimage.binary_dilation(raster.cells, iterations=3)        # 0.15 m: a burger's radius and a margin
+    regions, _ = ndimage.label(free)
+
+    def region(x: float, y: float) -> int:
+        col, row = ((np.array([x, y]) - raster.origin) / 0.05).astype(int)
+        return regions[row, col]
+    start = region(big.spawn.x, big.spawn.y)
+    assert start != 0 and region(2.7, -1.1) == start                    # the course's other start
+    rooms = [(-9, 2), (-10.5, 6.5), (-3, 5.5), (3, 6), (9, 4.5), (-10, -5), (-5, -3), (1, -5), (8, -3.5)]
+    assert [region(x, y) for x, y in rooms] == [start] * len(rooms)
+    assert region(-13.0, 0.0) != start                                  # closed: outside is apart
 
 
 def test_turtlebot3_world_geometry_matches_the_reference() -> None:
@@ -143,7 +164,7 @@ def _brute_scan(origin, angles, edges, circles, max_range):
     return best
 
 
-@pytest.mark.parametrize('name', ['turtlebot3_world', 'turtlebot3_house'])
+@pytest.mark.parametrize('name', ['turtlebot3_world', 'turtlebot3_house', 'turtlebot3_bighouse'])
 def test_fan_ray_casting_matches_brute_force(name: str) -> None:
     world = load_world(name)
     rng = np.random.default_rng(7)
