@@ -91,18 +91,21 @@ def _project_packages(root: Path) -> dict[str, Path] | None:
     return {name: (root / module).resolve() for name, module in sorted(declared.items()) if (root / module).is_dir()}
 
 
-def _node_path_packages() -> list[tuple[str, Path]]:
-    """(package, folder) for each zros-style package folder of ZROS_NODE_PATH, in order (module
-    docstring, 1.); ROS packages (with a package.xml) are `_node_path_ros_packages`'s."""
-    found = []
+def _node_path_layout() -> tuple[list[tuple[str, Path]], list[Path]]:
+    """What the directories of ZROS_NODE_PATH hold, in order (module docstring, 1.): the
+    zros-style package folders as (package, folder) (1a), and the source folders of ROS packages,
+    those with a package.xml (1b). Each directory is read once."""
+    folders: list[tuple[str, Path]] = []
+    ros_folders: list[Path] = []
     for root in _node_path_dirs():
         declared = _project_packages(root)
         if declared is None:
-            ros_folders = find_source_packages(root)
+            found = find_source_packages(root)
             declared = {name: folder for name, folder in _package_dirs_under(root).items()
-                        if not any(folder == ros or folder in ros.parents for ros in ros_folders)}
-        found.extend(declared.items())
-    return found
+                        if not any(folder == ros or folder in ros.parents for ros in found)}
+            ros_folders.extend(found)
+        folders.extend(declared.items())
+    return folders, ros_folders
 
 
 _warned: set[str] = set()
@@ -120,15 +123,6 @@ def _source_packages(folders: list[Path]) -> list[RosPackage]:
                 _warned.add(str(exc))
                 print(f'[WARN] [zros]: package skipped: {exc}', file=sys.stderr)
     return packages
-
-
-def _node_path_ros_packages() -> list[RosPackage]:
-    """The ROS packages (package.xml) in source under the directories of ZROS_NODE_PATH."""
-    folders = []
-    for root in _node_path_dirs():
-        if _project_packages(root) is None:
-            folders.extend(find_source_packages(root))
-    return _source_packages(folders)
 
 
 def _module_directory(module: str) -> Path | None:
@@ -172,20 +166,22 @@ def _full_index() -> dict[str, tuple[Path, Path | None, RosPackage | None]]:
     name, its nodes stand in, and the share directory stays the source's.
     """
     found: dict[str, tuple[Path, Path | None, RosPackage | None]] = {}
-    for name, folder in _node_path_packages():
+    node_path_folders, node_path_sources = _node_path_layout()
+    for name, folder in node_path_folders:
         found.setdefault(name, (folder, folder, None))
-    for package in _node_path_ros_packages():
+    for package in _source_packages(node_path_sources):
         found.setdefault(package.name, (package.share, None, package))
     for name, folder in _installed_packages().items():
         found.setdefault(name, (folder, None, None))
     for package in _source_packages(editable_source_dirs()) + prefix_packages():
         found.setdefault(package.name, (package.share, None, package))
     for name, folder in _package_dirs_under(_shipped_root('nodes')).items():
-        share, _, package = found.get(name, (folder, None, None))
-        if package is None and name in found:
+        if name not in found:
+            found[name] = (folder, folder, None)
             continue
-        if package is None or (not package.executables and package.python_root is None):
-            found[name] = (share, folder, package)
+        share, _, package = found[name]
+        if package is not None and package.compiled:
+            found[name] = (share, folder, package)   # zros's nodes stand in for compiled ones
     from zros import typesupport
     for root in typesupport.search_roots():
         for name, folder in _package_dirs_under(root).items():
@@ -219,9 +215,9 @@ def interface_roots() -> list[Path]:
     on ZROS_NODE_PATH (ROS packages in source among them: a workspace's interface package) and
     of installed packages (for zros.typesupport's search path)."""
     roots: list[Path] = []
-    sources = [folder for root in _node_path_dirs() for folder in find_source_packages(root)]
-    sources += editable_source_dirs()
-    candidates = _node_path_packages() + [(f.name, f.resolve()) for f in sources] + list(_installed_packages().items())
+    folders, sources = _node_path_layout()
+    sources = sources + editable_source_dirs()
+    candidates = folders + [(f.name, f.resolve()) for f in sources] + list(_installed_packages().items())
     for name, folder in candidates:
         if folder.name == name and any((folder / kind).is_dir() for kind in _KINDS) and folder.parent not in roots:
             roots.append(folder.parent)
@@ -244,7 +240,7 @@ def get_package_share_directory(package_name: str, print_warning: bool = True) -
     return str(get_package_share_path(package_name))
 
 
-def _prefix(name: str, share: Path, package: RosPackage | None) -> Path:
+def _prefix(share: Path, package: RosPackage | None) -> Path:
     return package.prefix if package is not None else share.parent
 
 
@@ -252,8 +248,8 @@ def get_package_prefix(package_name: str) -> str:
     """The package's install prefix: for a ROS package the directory holding `share/<pkg>`, for
     a zros package folder the directory that holds it."""
     share = get_package_share_path(package_name)
-    return str(_prefix(package_name, share, ros_packages().get(package_name)))
+    return str(_prefix(share, ros_packages().get(package_name)))
 
 
 def get_packages_with_prefixes() -> dict[str, str]:
-    return {name: str(_prefix(name, share, package)) for name, (share, _, package) in _full_index().items()}
+    return {name: str(_prefix(share, package)) for name, (share, _, package) in _full_index().items()}

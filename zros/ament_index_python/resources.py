@@ -10,12 +10,9 @@ from __future__ import annotations
 from pathlib import Path
 
 from zros.ament_index_python.packages import PackageNotFoundError, get_packages_with_prefixes
-from zros.ament_index_python.ros_packages import install_prefixes
+from zros.ament_index_python.ros_packages import RESOURCE_INDEX as _INDEX, install_prefixes
 
 __all__ = ['has_resource', 'get_resource', 'get_resources', 'get_resource_types', 'get_search_paths']
-
-_INDEX = Path('share') / 'ament_index' / 'resource_index'
-
 
 def get_search_paths() -> list[str]:
     """The install prefixes searched (AMENT_PREFIX_PATH, then this Python environment)."""

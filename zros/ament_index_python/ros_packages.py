@@ -36,14 +36,15 @@ from pathlib import Path
 from zros.errors import ZrosError
 
 __all__ = ['RosPackage', 'SetupPyError', 'find_source_packages', 'read_setup_py', 'source_package',
-           'prefix_packages', 'editable_source_dirs', 'share_tree_root', 'install_prefixes']
+           'prefix_packages', 'editable_source_dirs', 'share_tree_root', 'install_prefixes', 'RESOURCE_INDEX']
 
 #: Folders colcon never looks into for packages.
 _SKIPPED = frozenset({'build', 'install', 'log', '__pycache__', 'node_modules'})
 #: Files that make colcon skip a folder and everything below it.
 _IGNORE_MARKERS = ('COLCON_IGNORE', 'AMENT_IGNORE', 'CATKIN_IGNORE')
 _MAX_DEPTH = 5
-_INDEX_MARKERS = Path('share') / 'ament_index' / 'resource_index' / 'packages'
+#: An install prefix's ament resource index; its `packages/` folder lists the installed packages.
+RESOURCE_INDEX = Path('share') / 'ament_index' / 'resource_index'
 
 
 class SetupPyError(ZrosError):
@@ -71,6 +72,12 @@ class RosPackage:
     executables: dict[str, str] = field(default_factory=dict)
     python_root: Path | None = None
     source: Path | None = None
+
+    @property
+    def compiled(self) -> bool:
+        """Whether its nodes are compiled ones zros cannot run (an ament_cmake package found in
+        source, or an index entry with no scripts)."""
+        return not self.executables and self.python_root is None
 
 
 # -- package.xml ---------------------------------------------------------------------------------
@@ -326,7 +333,7 @@ def prefix_packages() -> list[RosPackage]:
     """The packages the ament resource index of each prefix lists (first prefix wins)."""
     found: dict[str, RosPackage] = {}
     for prefix in install_prefixes():
-        markers = prefix / _INDEX_MARKERS
+        markers = prefix / RESOURCE_INDEX / 'packages'
         if not markers.is_dir():
             continue
         for marker in sorted(markers.iterdir()):
