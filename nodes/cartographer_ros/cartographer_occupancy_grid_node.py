@@ -46,9 +46,10 @@ class OccupancyGridNode(Node):
         if response is None or not (np.asarray(response.map.data) != -1).any():
             return   # no submap yet: Cartographer's node publishes nothing until there is one
         grid = resample(map_from_msg(response.map), self._resolution)
-        if self._last == grid.data.tobytes():
+        cells = grid.data.tobytes()
+        if cells == self._last:
             return
-        self._last = grid.data.tobytes()
+        self._last = cells
         self._publisher.publish(map_to_msg(grid, frame_id=response.map.header.frame_id or 'map',
                                            stamp=self.get_clock().now().to_msg()))
 
