@@ -495,12 +495,18 @@ def generate_launch_description():
     plan = launch(path, '--print', '--log-dir', tmp_path / 'log')
     assert plan.returncode == 0 and 'node: /nav2_container' in plan.stdout, plan
     import subprocess
-    process = subprocess.Popen([sys.executable, '-m', 'zros', 'launch', str(path), '--log-dir', str(tmp_path / 'run')],
-                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
+    from zros.testing import wait_until
+    out = tmp_path / 'container.out'
+    with open(out, 'wb') as sink:
+        process = subprocess.Popen([sys.executable, '-m', 'zros', 'launch', str(path), '--log-dir', str(tmp_path / 'run')],
+                                   stdout=sink, stderr=subprocess.STDOUT, start_new_session=True)
     try:
-        from zros.testing import wait_until
         wait_until(lambda: '/nav2_container' in run_cli('node', 'list').stdout, 30, message='the container node')
+        # its one line comes just after the node joins the graph: Ctrl-C only once it is out
+        wait_until(lambda: 'this container holds none' in out.read_text(errors='replace'), 30,
+                   message=lambda: out.read_text(errors='replace'))
     finally:
         os.killpg(process.pid, signal.SIGINT)
-        output, _ = process.communicate(timeout=15)
+        process.wait(timeout=15)
+    output = out.read_text(errors='replace')
     assert 'this container holds none' in output and 'Traceback' not in output, output
