@@ -133,6 +133,34 @@ def test_missing_server_times_out(context, add_two_ints):
     assert time.monotonic() - started < 3
 
 
+def test_a_call_made_before_its_server_starts_is_answered_once_it_does(context, spawn, add_two_ints):
+    """Seed 003's integration test calls at once, beside a server still starting: the request
+    waits for a server to be reachable, then goes (rclpy would hang; failing would lose it)."""
+    node = Node('early_client', context=context)
+    client = node.create_client(add_two_ints, 'add_two_ints')
+    future = client.call_async(add_two_ints.Request(a=2, b=3))
+    blocking = []
+    caller = threading.Thread(target=lambda: blocking.append(client.call(add_two_ints.Request(a=4, b=5))))
+    caller.start()
+    assert not future.done()
+    spawn.node('demo_nodes', 'add_two_ints_server')
+    assert future.wait(15), 'the early request was never sent'
+    assert future.result().sum == 5
+    caller.join(15)
+    assert [response.sum for response in blocking] == [9]
+
+
+def test_a_call_with_no_server_ever_fails_with_one_line(context, add_two_ints):
+    node = Node('hopeful', context=context)
+    client = node.create_client(add_two_ints, 'nobody_ever')
+    future = client.call_async(add_two_ints.Request(), timeout_sec=0.3)
+    assert future.wait(5)
+    assert isinstance(future.exception(), TimeoutError)
+    assert 'no server appeared' in str(future.exception())
+    with pytest.raises(ServiceCallError, match="service '/nobody_ever' did not answer: no server appeared"):
+        client.call(add_two_ints.Request(), timeout_sec=0.3)
+
+
 def test_slow_server_fails_the_call_after_its_timeout(make_context, add_two_ints):
     server_ctx, client_ctx = make_context(), make_context()
     server = Node('slow_server', context=server_ctx)

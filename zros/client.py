@@ -10,6 +10,10 @@ A server is ready when the graph lists it and Zenoh's routing knows its queryabl
 liveliness token that puts a server in the graph can arrive before the queryable's declaration
 does, and a request sent in between reaches no one. So `wait_for_service` means a request
 sent now is delivered, as in ROS 2, where it returns only once client and server are matched.
+A request made before that (a test that calls at once, a node started beside its server) waits
+for the route, up to its timeout or SERVER_WAIT_SEC, and fails with a one-line error if no
+server comes: rclpy would hang on it forever, and failing at once would lose a call that a
+server starting a moment later could answer.
 """
 from __future__ import annotations
 
@@ -33,6 +37,9 @@ __all__ = ['Client']
 # rclpy's call_async has no timeout; Zenoh needs one. A day is "never" for a request, and a
 # server that dies still fails the call at once.
 _NO_TIMEOUT = 86_400.0
+
+# How long a request waits for a server to be reachable before it is sent (see the docstring).
+SERVER_WAIT_SEC = 10.0
 
 
 class Client(NodeEntity):
@@ -99,6 +106,13 @@ class Client(NodeEntity):
             if self.service_is_ready():  # the server may have gone while the route came up
                 return True
 
+    def _check(self, request: Any) -> None:
+        if type(request) is not self.srv_type.Request:
+            raise TypeError(f"client of '{self.srv_name}' expects {self.srv_type._TYPE} Request, "
+                            f'got {getattr(type(request), "_TYPE", type(request).__name__)}')
+        if self._destroyed:
+            raise RuntimeError(f"client of '{self.srv_name}' has been destroyed")
+
     def _send(self, request: Any, timeout_sec: float | None, handler: Any = None,
               parameters: str = '') -> tuple[float, Any]:
         """Issue the Zenoh get for `request`: (timeout used, reply receiver or None).
@@ -106,11 +120,7 @@ class Client(NodeEntity):
         With no handler, Zenoh's default FIFO channel holds the replies for the caller.
         `parameters` go in the selector (`key?parameters`) for servers that read them."""
         import zenoh
-        if type(request) is not self.srv_type.Request:
-            raise TypeError(f"client of '{self.srv_name}' expects {self.srv_type._TYPE} Request, "
-                            f'got {getattr(type(request), "_TYPE", type(request).__name__)}')
-        if self._destroyed:
-            raise RuntimeError(f"client of '{self.srv_name}' has been destroyed")
+        self._check(request)
         timeout = _NO_TIMEOUT if timeout_sec is None else max(0.001, timeout_sec)
         receiver = self._node.context.session.get(
             f'{self._key}?{parameters}' if parameters else self._key, handler,
@@ -137,6 +147,14 @@ class Client(NodeEntity):
                                       f'{time.monotonic() - started:.2f} s')
         return ServiceCallError(f"service '{self.srv_name}' failed: {text}")
 
+    def _no_server(self, started: float, timeout: float) -> ServiceCallError:
+        waited = time.monotonic() - started
+        if waited >= timeout * 0.99:
+            return ServiceCallTimeout(f"service '{self.srv_name}' did not answer: no server appeared "
+                                      f'within the timeout of {waited:.2f} s')
+        return ServiceCallError(f"service '{self.srv_name}' has no server: none appeared within {waited:.1f} s "
+                                '(is its node running? wait_for_service() waits longer)')
+
     def _no_answer(self, started: float, timeout: float) -> ServiceCallError:
         waited = time.monotonic() - started
         if waited >= timeout * 0.99:
@@ -147,8 +165,10 @@ class Client(NodeEntity):
     def call_async(self, request: Any, *, timeout_sec: float | None = None) -> Future:
         """Send `request`; the Future gets the Response, or a ServiceCallError. The reply is
         decoded where the future is read (`result()`, `exception()`, an `await`, a done
-        callback: on the executor), not on Zenoh's thread (see _ReplyFuture)."""
+        callback: on the executor), not on Zenoh's thread (see _ReplyFuture). With no server
+        reachable yet, the request is sent once one is (a thread waits for it; see above)."""
         import zenoh
+        self._check(request)
         future = _ReplyFuture(self, time.monotonic())
         # Known before the query is sent: with no server, Zenoh may call on_done before _send returns.
         timeout = _NO_TIMEOUT if timeout_sec is None else max(0.001, timeout_sec)
@@ -157,7 +177,25 @@ class Client(NodeEntity):
             if not future.done():
                 future.set_exception(self._no_answer(future._started, timeout))
 
-        self._send(request, timeout_sec, zenoh.handlers.Callback(future._arrive, on_done))
+        def send() -> None:
+            left = timeout - (time.monotonic() - future._started)
+            self._send(request, max(0.001, left), zenoh.handlers.Callback(future._arrive, on_done))
+
+        routed = self._route()
+        if routed.is_set():
+            send()
+            return future
+
+        def send_when_routed() -> None:  # a thread of its own: rare (start-up), and may wait long
+            try:
+                if not routed.wait(min(timeout, SERVER_WAIT_SEC)):
+                    future.set_exception(self._no_server(future._started, timeout))
+                    return
+                send()
+            except Exception as exc:  # noqa: BLE001 - destroyed or closed meanwhile: the future says so
+                if not future.done():
+                    future.set_exception(exc)
+        threading.Thread(target=send_when_routed, name=f'call {self.srv_name}', daemon=True).start()
         return future
 
     def call(self, request: Any, timeout_sec: float | None = None) -> Any:
@@ -173,7 +211,12 @@ class Client(NodeEntity):
         order (a server may answer one query more than once). Raises ServiceCallError for a
         failed reply, or when the query ends before a reply expected."""
         started = time.monotonic()
-        timeout, receiver = self._send(request, timeout_sec, parameters=parameters)
+        self._check(request)
+        timeout = _NO_TIMEOUT if timeout_sec is None else max(0.001, timeout_sec)
+        if not self._route().wait(min(timeout, SERVER_WAIT_SEC)):
+            raise self._no_server(started, timeout)
+        _, receiver = self._send(request, max(0.001, timeout - (time.monotonic() - started)),
+                                 parameters=parameters)
         replies = iter(receiver)
         for response_type in response_types:
             reply = next(replies, None)
