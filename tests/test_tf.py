@@ -142,6 +142,68 @@ def test_static_frames_reach_a_late_listener_and_listeners_share_one_subscriptio
     assert len(hub._targets[False]) == 1 and len(hub._subscribers) == 2
 
 
+def test_a_listener_message_is_work_for_spin_once_and_follows_a_new_buffer(make_context):
+    """rclpy code sends a transform, then `spin_once()`s to let its own listener take it (tf2_ros's
+    tests do): the message counts as the listener's callback. Assigning `listener.buffer` moves
+    the feed to the new buffer."""
+    from zros.executors import SingleThreadedExecutor
+    from zros.node import Node
+    from zros.tf2_ros import Buffer, Time, TransformBroadcaster, TransformListener
+    from interfaces.geometry_msgs.msg import TransformStamped
+    context = make_context()
+    node = Node('loopback_tf', context=context)
+    listener = TransformListener(Buffer(), node)
+    broadcaster = TransformBroadcaster(node)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(node)
+    wait_until(lambda: broadcaster.pub_tf.get_subscription_count() > 0, 5, message='the listener matched')
+    fresh = Buffer()
+    listener.buffer = fresh
+    transform = TransformStamped()
+    transform.header.frame_id, transform.child_frame_id = 'foo', 'bar'
+    transform.header.stamp.sec = 1
+    transform.transform.translation.x, transform.transform.rotation.w = 42.0, 1.0
+    broadcaster.sendTransform(transform)
+    import threading
+    spinner = threading.Thread(target=executor.spin_once, daemon=True)   # no timeout, as rclpy code calls it
+    spinner.start()
+    spinner.join(10)
+    assert not spinner.is_alive(), 'spin_once is still waiting: the message was not work for it'
+    assert fresh.lookup_transform('foo', 'bar', Time(seconds=1)).transform.translation.x == 42.0
+    executor.shutdown()
+
+
+def test_buffer_server_answers_buffer_client_lookups(spawn, make_context):
+    from zros.executors import SingleThreadedExecutor
+    from zros.node import Node
+    from zros.tf2_ros import Duration, LookupException, Time
+    from zros.tf2_ros.buffer_client import BufferClient
+    spawn.node('tf2_ros', 'static_transform_publisher', '--x', '1', '--frame-id', 'odom', '--child-frame-id', 'base')
+    spawn.node('tf2_ros', 'buffer_server')
+    context = make_context()
+    node = Node('remote_lookup', context=context)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(node)
+    import threading
+    threading.Thread(target=lambda: _spin_quietly(executor), daemon=True).start()
+    client = BufferClient(node, 'tf2_buffer_server')
+    transform = client.lookup_transform('odom', 'base', Time(), Duration(seconds=10))
+    assert transform.transform.translation.x == 1.0
+    assert client.can_transform('odom', 'base', Time())
+    with pytest.raises(LookupException):
+        client.lookup_transform('odom', 'nowhere', Time(), Duration(seconds=0.2))
+    assert not client.can_transform('nowhere', 'base', Time())
+    client.destroy()
+    executor.shutdown()
+
+
+def _spin_quietly(executor) -> None:
+    try:
+        executor.spin()
+    except Exception:  # noqa: BLE001 - ends with the executor
+        pass
+
+
 def test_static_transform_publisher_both_forms_and_tf2_echo(spawn, zros_cli):
     spawn.node('tf2_ros', 'static_transform_publisher', '--x', '1', '--y', '2', '--z', '0.5', '--yaw', '1.5707963267948966',
                '--frame-id', 'base_link', '--child-frame-id', 'laser').wait_for_output('Spinning until stopped')

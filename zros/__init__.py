@@ -102,7 +102,11 @@ def spin_until_future_complete(node: 'Node', future: 'Future', executor: 'Execut
 
 
 def __getattr__(name: str) -> Any:
-    if name == 'utilities':
-        from zros import utilities
-        return utilities
+    """`rclpy.clock`, `rclpy.executors` ... after a bare `import rclpy`: in rclpy they are there
+    because `rclpy.node` imported them; code (tf2_ros's tests among it) reaches them that way.
+    Imported on first use, so `import zros` stays light."""
+    import importlib
+    import importlib.util
+    if not name.startswith('_') and importlib.util.find_spec(f'zros.{name}') is not None:
+        return importlib.import_module(f'zros.{name}')
     raise AttributeError(f"module 'zros' has no attribute '{name}'")

@@ -15,7 +15,7 @@ from typing import Any, Callable
 from zros.duration import Duration
 from zros.task import Future
 from zros.tf2_ros.buffer_core import BufferCore
-from zros.tf2_ros.exceptions import TransformException
+from zros.tf2_ros.buffer_interface import BufferInterface
 from zros.time import Time
 
 __all__ = ['Buffer', 'Duration', 'Time']
@@ -31,7 +31,7 @@ def _timeout_seconds(timeout: Any) -> float:
     return Duration.from_msg(timeout).nanoseconds / 1e9
 
 
-class Buffer(BufferCore):
+class Buffer(BufferCore, BufferInterface):
     """Stores known frames; with `node`, serves them on `tf2_frames` (tf2_msgs/srv/FrameGraph).
 
     Every node holding a Buffer serves that one name, as in ROS, so several servers of it are
@@ -155,25 +155,3 @@ class Buffer(BufferCore):
             self._new_data_callbacks.append(on_new_data)
         on_new_data()  # data may have arrived between the first check and the registration
         return future
-
-    # -- transforming messages (tf2_ros.BufferInterface) -----------------------------------------
-    def transform(self, object_stamped: Any, target_frame: str, timeout: Any = None, new_type: Any = None) -> Any:
-        """`object_stamped` (PointStamped, PoseStamped, Vector3Stamped, PoseWithCovarianceStamped,
-        PolygonStamped, ...) expressed in `target_frame`, at its own stamp."""
-        from zros.tf2_ros.geometry import do_transform
-        transform = self.lookup_transform(target_frame, object_stamped.header.frame_id,
-                                          object_stamped.header.stamp, timeout)
-        return _convert(do_transform(object_stamped, transform), new_type)
-
-    def transform_full(self, object_stamped: Any, target_frame: str, target_time: Any, fixed_frame: str,
-                       timeout: Any = None, new_type: Any = None) -> Any:
-        from zros.tf2_ros.geometry import do_transform
-        transform = self.lookup_transform_full(target_frame, target_time, object_stamped.header.frame_id,
-                                               object_stamped.header.stamp, fixed_frame, timeout)
-        return _convert(do_transform(object_stamped, transform), new_type)
-
-
-def _convert(msg: Any, new_type: Any) -> Any:
-    if new_type is None or isinstance(msg, new_type):
-        return msg
-    raise TransformException(f'cannot convert {type(msg).__name__} to {getattr(new_type, "__name__", new_type)}')

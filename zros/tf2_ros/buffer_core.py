@@ -142,13 +142,14 @@ class BufferCore:
         self._warned: set[tuple[str, str]] = set()
 
     # -- filling -----------------------------------------------------------------------------
-    def set_transform(self, transform: Any, authority: str) -> bool:
-        """Add a geometry_msgs/TransformStamped to the history (False when it was refused)."""
-        return self._set_msg(transform, authority, False)
+    def set_transform(self, transform: Any, authority: str) -> None:
+        """Add a geometry_msgs/TransformStamped to the history (a refused one is logged once and
+        left out; tf2_py returns nothing either way)."""
+        self._set_msg(transform, authority, False)
 
-    def set_transform_static(self, transform: Any, authority: str) -> bool:
+    def set_transform_static(self, transform: Any, authority: str) -> None:
         """Add a transform that holds at every time (what /tf_static carries)."""
-        return self._set_msg(transform, authority, True)
+        self._set_msg(transform, authority, True)
 
     def _set_msg(self, msg: Any, authority: str, static: bool) -> bool:
         tr, rot = msg.transform.translation, msg.transform.rotation

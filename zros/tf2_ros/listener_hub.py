@@ -38,10 +38,10 @@ _logger = get_logger('tf2_listener')
 class _Target:
     """A registered buffer and the clock of the listener that registered it."""
 
-    __slots__ = ('buffer', 'clock', 'last_now')
+    __slots__ = ('buffer', 'clock', 'last_now', 'notify')
 
-    def __init__(self, buffer: Any, clock: Any) -> None:
-        self.buffer, self.clock, self.last_now = buffer, clock, 0
+    def __init__(self, buffer: Any, clock: Any, notify: Any) -> None:
+        self.buffer, self.clock, self.last_now, self.notify = buffer, clock, 0, notify
 
     def check_clock(self) -> None:
         clock = self.clock
@@ -77,12 +77,13 @@ class TfHub:
                 hub = _hubs[context] = cls(context)
             return hub
 
-    def attach(self, buffer: Any, clock: Any, static: bool) -> None:
-        """Start feeding `buffer` from /tf (static=False) or /tf_static (static=True)."""
+    def attach(self, buffer: Any, clock: Any, static: bool, notify: Any = None) -> None:
+        """Start feeding `buffer` from /tf (static=False) or /tf_static (static=True); `notify()`
+        is called after each message that reached it."""
         with self._lock:
             if any(t.buffer is buffer for t in self._targets[static]):
                 return
-            self._targets[static] = self._targets[static] + (_Target(buffer, clock),)
+            self._targets[static] = self._targets[static] + (_Target(buffer, clock, notify),)
             if static not in self._subscribers:
                 self._subscribers[static] = self._declare(static)
             replay = list(self._static.values()) if static else []
@@ -128,6 +129,8 @@ class TfHub:
         for target in self._targets[False]:
             target.check_clock()
             target.buffer._insert_many(items, _AUTHORITY, False, writer)
+            if target.notify is not None:
+                target.notify()
 
     def _on_static(self, sample: Any) -> None:
         decoded = self._decode(sample, TF_STATIC_TOPIC)
@@ -139,6 +142,8 @@ class TfHub:
                 self._static[item[0]] = item
         for target in self._targets[True]:
             target.buffer._insert_many(items, _AUTHORITY, True, writer)
+            if target.notify is not None:
+                target.notify()
 
     def _decode(self, sample: Any, topic: str) -> tuple[bytes, list] | None:
         attachment = sample.attachment
