@@ -1,0 +1,156 @@
+"""Upstream test suites, run unmodified: how many of the tests that rclpy, launch, launch_ros,
+tf2_ros_py and nav2_simple_commander ship pass under `zros python -m pytest`.
+
+    python benchmarks/upstream_tests.py --interfaces IFACES SUITE=DIR [SUITE=DIR ...] [--json out.json]
+
+Each DIR is a suite's test folder as fetched at its jazzy commit (nothing is fetched here and
+nothing is copied into zros), for example
+`rclpy=rclpy/rclpy/test launch=launch/launch/test launch_xml=launch/launch_xml/test
+launch_yaml=launch/launch_yaml/test launch_ros=launch_ros/test_launch_ros/test
+tf2_ros_py=geometry2/tf2_ros_py/test nav2_simple_commander=nav2/nav2_simple_commander/test`.
+IFACES is a folder holding ROS interface packages the suites import (rcl_interfaces's
+`test_msgs`); it goes on ZROS_INTERFACE_PATH. Each suite's folder goes on PYTHONPATH, as colcon's
+pytest has it (launch's tests import their `temporary_environment` helper so), beside an empty
+`test_rclpy` module: rclpy's test package imports that compiled test extension, which tests
+rclpy's C internals and has no part in the API.
+
+Each test file runs in a pytest process of its own (a file that hangs or crashes costs only
+itself), under a timeout. A test counts once: the tests a file defines are counted from its
+source (functions and methods named `test*`, each parametrization once per case where pytest
+could collect it), so a file that pytest cannot even import counts all its tests as failed, as
+they are for a user. The linters' test files (copyright, flake8, pep257, xmllint, mypy) are
+left out: they test the upstream sources, not the API.
+
+The table printed (and `--json`) gives per suite the tests passed of those counted, and per
+file the first line of the first failure: what zros lacks, by name.
+"""
+from __future__ import annotations
+
+import argparse
+import ast
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import xml.etree.ElementTree as ElementTree
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+_LINTERS = re.compile(r'test_(copyright|flake8|pep257|xmllint|mypy|lint_\w+)\.py$')
+_FILE_TIMEOUT = 180
+
+
+def defined_tests(path: Path) -> int:
+    """The tests a file defines, read from its source: `test*` functions at module level and in
+    classes (a class named Test* or any unittest.TestCase), without running anything."""
+    try:
+        tree = ast.parse(path.read_text(errors='replace'))
+    except SyntaxError:
+        return 0
+    count = 0
+    for node in tree.body:
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and node.name.startswith('test'):
+            count += 1
+        elif isinstance(node, ast.ClassDef):
+            count += sum(1 for item in node.body if isinstance(item, (ast.FunctionDef, ast.AsyncFunctionDef))
+                         and item.name.startswith('test'))
+    return count
+
+
+def run_file(path: Path, env: dict[str, str], work: Path) -> dict:
+    """Run one test file in its own pytest: passed, failed, and the first failure's line."""
+    report = work / (re.sub(r'\W', '_', str(path)) + '.xml')
+    command = [sys.executable, '-m', 'zros', 'python', '-m', 'pytest', '-q', '-p', 'no:cacheprovider',
+               '-p', 'no:randomly', f'--junitxml={report}', '-o', 'junit_family=xunit2', path.name]
+    try:
+        result = subprocess.run(command, cwd=path.parent, env=env, capture_output=True, text=True,
+                                timeout=_FILE_TIMEOUT, stdin=subprocess.DEVNULL)
+        output = result.stdout + result.stderr
+    except subprocess.TimeoutExpired:
+        return {'passed': 0, 'collected': 0, 'first_failure': f'timed out after {_FILE_TIMEOUT} s'}
+    passed = collected = 0
+    first = ''
+    if report.exists():
+        for case in ElementTree.parse(report).getroot().iter('testcase'):
+            outcome = next(iter(case), None)
+            if outcome is not None and outcome.tag == 'skipped':
+                continue
+            collected += 1
+            if outcome is None:
+                passed += 1
+            elif not first:
+                first = _reason(outcome)
+    if not first and result.returncode not in (0, 5):
+        errors = [line for line in output.splitlines() if re.search(r'Error|Exception', line)]
+        first = _first_line(errors[0] if errors else output or f'exit code {result.returncode}')
+    return {'passed': passed, 'collected': collected, 'first_failure': first}
+
+
+def _reason(outcome: ElementTree.Element) -> str:
+    """The line that says why: pytest's message, or for a file it could not import, the
+    exception line (`E   ModuleNotFoundError: ...`) of the traceback."""
+    message = outcome.get('message') or ''
+    if message in ('', 'collection failure') and outcome.text:
+        raised = [line[1:].strip() for line in outcome.text.splitlines() if line.startswith('E ')]
+        if raised:
+            return _first_line(raised[-1])
+    return _first_line(message or outcome.text or outcome.tag)
+
+
+def _first_line(text: str) -> str:
+    lines = text.strip().splitlines()
+    return lines[0][:200] if lines else ''
+
+
+def run_suite(name: str, folder: Path, env: dict[str, str], work: Path) -> dict:
+    env = dict(env, PYTHONPATH=os.pathsep.join([str(folder), str(folder.parent), env['PYTHONPATH']]))
+    files = sorted(p for p in folder.rglob('test_*.py') if not _LINTERS.search(p.name))
+    results = {}
+    for path in files:
+        outcome = run_file(path, env, work)
+        outcome['defined'] = max(defined_tests(path), outcome['collected'])
+        results[str(path.relative_to(folder))] = outcome
+        print(f'  {name}/{path.relative_to(folder)}: {outcome["passed"]}/{outcome["defined"]}'
+              f'{"  " + outcome["first_failure"] if outcome["first_failure"] else ""}', flush=True)
+    passed = sum(r['passed'] for r in results.values())
+    total = sum(r['defined'] for r in results.values())
+    return {'passed': passed, 'total': total, 'files': results}
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
+    parser.add_argument('suites', nargs='+', metavar='SUITE=DIR')
+    parser.add_argument('--interfaces', type=Path, help='folder of interface packages (test_msgs)')
+    parser.add_argument('--json', type=Path, help='write the results here')
+    args = parser.parse_args(argv)
+    env = dict(os.environ)
+    if args.interfaces:
+        env['ZROS_INTERFACE_PATH'] = os.pathsep.join(filter(None, [str(args.interfaces.resolve()),
+                                                                   env.get('ZROS_INTERFACE_PATH')]))
+    suites = {}
+    with tempfile.TemporaryDirectory(prefix='zros-upstream-tests-') as work:
+        stubs = Path(work) / 'stubs'
+        stubs.mkdir()
+        (stubs / 'test_rclpy.py').write_text('"""Stands for rclpy\'s compiled test extension."""\n')
+        env['PYTHONPATH'] = os.pathsep.join(filter(None, [str(REPO), str(stubs), env.get('PYTHONPATH')]))
+        for spec in args.suites:
+            name, _, folder = spec.partition('=')
+            if not folder or not Path(folder).is_dir():
+                parser.error(f'{spec}: expected SUITE=DIR with an existing folder')
+            print(f'{name}:', flush=True)
+            suites[name] = run_suite(name, Path(folder).resolve(), env, Path(work))
+    print(f'\n| suite | passed | tests | % |\n|---|---|---|---|')
+    for name, suite in suites.items():
+        print(f'| {name} | {suite["passed"]} | {suite["total"]} | {100 * suite["passed"] / max(1, suite["total"]):.0f} % |')
+    passed = sum(s['passed'] for s in suites.values())
+    total = sum(s['total'] for s in suites.values())
+    print(f'| **all** | {passed} | {total} | {100 * passed / max(1, total):.0f} % |')
+    if args.json:
+        args.json.write_text(json.dumps(suites, indent=1))
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
