@@ -6,6 +6,7 @@ import time
 
 import pytest
 
+from conftest import wait_until
 from zros.errors import ServiceCallError
 from zros.executors import MultiThreadedExecutor, SingleThreadedExecutor
 from zros.node import Node
@@ -148,6 +149,19 @@ def test_a_call_made_before_its_server_starts_is_answered_once_it_does(context, 
     assert future.result().sum == 5
     caller.join(15)
     assert [response.sum for response in blocking] == [9]
+
+
+def test_a_call_after_its_server_went_away_fails_at_once(context, spawn, add_two_ints):
+    """Only a client that never reached a server waits for one: a lifecycle manager calling a
+    crashed node must learn it now (SERVER_WAIT_SEC is 10 s)."""
+    server = spawn.node('demo_nodes', 'add_two_ints_server')
+    node, client = _client(context, add_two_ints)
+    assert client.call(add_two_ints.Request(a=1, b=1), timeout_sec=5).sum == 2
+    server.kill()
+    wait_until(lambda: not client._route().is_set(), 10, message='the route to the killed server went')
+    future = client.call_async(add_two_ints.Request())
+    assert future.wait(5), 'the call waited for a server to come back'
+    assert 'went away' in str(future.exception())
 
 
 def test_a_call_with_no_server_ever_fails_with_one_line(context, add_two_ints):

@@ -10,10 +10,12 @@ A server is ready when the graph lists it and Zenoh's routing knows its queryabl
 liveliness token that puts a server in the graph can arrive before the queryable's declaration
 does, and a request sent in between reaches no one. So `wait_for_service` means a request
 sent now is delivered, as in ROS 2, where it returns only once client and server are matched.
-A request made before that (a test that calls at once, a node started beside its server) waits
-for the route, up to its timeout or SERVER_WAIT_SEC, and fails with a one-line error if no
-server comes: rclpy would hang on it forever, and failing at once would lose a call that a
-server starting a moment later could answer.
+A request made before that, by a client that has never reached a server (a test that calls at
+once, a node started beside its server), waits for the route, up to its timeout or
+SERVER_WAIT_SEC, and fails with a one-line error if no server comes: rclpy would hang on it
+forever, and failing at once would lose a call that a server starting a moment later could
+answer. Once a client has reached a server, a call with none fails at once: the server went
+away (a lifecycle manager must learn that a node crashed now, not in ten seconds).
 """
 from __future__ import annotations
 
@@ -56,6 +58,7 @@ class Client(NodeEntity):
         self._max_reply = max_message_size()
         self._route_lock = threading.Lock()
         self._routed: threading.Event | None = None
+        self._ever_routed = False
         self._route_handles: tuple[Any, ...] = ()
         super().__init__(node, EntityKind.CLIENT, name, srv_type, qos)
 
@@ -77,11 +80,13 @@ class Client(NodeEntity):
 
                 def on_matching(status: Any) -> None:  # Zenoh thread
                     if status.matching:
+                        self._ever_routed = True
                         routed.set()
                     else:
                         routed.clear()
                 listener = querier.declare_matching_listener(on_matching)
                 if querier.matching_status.matching:
+                    self._ever_routed = True
                     routed.set()
                 self._route_handles = (listener, querier)
                 self._routed = routed
@@ -182,7 +187,7 @@ class Client(NodeEntity):
             self._send(request, max(0.001, left), zenoh.handlers.Callback(future._arrive, on_done))
 
         routed = self._route()
-        if routed.is_set():
+        if routed.is_set() or self._ever_routed:
             send()
             return future
 
@@ -213,7 +218,8 @@ class Client(NodeEntity):
         started = time.monotonic()
         self._check(request)
         timeout = _NO_TIMEOUT if timeout_sec is None else max(0.001, timeout_sec)
-        if not self._route().wait(min(timeout, SERVER_WAIT_SEC)):
+        routed = self._route()
+        if not self._ever_routed and not routed.wait(min(timeout, SERVER_WAIT_SEC)):
             raise self._no_server(started, timeout)
         _, receiver = self._send(request, max(0.001, timeout - (time.monotonic() - started)),
                                  parameters=parameters)
