@@ -30,6 +30,23 @@ class InvalidNameError(ZrosError, ValueError):
     """A topic, node, namespace or service name breaks the ROS 2 naming rules."""
 
 
+# rclpy's one class per kind of name (rclpy.exceptions); each is an InvalidNameError.
+class InvalidNodeNameException(InvalidNameError):
+    """A node name breaks the rules."""
+
+
+class InvalidNamespaceException(InvalidNameError):
+    """A namespace breaks the rules."""
+
+
+class InvalidTopicNameException(InvalidNameError):
+    """A topic name breaks the rules."""
+
+
+class InvalidServiceNameException(InvalidNameError):
+    """A service (or action) name breaks the rules."""
+
+
 class InterfaceError(ZrosError):
     """An interface (.msg/.srv/.action) cannot be loaded or used."""
 

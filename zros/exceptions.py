@@ -1,17 +1,26 @@
 """The exceptions rclpy users catch by name (rclpy.exceptions), raised by zros's parameter API."""
 from __future__ import annotations
 
-from zros.errors import InvalidNameError, ZrosError
+from zros.errors import (InvalidNamespaceException, InvalidNodeNameException, InvalidServiceNameException,
+                         InvalidTopicNameException, ZrosError)
 
 __all__ = ['ParameterException', 'ParameterNotDeclaredException', 'ParameterAlreadyDeclaredException',
            'InvalidParameterException', 'InvalidParameterValueException', 'InvalidParameterTypeException',
            'ParameterImmutableException', 'ParameterUninitializedException', 'InvalidServiceNameException',
            'InvalidTopicNameException', 'InvalidNodeNameException', 'InvalidNamespaceException',
-           'ROSInterruptException']
+           'ROSInterruptException', 'NotInitializedException', 'InvalidHandle']
 
-# rclpy has one class per kind of name; zros raises InvalidNameError for all of them.
-InvalidServiceNameException = InvalidTopicNameException = InvalidNameError
-InvalidNodeNameException = InvalidNamespaceException = InvalidNameError
+
+
+class NotInitializedException(ZrosError):
+    """An operation needs `zros.init()` (rclpy.init()) first."""
+
+    def __init__(self, cause: str = '') -> None:
+        super().__init__(f'zros.init() has not been called{": " + cause if cause else ""}')
+
+
+class InvalidHandle(ZrosError):
+    """An entity (node, publisher, timer ...) was used after it was destroyed."""
 
 
 class ParameterException(ZrosError):

@@ -9,7 +9,8 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
-from zros.errors import InvalidNameError
+from zros.errors import (InvalidNameError, InvalidNamespaceException, InvalidNodeNameException,
+                         InvalidServiceNameException, InvalidTopicNameException)
 
 __all__ = [
     'validate_node_name',
@@ -21,49 +22,65 @@ __all__ = [
     'Remappings',
 ]
 
+_KINDS = {'node name': InvalidNodeNameException, 'namespace': InvalidNamespaceException,
+          'topic name': InvalidTopicNameException, 'service name': InvalidServiceNameException,
+          'action name': InvalidServiceNameException}
+
+
+def _invalid(kind: str, text: str) -> InvalidNameError:
+    """The error for a bad name of `kind`: rclpy's class for that kind of name."""
+    return _KINDS.get(kind, InvalidNameError)(text)
+
+
 _NODE_NAME = re.compile(r'^[A-Za-z_][A-Za-z0-9_]*$')
 _TOKEN = re.compile(r'^[A-Za-z_][A-Za-z0-9_]*$')
 # Characters that explain a rejection best when named (Zenoh wildcards and key separators).
 _ZENOH_SPECIAL = set('*$#?')
 
 
-def _explain_bad_char(kind: str, name: str) -> str:
+def _explain_bad_char(kind: str, name: str, allowed: str = '_/') -> str:
+    """rcl's reason ("must not contain characters other than ..."), naming the character found."""
+    others = "alphanumerics and '_'" if allowed == '_' else "alphanumerics, '_', '~', '{', '}' and '/'"
     for ch in name:
         if ch in _ZENOH_SPECIAL:
-            return f"invalid {kind} '{name}': character '{ch}' is not allowed (names may not contain Zenoh wildcards)"
+            return (f"invalid {kind} '{name}': must not contain characters other than {others}: "
+                    f"'{ch}' is a Zenoh wildcard")
     for ch in name:
-        if not (ch.isalnum() and ch.isascii()) and ch not in '_/':
-            return f"invalid {kind} '{name}': character '{ch}' is not allowed (use letters, digits, '_' and '/')"
+        if not (ch.isalnum() and ch.isascii()) and ch not in allowed:
+            return f"invalid {kind} '{name}': must not contain characters other than {others}: '{ch}'"
     return ''
 
 
 def validate_node_name(name: str) -> str:
     """Return `name` if it is a valid node name (no slashes, no leading digit)."""
     if not isinstance(name, str) or not name:
-        raise InvalidNameError('node name must be a non-empty string')
+        raise _invalid('node name', 'node name must not be empty (a non-empty string)')
     if not _NODE_NAME.match(name):
-        reason = _explain_bad_char('node name', name)
+        reason = _explain_bad_char('node name', name, allowed='_')
         if not reason:
-            reason = f"invalid node name '{name}': must start with a letter or '_' and contain only letters, digits and '_'"
-        raise InvalidNameError(reason)
+            reason = f"invalid node name '{name}': must not start with a number: start with a letter or '_'"
+        raise _invalid('node name', reason)
     return name
 
 
 def _validate_tokens(kind: str, name: str, body: str) -> None:
     for token in body.split('/'):
         if not token:
-            raise InvalidNameError(f"invalid {kind} '{name}': empty token ('//' or trailing '/')")
+            raise _invalid(kind, f"invalid {kind} '{name}': must not contain repeated '/' ('//') or end with '/' "
+                                 "(an empty token)")
         if not _TOKEN.match(token):
             reason = _explain_bad_char(kind, name)
             if not reason:
-                reason = f"invalid {kind} '{name}': token '{token}' must not start with a digit"
-            raise InvalidNameError(reason)
+                reason = f"invalid {kind} '{name}': token '{token}' must not start with a number (a digit)"
+            raise _invalid(kind, reason)
 
 
 def validate_namespace(namespace: str) -> str:
     """Return `namespace` if it is absolute and well formed ('/' is the root namespace)."""
-    if not isinstance(namespace, str) or not namespace.startswith('/'):
-        raise InvalidNameError(f"invalid namespace '{namespace}': must be absolute (start with '/')")
+    if not isinstance(namespace, str) or not namespace:
+        raise _invalid('namespace', 'namespace must not be empty')
+    if not namespace.startswith('/'):
+        raise _invalid('namespace', f"invalid namespace '{namespace}': must be absolute (start with '/')")
     if namespace != '/':
         _validate_tokens('namespace', namespace, namespace[1:])
     return namespace
@@ -72,7 +89,7 @@ def validate_namespace(namespace: str) -> str:
 def validate_full_name(name: str, kind: str = 'topic name') -> str:
     """Return `name` if it is a valid fully qualified (absolute, expanded) name."""
     if not isinstance(name, str) or not name.startswith('/') or name == '/':
-        raise InvalidNameError(f"invalid {kind} '{name}': must be absolute and not '/'")
+        raise _invalid(kind, f"invalid {kind} '{name}': must be absolute and not '/'")
     _validate_tokens(kind, name, name[1:])
     return name
 
@@ -99,27 +116,27 @@ def expand_topic_name(name: str, node_name: str, namespace: str, kind: str = 'to
     substitutions are supported, relative names go under the namespace.
     """
     if not isinstance(name, str) or not name:
-        raise InvalidNameError(f'{kind} must be a non-empty string')
+        raise _invalid(kind, f'{kind} must not be empty (a non-empty string)')
     original = name
     if '{' in name or '}' in name:
         ns_sub = '' if namespace == '/' else namespace
         name = name.replace('{node}', node_name).replace('{ns}', ns_sub).replace('{namespace}', ns_sub)
         if '{' in name or '}' in name:
-            raise InvalidNameError(f"invalid {kind} '{original}': unknown substitution")
+            raise _invalid(kind, f"invalid {kind} '{original}': unknown substitution")
     fq_node = fully_qualified_node_name(namespace, node_name)
     if name == '~':
         name = fq_node
     elif name.startswith('~/'):
         name = fq_node + name[1:]
     elif name.startswith('~'):
-        raise InvalidNameError(f"invalid {kind} '{original}': '~' must be followed by '/'")
+        raise _invalid(kind, f"invalid {kind} '{original}': '~' must be followed by '/'")
     elif not name.startswith('/'):
         name = ('' if namespace == '/' else namespace) + '/' + name
     try:
         return validate_full_name(name, kind)
     except InvalidNameError as exc:
         if name != original:
-            raise InvalidNameError(f"{exc} (expanded from '{original}')") from None
+            raise type(exc)(f"{exc} (expanded from '{original}')") from None
         raise
 
 
