@@ -41,9 +41,11 @@ def main(goal: tuple[float, float, float], initial_pose: tuple[float, float, flo
             print(f'navigate_to_pose: Nav2 not active after {timeout:g} s', file=sys.stderr)
             return 1
         navigator.goToPose(map_pose(navigator, *goal))
+        turns = 0
         while not navigator.isTaskComplete():   # spins the navigator 0.1 s at a time
+            turns += 1
             feedback = navigator.getFeedback()
-            if feedback is not None:
+            if feedback is not None and turns % 10 == 0:   # about once a second
                 navigator.info(f'distance remaining: {feedback.distance_remaining:.2f} m')
         result = navigator.getResult()
         navigator.info(f'result: {result.name}')
