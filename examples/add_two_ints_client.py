@@ -11,9 +11,10 @@ import sys
 
 import zros
 from zros.node import Node
-from zros.utilities import remove_ros_args
 
 from interfaces.example_interfaces.srv import AddTwoInts
+
+from common import parse_args, run
 
 
 def main(a: int, b: int, service: str, timeout: float, ros_args: list[str]) -> int:
@@ -34,8 +35,5 @@ if __name__ == '__main__':
     parser.add_argument('b', type=int)
     parser.add_argument('--service', default='add_two_ints', help='service name (default: add_two_ints)')
     parser.add_argument('--timeout', type=float, default=10.0, help='wait for the server and its reply [s]')
-    args = parser.parse_args(remove_ros_args(sys.argv)[1:])
-    try:
-        sys.exit(main(args.a, args.b, args.service, args.timeout, sys.argv))
-    except KeyboardInterrupt:
-        sys.exit(130)
+    args = parse_args(parser)
+    run(main, args.a, args.b, args.service, args.timeout)

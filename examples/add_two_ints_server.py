@@ -8,14 +8,13 @@ Call it with examples/add_two_ints_client.py, or
 from __future__ import annotations
 
 import argparse
-import sys
 
 import zros
-from zros.executors import ExternalShutdownException
 from zros.node import Node
-from zros.utilities import remove_ros_args
 
 from interfaces.example_interfaces.srv import AddTwoInts
+
+from common import parse_args, run
 
 
 def main(service: str, ros_args: list[str]) -> None:
@@ -33,8 +32,5 @@ def main(service: str, ros_args: list[str]) -> None:
 if __name__ == '__main__':
     parser = argparse.ArgumentParser(prog='add_two_ints_server', description='Serve AddTwoInts.')
     parser.add_argument('--service', default='add_two_ints', help='service name (default: add_two_ints)')
-    args = parser.parse_args(remove_ros_args(sys.argv)[1:])
-    try:
-        main(args.service, sys.argv)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
+    args = parse_args(parser)
+    run(main, args.service)

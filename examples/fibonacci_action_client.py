@@ -13,9 +13,10 @@ from typing import Any
 import zros
 from zros.action import ActionClient
 from zros.node import Node
-from zros.utilities import remove_ros_args
 
 from interfaces.action_tutorials_interfaces.action import Fibonacci
+
+from common import parse_args, run
 
 
 def main(order: int, action: str, timeout: float, ros_args: list[str]) -> int:
@@ -46,8 +47,5 @@ if __name__ == '__main__':
     parser.add_argument('order', type=int, nargs='?', default=10, help='how many numbers (default: 10)')
     parser.add_argument('--action', default='fibonacci', help='action name (default: fibonacci)')
     parser.add_argument('--timeout', type=float, default=10.0, help='wait for the server and the acceptance [s]')
-    args = parser.parse_args(remove_ros_args(sys.argv)[1:])
-    try:
-        sys.exit(main(args.order, args.action, args.timeout, sys.argv))
-    except KeyboardInterrupt:
-        sys.exit(130)
+    args = parse_args(parser)
+    run(main, args.order, args.action, args.timeout)

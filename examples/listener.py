@@ -8,14 +8,13 @@ Pair it with examples/talker.py, or feed it with `zros topic pub /chatter std_ms
 from __future__ import annotations
 
 import argparse
-import sys
 
 import zros
-from zros.executors import ExternalShutdownException
 from zros.node import Node
-from zros.utilities import remove_ros_args
 
 from interfaces.std_msgs.msg import String
+
+from common import parse_args, run
 
 
 def main(topic: str, count: int, ros_args: list[str]) -> None:
@@ -35,8 +34,5 @@ if __name__ == '__main__':
     parser = argparse.ArgumentParser(prog='listener', description='Print std_msgs/String messages.')
     parser.add_argument('--topic', default='chatter', help='topic to listen on (default: chatter)')
     parser.add_argument('--count', type=int, default=0, help='messages to print, then exit (default: 0, forever)')
-    args = parser.parse_args(remove_ros_args(sys.argv)[1:])
-    try:
-        main(args.topic, args.count, sys.argv)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
+    args = parse_args(parser)
+    run(main, args.topic, args.count)

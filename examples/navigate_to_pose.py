@@ -15,9 +15,10 @@ import sys
 import zros
 from zros.nav2_simple_commander.robot_navigator import BasicNavigator, TaskResult
 from zros.tf_transformations import quaternion_from_euler
-from zros.utilities import remove_ros_args
 
 from interfaces.geometry_msgs.msg import PoseStamped
+
+from common import parse_args, run
 
 
 def map_pose(navigator: BasicNavigator, x: float, y: float, yaw: float) -> PoseStamped:
@@ -60,9 +61,6 @@ if __name__ == '__main__':
     parser.add_argument('--initial-pose', type=float, nargs=3, metavar=('X', 'Y', 'YAW'),
                         help='tell AMCL where the robot starts (map frame [m], [rad])')
     parser.add_argument('--timeout', type=float, default=60.0, help='wait for Nav2 to be active [s]')
-    args = parser.parse_args(remove_ros_args(sys.argv)[1:])
+    args = parse_args(parser)
     initial = tuple(args.initial_pose) if args.initial_pose else None
-    try:
-        sys.exit(main((args.x, args.y, args.yaw), initial, args.timeout, sys.argv))
-    except KeyboardInterrupt:
-        sys.exit(130)
+    run(main, (args.x, args.y, args.yaw), initial, args.timeout)

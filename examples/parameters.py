@@ -10,15 +10,14 @@ While it runs: `zros param set /parameters_example greeting Bonjour` changes wha
 from __future__ import annotations
 
 import argparse
-import sys
 
 import zros
-from zros.executors import ExternalShutdownException
 from zros.node import Node
 from zros.parameter import Parameter
-from zros.utilities import remove_ros_args
 
 from interfaces.rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
+
+from common import parse_args, run
 
 
 def refuse_bad_period(parameters: list[Parameter]) -> SetParametersResult:
@@ -52,8 +51,5 @@ def main(once: bool, ros_args: list[str]) -> None:
 if __name__ == '__main__':
     parser = argparse.ArgumentParser(prog='parameters', description='Declare, validate and use parameters.')
     parser.add_argument('--once', action='store_true', help='print the parameters and exit')
-    args = parser.parse_args(remove_ros_args(sys.argv)[1:])
-    try:
-        main(args.once, sys.argv)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
+    args = parse_args(parser)
+    run(main, args.once)

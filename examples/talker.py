@@ -9,14 +9,13 @@ from __future__ import annotations
 
 import argparse
 import itertools
-import sys
 
 import zros
-from zros.executors import ExternalShutdownException
 from zros.node import Node
-from zros.utilities import remove_ros_args
 
 from interfaces.std_msgs.msg import String
+
+from common import parse_args, run
 
 
 def main(topic: str, period: float, count: int, ros_args: list[str]) -> None:
@@ -35,10 +34,7 @@ if __name__ == '__main__':
     parser.add_argument('--topic', default='chatter', help='topic to publish on (default: chatter)')
     parser.add_argument('--period', type=float, default=1.0, help='time between messages [s] (default: 1)')
     parser.add_argument('--count', type=int, default=0, help='messages to send, then exit (default: 0, forever)')
-    args = parser.parse_args(remove_ros_args(sys.argv)[1:])   # what follows --ros-args is zros's
+    args = parse_args(parser)   # what follows --ros-args is zros's
     if args.period <= 0:
         parser.error('--period must be greater than 0')
-    try:
-        main(args.topic, args.period, args.count, sys.argv)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
+    run(main, args.topic, args.period, args.count)

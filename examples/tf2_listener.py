@@ -9,14 +9,13 @@ Something must publish the frames, for instance
 from __future__ import annotations
 
 import argparse
-import sys
 
 import zros
-from zros.executors import ExternalShutdownException
 from zros.node import Node
 from zros.tf2_ros import Buffer, TransformException, TransformListener
 from zros.time import Time
-from zros.utilities import remove_ros_args
+
+from common import parse_args, run
 
 
 def main(target_frame: str, source_frame: str, count: int, ros_args: list[str]) -> None:
@@ -47,8 +46,5 @@ if __name__ == '__main__':
     parser.add_argument('target_frame', help='the frame to express the pose in (e.g. odom)')
     parser.add_argument('source_frame', help='the frame whose pose is printed (e.g. base_footprint)')
     parser.add_argument('--count', type=int, default=0, help='transforms to print, then exit (default: 0, forever)')
-    args = parser.parse_args(remove_ros_args(sys.argv)[1:])
-    try:
-        main(args.target_frame, args.source_frame, args.count, sys.argv)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
+    args = parse_args(parser)
+    run(main, args.target_frame, args.source_frame, args.count)
