@@ -1,4 +1,4 @@
-"""Pub/sub benchmark: zros against raw zenoh-python, same run, same machine (DESIGN §8).
+"""Pub/sub benchmark: zros against raw zenoh-python, same run, same machine (docs/architecture.md §8).
 
     python benchmarks/pubsub.py            # full run, about a minute
     python benchmarks/pubsub.py --quick    # smaller counts, one run each, no 8 MB case
@@ -80,7 +80,7 @@ SIZES = {
 #: The shared-memory pool of the benchmark processes: a 32 MB message needs room to be in flight.
 SHM_POOL = '256M'
 
-# DESIGN §8 / issue targets: (kind, bound); 'max' = zros/raw at most bound, 'min' = at least;
+# docs/architecture.md §8 / issue targets: (kind, bound); 'max' = zros/raw at most bound, 'min' = at least;
 # 'abs' = zros msg/s at least bound.
 LATENCY_TARGET = ('max', 1.2)     # small-message latency within 1.2x of raw
 LARGE_LATENCY_TARGET = ('max', 1.11)  # 90% of raw bandwidth = round trip at most 1/0.9 of raw
@@ -915,7 +915,7 @@ def copy_stages(case: str, repeat: int = 20) -> dict:
 
 
 def report(latency: dict, throughput: dict, plan: Plan, stages: dict | None, dds: bool) -> str:
-    """The comparison tables, each row judged against its target (DESIGN §8, issue 21)."""
+    """The comparison tables, each row judged against its target (docs/architecture.md §8, issue 21)."""
     out = []
     rows = []
     for case, res in latency.items():

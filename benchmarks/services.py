@@ -8,7 +8,7 @@ A server process answers (1) a raw zenoh-python queryable that decodes a msgpack
 trivial `action_tutorials_interfaces/action/Fibonacci` action server (its execute callback
 succeeds at once). This process is the client: raw `session.get` calls, then
 `Client.call`, then `ActionClient.send_goal` (send-goal plus get-result), in alternating
-rounds. Targets from DESIGN §8: a service call within 1.5x of a raw get, an action goal round
+rounds. Targets from docs/architecture.md §8: a service call within 1.5x of a raw get, an action goal round
 trip within 3x.
 """
 from __future__ import annotations

@@ -5,7 +5,7 @@ the simulator node costs at real time.
     python benchmarks/sim.py --quick    # about 35 s
     python benchmarks/sim.py --json out.json
 
-Goals (issue 15, DESIGN §9): the headless simulation with the lidar on runs at >= 20x real time
+Goals (issue 15, docs/architecture.md §9): the headless simulation with the lidar on runs at >= 20x real time
 on one core; a 360-beam scan costs < 1 ms; the simulator at 1x takes < 10% of a core.
 
 What is measured, in one run:

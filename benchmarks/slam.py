@@ -4,7 +4,7 @@
     python benchmarks/slam.py --world turtlebot3_world --map /tmp/map   # also save the map
     python benchmarks/slam.py --json out.json
 
-Goals (issue 16, DESIGN §9): in turtlebot3_world, trajectory error (ATE RMSE) <= 5 cm and at
+Goals (issue 16, docs/architecture.md §9): in turtlebot3_world, trajectory error (ATE RMSE) <= 5 cm and at
 least 5x better than odometry alone; map: >= 95 % of the visible true wall cells found within
 one cell, <= 2 % of the occupied map cells free in truth; cost: keeps up with the 5 Hz lidar at
 5x real time on one core (>= 25 scans/s, map updates included). House: ATE <= 10 cm.

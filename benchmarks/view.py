@@ -21,7 +21,7 @@ a 60-pose plan and frontier markers at 1 Hz. Two phases:
    the browser, while `zros topic pub -r 50` publishes the topic: the rqt process's CPU and the
    bytes it sends (the page gets at most 500 points per series twice a second, whatever the rate).
 
-Goals (DESIGN §9, issue 19): server < 10 % of a core, page >= 30 fps, latency < 50 ms; the same
+Goals (docs/architecture.md §9, issue 19): server < 10 % of a core, page >= 30 fps, latency < 50 ms; the same
 CPU goal for the plot page (issue 24: plotting at 50 Hz must not load the graph).
 """
 from __future__ import annotations

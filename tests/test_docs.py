@@ -1,4 +1,4 @@
-"""Every path and `zros` command that README.md and docs/*.md show a user still works.
+"""Every path and `zros` command that README.md, examples/README.md and docs/*.md show a user still works.
 
 The documents are read when the test runs, so a page or command added later is checked too.
 What is checked, cheaply (nothing is started):
@@ -29,7 +29,7 @@ from typing import Iterator, NamedTuple
 
 from conftest import REPO
 
-TOP_DIRS = ('configs', 'docs', 'nodes', 'interfaces', 'benchmarks', 'tests', 'zros', '.ci')
+TOP_DIRS = ('configs', 'docs', 'examples', 'nodes', 'interfaces', 'benchmarks', 'tests', 'zros', '.ci')
 _PATH = re.compile(r'(?<![\w/.$~-])((?:%s)/[\w./-]*\w)' % '|'.join(re.escape(d) for d in TOP_DIRS))
 _LINK = re.compile(r'\]\(([^)\s#]+)(?:#[^)]*)?\)')
 _INLINE_CODE = re.compile(r'`([^`]+)`')
@@ -49,7 +49,7 @@ class Mention(NamedTuple):
 
 
 def documents() -> list[Path]:
-    return [REPO / 'README.md', *sorted((REPO / 'docs').glob('*.md'))]
+    return [REPO / 'README.md', REPO / 'examples' / 'README.md', *sorted((REPO / 'docs').glob('*.md'))]
 
 
 def _lines(doc: Path) -> Iterator[tuple[int, str, bool]]:

@@ -541,7 +541,8 @@ def test_own_entities_are_in_the_graph_at_once(context):
 
 
 def test_drops_and_losses_are_visible_in_topic_info(make_context, zros_cli, wait_for):
-    """DESIGN §6: nothing is lost silently; `zros topic info -v` shows each subscription's counters."""
+    """docs/architecture.md §6: nothing is lost silently; `zros topic info -v` shows each
+    subscription's counters."""
     pub_ctx, sub_ctx = make_context(), make_context()
     publisher = Node('burster', context=pub_ctx).create_publisher(String, '/burst', 100)
     listener = Node('slow_reader', context=sub_ctx)

@@ -1,6 +1,6 @@
 """Which Zenoh session a zros process opens: one setting for one machine or many.
 
-Zero set-up on one machine (DESIGN §5): the first zros process of a domain binds the domain's
+Zero set-up on one machine (docs/architecture.md §5): the first zros process of a domain binds the domain's
 hub port on loopback (7447 + domain id) and every later process connects to it; Zenoh's gossip
 then links the processes to each other directly, so the hub is only a meeting point. When the
 hub process exits, the others stay linked, and the next process to start takes the port over

@@ -211,7 +211,7 @@ def _collect(session, domain: int, limit: float, *, wait_for_peers: bool, hub_mi
 
 class StatsService:
     """Run by every process: the delivery counters of its subscriptions, for `zros topic info -v`
-    (a full queue drops and a gap loses messages visibly, never silently: DESIGN §6)."""
+    (a full queue drops and a gap loses messages visibly, never silently: docs/architecture.md §6)."""
 
     def __init__(self, session, domain: int, zid: str, subscriptions: Callable[[], Iterable]) -> None:
         self._subscriptions = subscriptions

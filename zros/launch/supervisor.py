@@ -9,7 +9,7 @@ Ctrl-C in the terminal reaches only the supervisor, which then shuts them down i
 SIGINT to each process group, SIGTERM after `sigterm_timeout`, SIGKILL `sigkill_timeout` later.
 
 While the launch runs the supervisor holds a zros Context, so the first launch of a domain is
-the loopback discovery hub for all its nodes (DESIGN §5) and the hub lives as long as the
+the loopback discovery hub for all its nodes (docs/architecture.md §5) and the hub lives as long as the
 launch; the context is closed only after every child is gone.
 """
 from __future__ import annotations
