@@ -16,7 +16,12 @@ __all__ = ['Publisher']
 
 
 class Publisher(NodeEntity):
-    """Made by `Node.create_publisher`; publishes instances of one message type on one topic."""
+    """Sends messages of one type on one topic; made by `Node.create_publisher`, never directly.
+
+    It owns its Zenoh publisher (declared on the topic's key) and its graph token; `destroy()`
+    or `Node.destroy_publisher` undeclares both. Generic in the message type, so that an
+    editor knows `publish` takes a `String` for a ``Publisher[String]``.
+    """
 
     _events: Any = None  # zros.event_handler's tracker, when a deadline or liveliness event needs it
 
@@ -47,8 +52,16 @@ class Publisher(NodeEntity):
         super().__init__(node, EntityKind.PUBLISHER, topic, msg_type, qos)
 
     def publish(self, msg: Any) -> None:
-        """Send `msg` (an instance of this publisher's type, or its already serialized bytes,
-        as rclpy allows) to every matching subscription."""
+        """Send a message to every matching subscription.
+
+        Serialization happens on the calling thread; with RELIABLE QoS the call may block while
+        Zenoh's queues are full.
+
+        :param msg: An instance of the publisher's message type, or its already serialized bytes
+            (as rclpy allows).
+        :raises TypeError: If `msg` is of another type.
+        :raises RuntimeError: If the publisher has been destroyed.
+        """
         if type(msg) is self.msg_type:
             payload = self._encode(msg)
         elif isinstance(msg, (bytes, bytearray)):
@@ -70,10 +83,22 @@ class Publisher(NodeEntity):
             self._events.on_assert()
 
     def get_subscription_count(self) -> int:
+        """Count the subscriptions on this publisher's topic that the graph knows of now.
+
+        zros counts them from the liveliness tokens in the graph (there is no rmw to ask), so a
+        subscription that has just been created may be missing for a moment.
+
+        :return: The number of subscriptions, local and remote.
+        """
         return self._node.count_subscribers(self.topic_name)
 
     def wait_for_subscribers(self, count: int = 1, timeout_sec: float | None = None) -> bool:
-        """Block until `count` subscriptions match (used by `zros topic pub -w`)."""
+        """Block until `count` subscriptions on the topic are in the graph (`zros topic pub -w`).
+
+        :param count: How many subscriptions to wait for.
+        :param timeout_sec: Seconds to wait at most; ``None`` waits forever.
+        :return: ``True`` if they matched, ``False`` on timeout.
+        """
         return self._node.context.graph.wait_for(
             lambda entities: sum(1 for e in entities if e.kind == EntityKind.SUBSCRIPTION
                                  and e.name == self.topic_name) >= count, timeout_sec)

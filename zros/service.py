@@ -47,9 +47,17 @@ class DeferredResponse:
             self._finish(kind, value)
 
     def resolve(self, response: Any) -> None:
+        """Send `response` as the answer to the deferred request.
+
+        :param response: An instance of the service's Response type.
+        """
         self._finish('ok', response)
 
     def fail(self, text: str) -> None:
+        """Answer the deferred request with an error; the caller's call fails with this text.
+
+        :param text: The error message the client sees in its ServiceCallError.
+        """
         self._finish('err', text)
 
     def _finish(self, kind: str, value: Any) -> None:
@@ -68,7 +76,11 @@ class DeferredResponse:
 
 
 class Service(QueuedEntity):
-    """Made by `Node.create_service`."""
+    """Answers one service; made by `Node.create_service`.
+
+    It owns a Zenoh queryable on the service's key; requests wait in a queue and the callback
+    answers them on the node's executor. Generic in the service type.
+    """
 
     #: Called with (query, response) after a response has gone out; a DeferredResponse it returns
     #: answers the same query once more, later (an action's send-goal that also brings the result).
@@ -99,6 +111,7 @@ class Service(QueuedEntity):
 
     @property
     def service_name(self) -> str:
+        """The fully qualified (remapped) name this service serves."""
         return self.srv_name
 
     def _servers(self, type_name: str) -> list:

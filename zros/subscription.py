@@ -72,7 +72,13 @@ _HAND_OFF_S = 0.002
 
 
 class Subscription(QueuedEntity):
-    """Made by `Node.create_subscription`."""
+    """Receives messages of one type on one topic; made by `Node.create_subscription`.
+
+    Samples are queued on Zenoh's thread and decoded and handed to the callback on the node's
+    executor (see the module docstring). Generic in the message type, so that an editor
+    checks the callback's argument against it. `destroy()` or `Node.destroy_subscription`
+    undeclares its Zenoh subscriber and graph token.
+    """
 
     _events: Any = None  # zros.event_handler's tracker, when a deadline or message-lost event needs it
 

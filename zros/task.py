@@ -35,6 +35,15 @@ _stepping = threading.local()
 
 class Future:
     # Whether completing counts as a piece of work for the executor (a Task's run already does).
+    """The outcome of work that completes later, as rclpy.task.Future.
+
+    Any thread may complete it; done callbacks run on the executor it knows (see the module
+    docstring). Users get futures from `call_async`, `send_goal_async` and
+    `Executor.create_task` rather than making them.
+
+    :param executor: The executor that runs the done callbacks.
+    :param node: The node whose executor runs them, looked up when the future completes.
+    """
     _marks_work = True
 
     def __init__(self, *, executor: Any = None, node: Any = None) -> None:
@@ -49,12 +58,21 @@ class Future:
         self._node = node
 
     def done(self) -> bool:
+        """Tell whether the future has completed.
+
+        :return: ``True`` once a result or exception is set, or the future is cancelled.
+        """
         return self._state != 'pending'
 
     def cancelled(self) -> bool:
+        """Tell whether the future was cancelled.
+
+        :return: ``True`` after `cancel()` on a pending future.
+        """
         return self._state == 'cancelled'
 
     def cancel(self) -> None:
+        """Complete the future as cancelled, if it is still pending; done callbacks run."""
         self._finish('cancelled', None, None)
 
     def result(self) -> Any:
@@ -64,12 +82,24 @@ class Future:
         return self._result
 
     def exception(self) -> BaseException | None:
+        """The exception the work ended with.
+
+        :return: The exception, or ``None`` while pending or after success.
+        """
         return self._exception
 
     def set_result(self, result: Any) -> None:
+        """Complete the future with `result`; ignored if it is already complete.
+
+        :param result: The value `result()` returns from now on.
+        """
         self._finish('done', result, None)
 
     def set_exception(self, exception: BaseException) -> None:
+        """Complete the future with an error; ignored if it is already complete.
+
+        :param exception: The exception `result()` raises from now on.
+        """
         self._finish('done', None, exception)
 
     def _finish(self, state: str, result: Any, exception: BaseException | None) -> None:
@@ -105,6 +135,13 @@ class Future:
         return getattr(self._node, '_executor', None)
 
     def add_done_callback(self, callback: Callable[['Future'], None]) -> None:
+        """Call `callback(future)` when the future completes (at once if it has).
+
+        The callback runs as a task of the future's executor when it has one, else in the thread
+        that completes the future.
+
+        :param callback: A function of one argument, this future.
+        """
         with self._lock:
             if self._state == 'pending':
                 self._callbacks.append(callback)
@@ -167,6 +204,10 @@ class Task(Future):
     _marks_work = False
 
     def executing(self) -> bool:
+        """Tell whether the task is running on some thread now.
+
+        :return: ``True`` while the function or a step of the coroutine runs.
+        """
         return self._executing
 
     def __call__(self) -> None:

@@ -31,11 +31,13 @@ __all__ = ['ActionServer', 'ServerGoalHandle', 'GoalResponse', 'CancelResponse',
 
 
 class GoalResponse(enum.IntEnum):
+    """What a goal callback answers: reject the goal, or accept it."""
     REJECT = 1
     ACCEPT = 2
 
 
 class CancelResponse(enum.IntEnum):
+    """What a cancel callback answers: reject the cancel request, or accept it."""
     REJECT = 1
     ACCEPT = 2
 
@@ -103,26 +105,35 @@ class ServerGoalHandle:
 
     @property
     def goal_id(self) -> Any:
+        """The goal's UUID (a unique_identifier_msgs/msg/UUID), chosen by the client."""
         return self._goal_id
 
     @property
     def request(self) -> Any:
+        """The goal message the client sent (an instance of the action's Goal)."""
         return self._request
 
     @property
     def status(self) -> int:
+        """The goal's current status (a GoalStatus value)."""
         return int(self._status)
 
     @property
     def is_active(self) -> bool:
+        """Whether the goal is accepted, executing or canceling (not yet ended)."""
         return self._status in _ACTIVE
 
     @property
     def is_executing(self) -> bool:
+        """Whether the goal is executing."""
         return self._status == GoalStatus.EXECUTING
 
     @property
     def is_cancel_requested(self) -> bool:
+        """Whether a cancel request for this goal was accepted.
+
+        An execute callback polls this and ends the goal with `canceled()` when it is set.
+        """
         return self._status == GoalStatus.CANCELING
 
     def execute(self, execute_callback: Callable | None = None) -> None:
@@ -130,15 +141,34 @@ class ServerGoalHandle:
         self._server._start_execution(self, execute_callback)
 
     def publish_feedback(self, feedback: Any) -> None:
+        """Send feedback to the client that sent the goal.
+
+        zros publishes each client's feedback on a topic of its own, so clients of the same action
+        do not receive (and decode) each other's feedback.
+
+        :param feedback: An instance of the action's Feedback type.
+        """
         self._server._publish_feedback(self, feedback)
 
     def succeed(self) -> None:
+        """End the goal as SUCCEEDED; the execute callback then returns the result.
+
+        :raises RuntimeError: If the goal is not executing or canceling.
+        """
         self._transition(GoalStatus.SUCCEEDED, (GoalStatus.EXECUTING, GoalStatus.CANCELING))
 
     def abort(self) -> None:
+        """End the goal as ABORTED; the execute callback then returns the result.
+
+        :raises RuntimeError: If the goal has already ended.
+        """
         self._transition(GoalStatus.ABORTED, _ACTIVE)
 
     def canceled(self) -> None:
+        """End the goal as CANCELED, after a cancel request was accepted.
+
+        :raises RuntimeError: If no cancel was requested.
+        """
         self._transition(GoalStatus.CANCELED, (GoalStatus.CANCELING,))
 
     def _transition(self, new: GoalStatus, allowed: tuple) -> None:
@@ -167,7 +197,27 @@ class ServerGoalHandle:
 
 
 class ActionServer:
-    """`ActionServer(node, action_type, action_name, execute_callback, ...)` as in rclpy."""
+    """Serves one action, as rclpy.action.ActionServer.
+
+    Goals are accepted and cancels rejected unless you give callbacks; each accepted goal's
+    `execute_callback` runs as an executor task (see the module docstring).
+
+    :param node: The node that owns the server's entities.
+    :param action_type: The action class.
+    :param action_name: The action's name, resolved like a service name.
+    :param execute_callback: Takes a ServerGoalHandle, calls `succeed()`, `abort()` or
+        `canceled()` on it and returns an instance of the action's Result.
+    :param callback_group: The group of the goal, cancel and result services.
+    :param goal_callback: Takes the Goal, returns a GoalResponse.
+    :param handle_accepted_callback: Takes the handle of an accepted goal; by default starts it.
+    :param cancel_callback: Takes the handle, returns a CancelResponse.
+    :param goal_service_qos_profile: QoS of the send-goal service.
+    :param result_service_qos_profile: QoS of the get-result service.
+    :param cancel_service_qos_profile: QoS of the cancel service.
+    :param feedback_pub_qos_profile: QoS of the feedback publishers.
+    :param status_pub_qos_profile: QoS of the status publisher.
+    :param result_timeout: Seconds a finished goal's result stays available.
+    """
 
     def __init__(self, node: 'Node', action_type: type, action_name: str, execute_callback: Callable, *,
                  callback_group: Any = None, goal_callback: Callable = default_goal_callback,
@@ -219,6 +269,7 @@ class ActionServer:
 
     @property
     def action_name(self) -> str:
+        """The fully qualified (remapped) name of the action."""
         return self._name
 
     def _siblings(self) -> list['ActionServer']:
@@ -474,6 +525,10 @@ class ActionServer:
             pass  # destroyed while a goal was finishing
 
     def destroy(self) -> None:
+        """Destroy the server's services and publishers and leave the graph.
+
+        Calling it twice is harmless; `Node.destroy_node` calls it too.
+        """
         if self._destroyed:
             return
         self._destroyed = True

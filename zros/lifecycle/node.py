@@ -55,21 +55,47 @@ class LifecycleNodeMixin(ManagedEntity):
     # -- state ---------------------------------------------------------------------------------
     @property
     def current_state(self) -> LifecycleState:
+        """The state the node is in now (a LifecycleState with `state_id` and `label`)."""
         return self._state_machine.current
 
     def trigger_configure(self) -> TransitionCallbackReturn:
+        """Run the configure transition (unconfigured to inactive), calling `on_configure`.
+
+        :return: What the callback returned (ERROR if it raised).
+        :raises TransitionError: If the node is not unconfigured, or another transition runs.
+        """
         return self._change_state('configure')
 
     def trigger_cleanup(self) -> TransitionCallbackReturn:
+        """Run the cleanup transition (inactive to unconfigured), calling `on_cleanup`.
+
+        :return: What the callback returned (ERROR if it raised).
+        :raises TransitionError: If the node is not inactive, or another transition runs.
+        """
         return self._change_state('cleanup')
 
     def trigger_activate(self) -> TransitionCallbackReturn:
+        """Run the activate transition (inactive to active), calling `on_activate`.
+
+        :return: What the callback returned (ERROR if it raised).
+        :raises TransitionError: If the node is not inactive, or another transition runs.
+        """
         return self._change_state('activate')
 
     def trigger_deactivate(self) -> TransitionCallbackReturn:
+        """Run the deactivate transition (active to inactive), calling `on_deactivate`.
+
+        :return: What the callback returned (ERROR if it raised).
+        :raises TransitionError: If the node is not active, or another transition runs.
+        """
         return self._change_state('deactivate')
 
     def trigger_shutdown(self) -> TransitionCallbackReturn:
+        """Run the shutdown transition from any primary state but finalized, calling `on_shutdown`.
+
+        :return: What the callback returned (ERROR if it raised).
+        :raises TransitionError: If the node is finalized, or another transition runs.
+        """
         return self._change_state('shutdown')
 
     def _change_state(self, transition: int | str) -> TransitionCallbackReturn:
@@ -113,6 +139,11 @@ class LifecycleNodeMixin(ManagedEntity):
 
     # -- managed entities ----------------------------------------------------------------------
     def add_managed_entity(self, entity: ManagedEntity) -> None:
+        """Have the default transition callbacks drive `entity` too.
+
+        :param entity: A ManagedEntity (a lifecycle publisher, or one of your own).
+        :raises TypeError: If `entity` is not a ManagedEntity.
+        """
         if not isinstance(entity, ManagedEntity):
             raise TypeError('Expected a zros.lifecycle.ManagedEntity instance.')
         self._managed_entities.add(entity)
@@ -125,21 +156,53 @@ class LifecycleNodeMixin(ManagedEntity):
         return TransitionCallbackReturn.SUCCESS
 
     def on_configure(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """Override to load parameters and create entities; by default configures the managed entities.
+
+        :param state: The state the transition started from.
+        :return: SUCCESS (to inactive), FAILURE (stay unconfigured) or ERROR (to on_error).
+        """
         return self._for_entities('on_configure', state)
 
     def on_cleanup(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """Override to release what on_configure made; by default cleans up the managed entities.
+
+        :param state: The state the transition started from.
+        :return: SUCCESS (to unconfigured), FAILURE or ERROR.
+        """
         return self._for_entities('on_cleanup', state)
 
     def on_shutdown(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """Override to release everything before the node is finalized; by default shuts the managed
+        entities down.
+
+        :param state: The state the transition started from.
+        :return: SUCCESS (to finalized), FAILURE or ERROR.
+        """
         return self._for_entities('on_shutdown', state)
 
     def on_activate(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """Override to start work; by default activates the managed entities (publishers start sending).
+
+        :param state: The state the transition started from.
+        :return: SUCCESS (to active), FAILURE (stay inactive) or ERROR.
+        """
         return self._for_entities('on_activate', state)
 
     def on_deactivate(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """Override to pause work; by default deactivates the managed entities.
+
+        :param state: The state the transition started from.
+        :return: SUCCESS (to inactive), FAILURE (stay active) or ERROR.
+        """
         return self._for_entities('on_deactivate', state)
 
     def on_error(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """Override to recover after a callback returned ERROR or raised; by default asks the managed
+        entities.
+
+        :param state: The state the failed transition started from.
+        :return: SUCCESS (back to unconfigured) or anything else (to finalized).
+        """
         return self._for_entities('on_error', state)
 
     def create_lifecycle_publisher(self, *args: Any, **kwargs: Any) -> LifecyclePublisher:
@@ -153,6 +216,11 @@ class LifecycleNodeMixin(ManagedEntity):
         return publisher
 
     def destroy_lifecycle_publisher(self, publisher: LifecyclePublisher) -> bool:
+        """Destroy a publisher made by `create_lifecycle_publisher`.
+
+        :param publisher: The lifecycle publisher.
+        :return: ``True`` if the node had it.
+        """
         self._managed_entities.discard(publisher)
         return Node.destroy_publisher(self, publisher)
 
