@@ -19,12 +19,12 @@ from __future__ import annotations
 
 import threading
 import time
-from typing import TYPE_CHECKING, Any, Iterator
+from typing import TYPE_CHECKING, Any, Generic, Iterator
 
 from zros.entity import NodeEntity
 from zros.errors import DecodeError, ServiceCallError
 from zros.graph import EntityKind
-from zros.message import deserialize, serialize
+from zros.message import Srv, SrvRequestT, SrvResponseT, deserialize, serialize
 from zros.qos import QoSProfile
 from zros.task import Future
 from zros.wire import AttachmentWriter, max_message_size
@@ -42,16 +42,17 @@ _NO_TIMEOUT = 86_400.0
 SERVER_WAIT_SEC = 10.0
 
 
-class Client(NodeEntity):
+class Client(NodeEntity, Generic[SrvRequestT, SrvResponseT]):
     """Calls one service; made by `Node.create_client`.
 
     Generic in the service type: `call` and `call_async` take its Request and give its
     Response. Each request is one Zenoh query (see the module docstring).
     """
 
-    def __init__(self, node: 'Node', srv_type: type, name: str, qos: QoSProfile, callback_group: Any) -> None:
+    def __init__(self, node: 'Node', srv_type: type[Srv[SrvRequestT, SrvResponseT]], name: str, qos: QoSProfile,
+                 callback_group: Any) -> None:
         from zros.keys import service_key
-        self.srv_type = srv_type
+        self.srv_type: Any = srv_type   # a class built at run time: its _TYPE is not declared
         self.srv_name = name
         self.qos_profile = qos
         self.callback_group = callback_group
@@ -179,7 +180,7 @@ class Client(NodeEntity):
         return ServiceCallError(f"service '{self.srv_name}' did not answer: the server went away before "
                                 f'answering (or none is running) after {waited:.2f} s')
 
-    def call_async(self, request: Any, *, timeout_sec: float | None = None) -> Future:
+    def call_async(self, request: SrvRequestT, *, timeout_sec: float | None = None) -> Future[SrvResponseT]:
         """Send a request and return at once.
 
         The reply is decoded where the future is read (`result()`, an ``await``, a done callback
@@ -224,7 +225,7 @@ class Client(NodeEntity):
         threading.Thread(target=send_when_routed, name=f'call {self.srv_name}', daemon=True).start()
         return future
 
-    def call(self, request: Any, timeout_sec: float | None = None) -> Any:
+    def call(self, request: SrvRequestT, timeout_sec: float | None = None) -> SrvResponseT:
         """Send a request and block until the response comes.
 
         The reply is read from Zenoh's channel on this thread, so no executor needs to spin and
@@ -271,7 +272,7 @@ class Client(NodeEntity):
         self._route_handles = ()
 
 
-class _ReplyFuture(Future):
+class _ReplyFuture(Future[Any]):
     """The future of a `call_async`. Zenoh's thread only stores the reply and completes the
     future, so waiters wake as before (a thread blocked on it, `spin_until_future_complete`)
     and a callback that waits for it without spinning still sees it complete; the reply is

@@ -6,7 +6,7 @@ so nothing unvalidated ever reaches zros.keys.
 """
 from __future__ import annotations
 
-from typing import Any, Callable, Iterable
+from typing import TYPE_CHECKING, Any, Callable, Iterable
 
 from zros.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup
 from zros.clock import ROSClock
@@ -14,6 +14,7 @@ from zros.context import Context, get_default_context
 from zros.errors import NotInitializedError
 from zros.graph import Entity, EntityKind, endpoints, entity_token, names_and_types, node_names_and_namespaces
 from zros.logging import RcutilsLogger, add_sink, get_logger, remove_sink
+from zros.message import MsgT, Srv, SrvRequestT, SrvResponseT
 from zros.names import (Remappings, expand_topic_name, fully_qualified_node_name, normalize_namespace,
                         validate_node_name)
 from zros.arguments import parse_ros_args
@@ -27,9 +28,12 @@ from zros.qos_overriding_options import (QoSOverridingOptions, declare_qos_param
 from zros.qos import (QoSProfile, qos_profile_default, qos_profile_parameter_events,
                       qos_profile_services_default, to_profile)
 from zros.service import Service
-from zros.subscription import Subscription
+from zros.subscription import Subscription, SubscriptionCallback
 from zros.guard_condition import GuardCondition
 from zros.timer import Rate, Timer, timer_lists_changed
+
+if TYPE_CHECKING:
+    from zros.qos_monitor import QoSMonitor
 
 __all__ = ['Node']
 
@@ -100,15 +104,15 @@ class Node:
         self._entities: list[Any] = []
         self._timers: list[Timer] = []
         self._tokens: dict[int, Any] = {}
-        self._qos_monitor = None
+        self._qos_monitor: QoSMonitor | None = None
         self._node_id = self._context.next_id()
         self._zid = str(self._context.session.info.zid())
         self._destroyed = False
         self._node_entity = Entity(EntityKind.NODE, self._zid, self._node_id, 0, self._namespace, self._name)
         self._node_token = self._declare_token(self._node_entity)
         self._context._register_node(self)
-        self._rosout = None
-        self._rosout_sink = None
+        self._rosout: Publisher[Any] | None = None
+        self._rosout_sink: Callable[..., None] | None = None
         if enable_rosout and not any(a.disable_rosout for a in arg_sets):
             self._start_rosout()
         self._parameters = ParameterStore(
@@ -258,11 +262,11 @@ class Node:
         if self._destroyed:
             raise RuntimeError(f"node '{self._name}' has been destroyed")
 
-    def create_publisher(self, msg_type: type, topic: str, qos_profile: QoSProfile | int = qos_profile_default,
+    def create_publisher(self, msg_type: type[MsgT], topic: str, qos_profile: QoSProfile | int = qos_profile_default,
                          *, callback_group: CallbackGroup | None = None,
                          event_callbacks: PublisherEventCallbacks | None = None,
                          qos_overriding_options: QoSOverridingOptions | None = None,
-                         publisher_class: type = Publisher) -> Publisher:
+                         publisher_class: type[Publisher[Any]] = Publisher) -> Publisher[MsgT]:
         """Create a publisher of `msg_type` messages on `topic`.
 
         zros declares a Zenoh publisher on the topic's key (an advanced publisher with a cache when
@@ -291,12 +295,12 @@ class Node:
         attach_event_callbacks(publisher, event_callbacks or PublisherEventCallbacks())
         return self._add(publisher)
 
-    def create_subscription(self, msg_type: type, topic: str, callback: Callable,
+    def create_subscription(self, msg_type: type[MsgT], topic: str, callback: SubscriptionCallback[MsgT],
                             qos_profile: QoSProfile | int = qos_profile_default, *,
                             callback_group: CallbackGroup | None = None,
                             event_callbacks: SubscriptionEventCallbacks | None = None,
                             qos_overriding_options: QoSOverridingOptions | None = None,
-                            raw: bool = False) -> Subscription:
+                            raw: bool = False) -> Subscription[MsgT]:
         """Create a subscription to `msg_type` messages on `topic`.
 
         Samples wait undecoded in a queue of the QoS depth; the node's executor decodes each and
@@ -351,10 +355,11 @@ class Node:
         timer_lists_changed()
         return self._add(timer)
 
-    def create_service(self, srv_type: type, srv_name: str, callback: Callable[[Any, Any], Any], *,
+    def create_service(self, srv_type: type[Srv[SrvRequestT, SrvResponseT]], srv_name: str,
+                       callback: Callable[[SrvRequestT, SrvResponseT], Any], *,
                        qos_profile: QoSProfile = qos_profile_services_default,
                        callback_group: CallbackGroup | None = None,
-                       expect_other_servers: bool = False) -> Service:
+                       expect_other_servers: bool = False) -> Service[SrvRequestT, SrvResponseT]:
         """Create a server for `srv_name`: `callback(request, response)` fills and returns the response.
 
         The server is a Zenoh queryable; each request is answered from the node's executor.
@@ -379,9 +384,9 @@ class Node:
                                  to_profile(qos_profile), callback_group or self._default_callback_group,
                                  warn_if_shared=not expect_other_servers))
 
-    def create_client(self, srv_type: type, srv_name: str, *,
+    def create_client(self, srv_type: type[Srv[SrvRequestT, SrvResponseT]], srv_name: str, *,
                       qos_profile: QoSProfile = qos_profile_services_default,
-                      callback_group: CallbackGroup | None = None) -> Client:
+                      callback_group: CallbackGroup | None = None) -> Client[SrvRequestT, SrvResponseT]:
         """Create a client of the service `srv_name`.
 
         :param srv_type: The service class.
@@ -418,7 +423,7 @@ class Node:
         """
         return self._destroy_entity(guard)
 
-    def destroy_service(self, service: Service) -> bool:
+    def destroy_service(self, service: Service[Any, Any]) -> bool:
         """Destroy a service made by this node; it leaves the graph and stops answering.
 
         :param service: The service.
@@ -426,7 +431,7 @@ class Node:
         """
         return self._destroy_entity(service)
 
-    def destroy_client(self, client: Client) -> bool:
+    def destroy_client(self, client: Client[Any, Any]) -> bool:
         """Destroy a client made by this node; its pending calls fail.
 
         :param client: The client.
@@ -443,7 +448,7 @@ class Node:
         """
         return Rate(frequency, clock or self._clock, context=self._context)
 
-    def destroy_publisher(self, publisher: Publisher) -> bool:
+    def destroy_publisher(self, publisher: Publisher[Any]) -> bool:
         """Destroy a publisher made by this node; it leaves the graph.
 
         :param publisher: The publisher.
@@ -451,7 +456,7 @@ class Node:
         """
         return self._destroy_entity(publisher)
 
-    def destroy_subscription(self, subscription: Subscription) -> bool:
+    def destroy_subscription(self, subscription: Subscription[Any]) -> bool:
         """Destroy a subscription made by this node; messages still queued are dropped.
 
         :param subscription: The subscription.
@@ -477,22 +482,22 @@ class Node:
         return True
 
     @property
-    def publishers(self) -> Iterable[Publisher]:
+    def publishers(self) -> Iterable[Publisher[Any]]:
         """The node's publishers (a new list each time)."""
         return [e for e in self._entities if isinstance(e, Publisher)]
 
     @property
-    def subscriptions(self) -> Iterable[Subscription]:
+    def subscriptions(self) -> Iterable[Subscription[Any]]:
         """The node's subscriptions (a new list each time)."""
         return [e for e in self._entities if isinstance(e, Subscription)]
 
     @property
-    def services(self) -> Iterable[Service]:
+    def services(self) -> Iterable[Service[Any, Any]]:
         """The node's services, including its parameter services (a new list each time)."""
         return [e for e in self._entities if isinstance(e, Service)]
 
     @property
-    def clients(self) -> Iterable[Client]:
+    def clients(self) -> Iterable[Client[Any, Any]]:
         """The node's service clients (a new list each time)."""
         return [e for e in self._entities if isinstance(e, Client)]
 
@@ -506,7 +511,7 @@ class Node:
         """The node's timers (a new list each time)."""
         return list(self._timers)
 
-    def _own_endpoint_objects(self) -> list[Publisher | Subscription]:
+    def _own_endpoint_objects(self) -> list[Publisher[Any] | Subscription[Any]]:
         return [e for e in list(self._entities) if isinstance(e, (Publisher, Subscription))]
 
     def _timers_snapshot(self) -> list[Timer]:

@@ -1,11 +1,11 @@
 """Publishers: typed messages out to a Zenoh key, stamped with zros.wire's attachment."""
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Callable, Generic
 
 from zros.entity import NodeEntity
 from zros.graph import EntityKind
-from zros.message import encoder
+from zros.message import MsgT, encoder
 from zros.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from zros.wire import AttachmentWriter
 
@@ -15,7 +15,7 @@ if TYPE_CHECKING:
 __all__ = ['Publisher']
 
 
-class Publisher(NodeEntity):
+class Publisher(NodeEntity, Generic[MsgT]):
     """Sends messages of one type on one topic; made by `Node.create_publisher`, never directly.
 
     It owns its Zenoh publisher (declared on the topic's key) and its graph token; `destroy()`
@@ -25,18 +25,18 @@ class Publisher(NodeEntity):
 
     _events: Any = None  # zros.event_handler's tracker, when a deadline or liveliness event needs it
 
-    def __init__(self, node: 'Node', msg_type: type, topic: str, qos: QoSProfile, callback_group: Any) -> None:
+    def __init__(self, node: 'Node', msg_type: type[MsgT], topic: str, qos: QoSProfile, callback_group: Any) -> None:
         import zenoh
         import zenoh.ext
         from zros.keys import topic_key
-        self.msg_type = msg_type
+        self.msg_type: Any = msg_type   # a class built at run time: its _TYPE is not declared
         self.topic_name = topic
         self.qos_profile = qos
         self.callback_group = callback_group
         session = node.context.session
         key = topic_key(node.context.domain_id, topic)
         reliable = qos.reliability != ReliabilityPolicy.BEST_EFFORT
-        options = dict(
+        options: dict[str, Any] = dict(
             congestion_control=zenoh.CongestionControl.BLOCK if reliable else zenoh.CongestionControl.DROP,
             reliability=zenoh.Reliability.RELIABLE if reliable else zenoh.Reliability.BEST_EFFORT,
         )
@@ -47,11 +47,11 @@ class Publisher(NodeEntity):
         else:
             self._zenoh = session.declare_publisher(key, **options)
         self._put = self._zenoh.put
-        self._encode = encoder(msg_type)
+        self._encode: Callable[[Any], Any] = encoder(msg_type)   # takes MsgT, checked in publish
         self._stamp = AttachmentWriter(msg_type).next
         super().__init__(node, EntityKind.PUBLISHER, topic, msg_type, qos)
 
-    def publish(self, msg: Any) -> None:
+    def publish(self, msg: MsgT | bytes | bytearray) -> None:
         """Send a message to every matching subscription.
 
         Serialization happens on the calling thread; with RELIABLE QoS the call may block while

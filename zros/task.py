@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import inspect
 import threading
-from typing import Any, Callable
+from typing import Any, Callable, Generator, Generic, TypeVar
 
 __all__ = ['Future', 'Task']
 
@@ -32,8 +32,11 @@ __all__ = ['Future', 'Task']
 # future itself to the driver.
 _stepping = threading.local()
 
+#: What a Future completes with (`Future[T].result() -> T | None`, as rclpy's).
+T = TypeVar('T')
 
-class Future:
+
+class Future(Generic[T]):
     # Whether completing counts as a piece of work for the executor (a Task's run already does).
     """The outcome of work that completes later, as rclpy.task.Future.
 
@@ -48,9 +51,9 @@ class Future:
 
     def __init__(self, *, executor: Any = None, node: Any = None) -> None:
         self._state = 'pending'  # pending | done | cancelled
-        self._result: Any = None
+        self._result: T | None = None
         self._exception: BaseException | None = None
-        self._callbacks: list[Callable[['Future'], None]] = []
+        self._callbacks: list[Callable[['Future[T]'], None]] = []
         self._resume: list['Task'] = []          # tasks suspended on `await self`
         self._lock = threading.Lock()
         self._done_event: threading.Event | None = None
@@ -75,7 +78,7 @@ class Future:
         """Complete the future as cancelled, if it is still pending; done callbacks run."""
         self._finish('cancelled', None, None)
 
-    def result(self) -> Any:
+    def result(self) -> T | None:
         """The result; raises the stored exception; None while pending (as rclpy)."""
         if self._exception is not None:
             raise self._exception
@@ -88,7 +91,7 @@ class Future:
         """
         return self._exception
 
-    def set_result(self, result: Any) -> None:
+    def set_result(self, result: T) -> None:
         """Complete the future with `result`; ignored if it is already complete.
 
         :param result: The value `result()` returns from now on.
@@ -134,7 +137,7 @@ class Future:
             return self._executor
         return getattr(self._node, '_executor', None)
 
-    def add_done_callback(self, callback: Callable[['Future'], None]) -> None:
+    def add_done_callback(self, callback: Callable[['Future[T]'], None]) -> None:
         """Call `callback(future)` when the future completes (at once if it has).
 
         The callback runs as a task of the future's executor when it has one, else in the thread
@@ -172,14 +175,14 @@ class Future:
             event = self._done_event
         return event.wait(timeout)
 
-    def __await__(self):
+    def __await__(self) -> Generator[Any, None, T | None]:
         while not self.done():
             # A zros Task resumes when this future completes; any other driver gets a bare yield.
             yield self if getattr(_stepping, 'task', False) else None
         return self.result()
 
 
-class Task(Future):
+class Task(Future[T]):
     """Runs a function or a coroutine on an executor (rclpy.task.Task); made by
     `Executor.create_task` and by the executor for `async def` callbacks.
 
@@ -192,10 +195,10 @@ class Task(Future):
     def __init__(self, handler: Any, args: tuple = (), kwargs: dict | None = None, *,
                  executor: Any = None, node: Any = None, callback_group: Any = None) -> None:
         super().__init__(executor=executor, node=node)
-        self._handler = handler
-        self._args = args
-        self._kwargs = kwargs or {}
-        self._coroutine = handler if inspect.iscoroutine(handler) else None
+        self._handler: Any = handler
+        self._args: Any = args
+        self._kwargs: Any = kwargs or {}
+        self._coroutine: Any = handler if inspect.iscoroutine(handler) else None
         self._held_group = callback_group
         self._executing = False
         self._step_lock = threading.Lock()
