@@ -162,7 +162,7 @@ class Executor:
         :param kwargs: Keyword arguments for `callback`.
         :return: The Task, a Future of the callback's return value.
         """
-        task = Task(callback, args, kwargs, executor=self)
+        task: Task[Any] = Task(callback, args, kwargs, executor=self)
         self._queue.put(task)
         return task
 

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import enum
 from dataclasses import dataclass, replace
+from typing import Any
 
 from zros.duration import Duration
 
@@ -179,7 +180,7 @@ class QoSProfile:
         try:
             rel, dur, hist, *extra = text.split(':')
             durations = {'D': 'deadline', 'S': 'lifespan', 'E': 'liveliness_lease_duration'}
-            optional = {durations[item[0]]: Duration(nanoseconds=int(item[1:]))
+            optional: dict[str, Any] = {durations[item[0]]: Duration(nanoseconds=int(item[1:]))
                         for item in extra if item[:1] in durations}
             return cls(
                 reliability=ReliabilityPolicy.BEST_EFFORT if rel == 'B' else ReliabilityPolicy.RELIABLE,
@@ -193,7 +194,7 @@ class QoSProfile:
             return cls()
 
 
-_POLICIES: dict[str, type] = {'history': HistoryPolicy, 'reliability': ReliabilityPolicy,
+_POLICIES: dict[str, Any] = {'history': HistoryPolicy, 'reliability': ReliabilityPolicy,
                               'durability': DurabilityPolicy, 'liveliness': LivelinessPolicy}
 _SYSTEM_DEFAULTS = {'history': HistoryPolicy.KEEP_LAST, 'reliability': ReliabilityPolicy.RELIABLE,
                     'durability': DurabilityPolicy.VOLATILE, 'liveliness': LivelinessPolicy.AUTOMATIC}

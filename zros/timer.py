@@ -61,6 +61,7 @@ class _Schedule:
         """One due call taken at `now`. Missed periods are skipped, not run in a burst, and the
         schedule keeps its phase (as rcl): a timer of 0.5 s whose simulated time jumps from 0 to
         10.04 s calls once, then at 10.5 s."""
+        assert self.next_ns is not None, 'advance() is only called on a running schedule'
         if self.next_ns <= now:
             self.next_ns += ((now - self.next_ns) // self.period_ns + 1) * self.period_ns
         self.last_ns = now
@@ -216,6 +217,7 @@ class Rate:
                 if self._destroyed:
                     raise RuntimeError('Rate cannot sleep because it has been destroyed')
                 now = schedule.now()
+                assert schedule.next_ns is not None   # a rate's schedule always runs
                 remaining = schedule.next_ns - now
                 if remaining <= 0:
                     break

@@ -20,6 +20,7 @@ from zros.qos import QoSProfile, qos_profile_action_status_default, qos_profile_
 from zros.task import Future
 
 if TYPE_CHECKING:
+    from zros.client import Client
     from zros.node import Node
 
 __all__ = ['ActionClient', 'ClientGoalHandle']
@@ -124,7 +125,7 @@ class ActionClient:
     :param status_sub_qos_profile: QoS of the status subscription.
     """
 
-    def __init__(self, node: 'Node', action_type: type, action_name: str, *, callback_group: Any = None,
+    def __init__(self, node: 'Node', action_type: Any, action_name: str, *, callback_group: Any = None,
                  goal_service_qos_profile: QoSProfile = qos_profile_services_default,
                  result_service_qos_profile: QoSProfile = qos_profile_services_default,
                  cancel_service_qos_profile: QoSProfile = qos_profile_services_default,
@@ -134,7 +135,7 @@ class ActionClient:
         from interfaces.action_msgs.srv import CancelGoal
         self._node = node
         self._action_type = action_type
-        self._types = protocol_types(action_type)
+        self._types: Any = protocol_types(action_type)   # classes built at run time
         self._name = node.resolve_service_name(action_name)
         self.callback_group = callback_group or node.default_callback_group
         self._client_id = os.urandom(8).hex()
@@ -144,12 +145,14 @@ class ActionClient:
         self._handles: dict[bytes, ClientGoalHandle] = {}
         self._settled: dict[bytes, float] = {}
         group = self.callback_group
-        self._send_client = node.create_client(self._types.SendGoal, f'{self._name}/_action/send_goal',
-                                               qos_profile=goal_service_qos_profile, callback_group=group)
+        self._send_client: Client[Any, Any] = node.create_client(
+            self._types.SendGoal, f'{self._name}/_action/send_goal',
+            qos_profile=goal_service_qos_profile, callback_group=group)
         self._cancel_client = node.create_client(CancelGoal, f'{self._name}/_action/cancel_goal',
                                                  qos_profile=cancel_service_qos_profile, callback_group=group)
-        self._result_client = node.create_client(self._types.GetResult, f'{self._name}/_action/get_result',
-                                                 qos_profile=result_service_qos_profile, callback_group=group)
+        self._result_client: Client[Any, Any] = node.create_client(
+            self._types.GetResult, f'{self._name}/_action/get_result',
+            qos_profile=result_service_qos_profile, callback_group=group)
         self._feedback_sub = node.create_subscription(
             self._types.FeedbackMessage, f'{self._name}/_action/feedback/c{self._client_id}', self._on_feedback,
             feedback_sub_qos_profile, callback_group=group)
@@ -216,15 +219,15 @@ class ActionClient:
         if type(goal) is not self._action_type.Goal:
             raise TypeError(f"action '{self._name}' expects {self._action_type._TYPE} Goal, "
                             f'got {getattr(type(goal), "_TYPE", type(goal).__name__)}')
-        outer = Future(node=self._node)
+        outer: Future[ClientGoalHandle] = Future(node=self._node)
         inner = self._send_client.call_async(self._types.SendGoal.Request(goal=goal, client_id=self._client_id))
 
-        def on_response(done: Future) -> None:
+        def on_response(done: Future[Any]) -> None:
             exc = done.exception()
             if exc is not None:
                 outer.set_exception(exc)
                 return
-            response = done.result()
+            response: Any = done.result()
             outer.set_result(self._register(response, feedback_callback) if response.accepted
                              else ClientGoalHandle(self, response.goal_id, response.stamp, False))
         inner.add_done_callback(on_response)
@@ -296,7 +299,7 @@ class ActionClient:
         return result
 
     def _get_result_async(self, handle: ClientGoalHandle) -> Future:
-        outer = Future(node=self._node)
+        outer: Future[Any] = Future(node=self._node)
         inner = self._result_client.call_async(self._types.GetResult.Request(goal_id=handle.goal_id))
         name = self._name
 

@@ -25,6 +25,7 @@ from zros.service import DeferredResponse
 
 if TYPE_CHECKING:
     from zros.node import Node
+    from zros.service import Service
 
 __all__ = ['ActionServer', 'ServerGoalHandle', 'GoalResponse', 'CancelResponse', 'GoalStatus',
            'default_goal_callback', 'default_cancel_callback', 'default_handle_accepted_callback']
@@ -219,7 +220,7 @@ class ActionServer:
     :param result_timeout: Seconds a finished goal's result stays available.
     """
 
-    def __init__(self, node: 'Node', action_type: type, action_name: str, execute_callback: Callable, *,
+    def __init__(self, node: 'Node', action_type: Any, action_name: str, execute_callback: Callable, *,
                  callback_group: Any = None, goal_callback: Callable = default_goal_callback,
                  handle_accepted_callback: Callable = default_handle_accepted_callback,
                  cancel_callback: Callable = default_cancel_callback,
@@ -232,7 +233,7 @@ class ActionServer:
         from interfaces.action_msgs.msg import GoalStatusArray
         self._node = node
         self._action_type = action_type
-        self._types = protocol_types(action_type)
+        self._types: Any = protocol_types(action_type)   # classes built at run time
         self._name = node.resolve_service_name(action_name)
         self._execute_callback = execute_callback
         self._goal_callback = goal_callback
@@ -261,7 +262,7 @@ class ActionServer:
         ]
         self._services[0]._follow_up = self._result_too
         self._cancel_qos = cancel_service_qos_profile
-        self._cancel_service = None
+        self._cancel_service: Service[Any, Any] | None = None
         if not any(s._cancel_service for s in self._siblings()):
             self._serve_cancel()
         self._entity = node._declare_entity(EntityKind.ACTION_SERVER, self._name, action_type)
@@ -340,7 +341,7 @@ class ActionServer:
         target = request.goal_info.goal_id.uuid.tobytes()
         stamp = request.goal_info.stamp
         before_ns = stamp.sec * 1_000_000_000 + stamp.nanosec
-        goals = []
+        goals: list[Any] = []
         for server in (self, *self._siblings()):
             with server._lock:
                 goals.extend(server._goals.values())
@@ -430,7 +431,9 @@ class ActionServer:
             result = self._execute_failed(handle, exc)
         self._conclude(handle, result)
 
-    def _execute_failed(self, handle: ServerGoalHandle, exc: Exception) -> None:
+    def _execute_failed(self, handle: ServerGoalHandle, exc: Exception) -> Any:
+        """Log and abort the goal; returns what the goal concludes with: no result (None), so
+        the client gets the default Result."""
         self._node.get_logger().error(
             f"execute callback of action '{self._name}' raised {type(exc).__name__}: {exc} "
             f'(goal {handle._hex()}); aborting the goal')

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import threading
 import time
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from zros.lifecycle.managed_entity import ManagedEntity
 from zros.lifecycle.publisher import LifecyclePublisher
@@ -26,11 +26,18 @@ from zros.node import Node
 
 __all__ = ['LifecycleNode', 'LifecycleNodeMixin']
 
+# The mixin is only ever mixed into a Node (LifecycleNode, or a user's class that derives from
+# Node): the checker is told so, while at run time the Node comes from the class that mixes it in.
+if TYPE_CHECKING:
+    _MixedIntoNode = Node
+else:
+    _MixedIntoNode = object
+
 _CALLBACKS = {'configuring': 'on_configure', 'cleaningup': 'on_cleanup', 'shuttingdown': 'on_shutdown',
               'activating': 'on_activate', 'deactivating': 'on_deactivate', 'errorprocessing': 'on_error'}
 
 
-class LifecycleNodeMixin(ManagedEntity):
+class LifecycleNodeMixin(ManagedEntity, _MixedIntoNode):
     """The lifecycle part of LifecycleNode, for classes that already derive from Node."""
 
     def __init__(self, *, enable_communication_interface: bool = True, callback_group: Any = None) -> None:
@@ -209,7 +216,7 @@ class LifecycleNodeMixin(ManagedEntity):
         """create_publisher's arguments; the publisher only publishes while the node is active."""
         if 'publisher_class' in kwargs:
             raise TypeError("create_lifecycle_publisher() got an unexpected keyword argument 'publisher_class'")
-        publisher = Node.create_publisher(self, *args, **kwargs, publisher_class=LifecyclePublisher)
+        publisher: Any = Node.create_publisher(self, *args, **kwargs, publisher_class=LifecyclePublisher)
         if self._state_machine.current.label == 'active':
             publisher.on_activate(self._state_machine.current)
         self._managed_entities.add(publisher)

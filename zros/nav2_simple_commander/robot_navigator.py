@@ -60,7 +60,7 @@ class BasicNavigator(Node):
     """
     def __init__(self, node_name: str = 'basic_navigator', namespace: str = '') -> None:
         super().__init__(node_name=node_name, namespace=namespace)
-        self.initial_pose = None
+        self.initial_pose: Any = None
         self.initial_pose_received = False
         self.goal_handle: Any = None
         self.result_future: Any = None

@@ -204,8 +204,8 @@ class Buffer(BufferCore):
         await self.wait_for_transform_full_async(target_frame, target_time, source_frame, source_time, fixed_frame)
         return self.lookup_transform_full_core(target_frame, target_time, source_frame, source_time, fixed_frame)
 
-    def _future_for(self, check: Callable[[], tuple[bool, str]]) -> Future:
-        future = Future()
+    def _future_for(self, check: Callable[[], tuple[bool, str]]) -> Future[bool]:
+        future: Future[bool] = Future()
         if check()[0]:
             future.set_result(True)
             return future
