@@ -18,12 +18,26 @@ class CallbackGroup:
     """
 
     def try_enter(self, entity: object = None) -> bool:
+        """Take the group for `entity`'s callback if it may run now; the executor calls this.
+
+        :param entity: The entity whose callback would run.
+        :return: ``True`` if the callback may run; the executor then calls `leave` when it ends.
+        """
         return bool(self.beginning_execution(entity))
 
     def leave(self, entity: object = None) -> None:
+        """Give the group back after `entity`'s callback ended; the executor calls this.
+
+        :param entity: The entity whose callback ended, or ``None`` for a suspended task.
+        """
         self.ending_execution(entity)
 
     def can_execute(self, entity: object = None) -> bool:
+        """Tell whether `entity`'s callback could start now, without taking the group.
+
+        :param entity: The entity to ask about.
+        :return: ``True`` if it could run.
+        """
         raise NotImplementedError
 
     def beginning_execution(self, entity: object = None) -> bool:
@@ -31,6 +45,10 @@ class CallbackGroup:
         raise NotImplementedError
 
     def ending_execution(self, entity: object = None) -> None:
+        """Release what `beginning_execution` took for `entity`.
+
+        :param entity: The entity whose callback ended.
+        """
         raise NotImplementedError
 
 
@@ -42,6 +60,11 @@ class MutuallyExclusiveCallbackGroup(CallbackGroup):
         self._lock = threading.Lock()
 
     def try_enter(self, entity: object = None) -> bool:
+        """Take the group if no callback of it runs.
+
+        :param entity: Unused: every entity of the group shares one slot.
+        :return: ``True`` if the group was free and is now taken.
+        """
         with self._lock:
             if self._busy:
                 return False
@@ -49,10 +72,19 @@ class MutuallyExclusiveCallbackGroup(CallbackGroup):
             return True
 
     def leave(self, entity: object = None) -> None:
+        """Free the group for its next callback.
+
+        :param entity: Unused.
+        """
         with self._lock:
             self._busy = False
 
     def can_execute(self, entity: object = None) -> bool:
+        """Tell whether the group is free.
+
+        :param entity: Unused.
+        :return: ``True`` if no callback of the group runs.
+        """
         return not self._busy
 
 
@@ -60,10 +92,24 @@ class ReentrantCallbackGroup(CallbackGroup):
     """Any number of the group's callbacks may run in parallel."""
 
     def try_enter(self, entity: object = None) -> bool:
+        """Always admit the callback.
+
+        :param entity: Unused.
+        :return: ``True``.
+        """
         return True
 
     def leave(self, entity: object = None) -> None:
+        """Nothing to give back.
+
+        :param entity: Unused.
+        """
         pass
 
     def can_execute(self, entity: object = None) -> bool:
+        """Always allowed.
+
+        :param entity: Unused.
+        :return: ``True``.
+        """
         return True

@@ -21,12 +21,12 @@ from __future__ import annotations
 
 import threading
 import time
-from typing import TYPE_CHECKING, Any, Iterator
+from typing import TYPE_CHECKING, Any, Generic, Iterator
 
 from zros.entity import NodeEntity
 from zros.errors import DecodeError, ServiceCallError
 from zros.graph import EntityKind
-from zros.message import deserialize, serialize
+from zros.message import Srv, SrvRequestT, SrvResponseT, deserialize, serialize
 from zros.qos import QoSProfile
 from zros.task import Future
 from zros.wire import AttachmentWriter, max_message_size
@@ -44,12 +44,17 @@ _NO_TIMEOUT = 86_400.0
 SERVER_WAIT_SEC = 10.0
 
 
-class Client(NodeEntity):
-    """Made by `Node.create_client`."""
+class Client(NodeEntity, Generic[SrvRequestT, SrvResponseT]):
+    """Calls one service; made by `Node.create_client`.
 
-    def __init__(self, node: 'Node', srv_type: type, name: str, qos: QoSProfile, callback_group: Any) -> None:
+    Generic in the service type: `call` and `call_async` take its Request and give its
+    Response. Each request is one Zenoh query (see the module docstring).
+    """
+
+    def __init__(self, node: 'Node', srv_type: type[Srv[SrvRequestT, SrvResponseT]], name: str, qos: QoSProfile,
+                 callback_group: Any) -> None:
         from zros.keys import service_key
-        self.srv_type = srv_type
+        self.srv_type: Any = srv_type   # a class built at run time: its _TYPE is not declared
         self.srv_name = name
         self.qos_profile = qos
         self.callback_group = callback_group
@@ -64,6 +69,7 @@ class Client(NodeEntity):
 
     @property
     def service_name(self) -> str:
+        """The fully qualified (remapped) name of the service this client calls."""
         return self.srv_name
 
     def _servers(self, entities: list) -> list:
@@ -93,11 +99,23 @@ class Client(NodeEntity):
             return self._routed
 
     def service_is_ready(self) -> bool:
+        """Tell whether a request sent now would reach a server.
+
+        Unlike rcl, which only looks at the graph, zros also asks Zenoh's routing whether it knows
+        the server's queryable yet (see the module docstring).
+
+        :return: ``True`` when a server is in the graph and routed to.
+        """
         return bool(self._servers(self._node.context.graph.entities())) and self._route().is_set()
 
     def wait_for_service(self, timeout_sec: float | None = None) -> bool:
-        """Wait (on graph and routing changes, not by polling) until a server exists and a request
-        would reach it; False on timeout."""
+        """Wait until a server exists and a request sent now would reach it.
+
+        It waits on graph and routing changes, not by polling.
+
+        :param timeout_sec: Seconds to wait at most; ``None`` waits forever.
+        :return: ``True`` if a server is ready, ``False`` on timeout.
+        """
         deadline = None if timeout_sec is None else time.monotonic() + timeout_sec
         routed = self._route()
         graph = self._node.context.graph
@@ -167,11 +185,20 @@ class Client(NodeEntity):
         return ServiceCallError(f"service '{self.srv_name}' did not answer: the server went away before "
                                 f'answering (or none is running) after {waited:.2f} s')
 
-    def call_async(self, request: Any, *, timeout_sec: float | None = None) -> Future:
-        """Send `request`; the Future gets the Response, or a ServiceCallError. The reply is
-        decoded where the future is read (`result()`, `exception()`, an `await`, a done
-        callback: on the executor), not on Zenoh's thread (see _ReplyFuture). With no server
-        reachable yet, the request is sent once one is (a thread waits for it; see above)."""
+    def call_async(self, request: SrvRequestT, *, timeout_sec: float | None = None) -> Future[SrvResponseT]:
+        """Send a request and return at once.
+
+        The reply is decoded where the future is read (`result()`, an ``await``, a done callback
+        on the executor), not on Zenoh's thread. With no server reachable yet, the request is sent
+        once one is (see the module docstring).
+
+        :param request: An instance of the service's Request type.
+        :param timeout_sec: A zros addition: fail the future after this many seconds (rclpy waits
+            forever; ``None`` waits a day).
+        :return: A Future completed with the Response, or with a ServiceCallError.
+        :raises TypeError: If `request` is not the service's Request.
+        :raises RuntimeError: If the client has been destroyed.
+        """
         import zenoh
         self._check(request)
         future = _ReplyFuture(self, time.monotonic())
@@ -203,11 +230,19 @@ class Client(NodeEntity):
         threading.Thread(target=send_when_routed, name=f'call {self.srv_name}', daemon=True).start()
         return future
 
-    def call(self, request: Any, timeout_sec: float | None = None) -> Any:
-        """Blocking call; raises ServiceCallError (ServiceCallTimeout, a TimeoutError, on timeout).
+    def call(self, request: SrvRequestT, timeout_sec: float | None = None) -> SrvResponseT:
+        """Send a request and block until the response comes.
 
-        The reply is read from Zenoh's channel on this thread (no hand-over from a callback
-        thread), so it needs no executor and works inside callbacks."""
+        The reply is read from Zenoh's channel on this thread, so no executor needs to spin and
+        the call works inside a callback (rclpy deadlocks there on a single-threaded executor).
+
+        :param request: An instance of the service's Request type.
+        :param timeout_sec: Seconds to wait at most; ``None`` waits a day.
+        :return: The Response.
+        :raises ServiceCallTimeout: (a TimeoutError) If no answer came within the timeout.
+        :raises ServiceCallError: If no server appeared, the server failed or went away.
+        :raises TypeError: If `request` is not the service's Request.
+        """
         return next(self._replies(request, timeout_sec, (self.srv_type.Response,)))
 
     def _replies(self, request: Any, timeout_sec: float | None, response_types: tuple[type, ...],
@@ -243,7 +278,7 @@ class Client(NodeEntity):
         self._route_handles = ()
 
 
-class _ReplyFuture(Future):
+class _ReplyFuture(Future[Any]):
     """The future of a `call_async`. Zenoh's thread only stores the reply and completes the
     future, so waiters wake as before (a thread blocked on it, `spin_until_future_complete`)
     and a callback that waits for it without spinning still sees it complete; the reply is

@@ -21,6 +21,11 @@ _SLEEP_SLICE_S = 0.1
 
 
 class Clock:
+    """A source of time that timers, rates and sleeps run on.
+
+    :param clock_type: SYSTEM_TIME (wall clock), STEADY_TIME (monotonic) or ROS_TIME (use
+        ROSClock for that, which can follow /clock).
+    """
     def __init__(self, *, clock_type: ClockType = ClockType.SYSTEM_TIME) -> None:
         self._clock_type = ClockType(clock_type)
         self._sim_time_ns: int | None = None   # simulated time, for a ROSClock whose override is on
@@ -30,9 +35,14 @@ class Clock:
 
     @property
     def clock_type(self) -> ClockType:
+        """The ClockType this clock reads."""
         return self._clock_type
 
     def now(self) -> Time:
+        """Read the clock.
+
+        :return: A Time of this clock's type: simulated time while a ROSClock follows /clock.
+        """
         if self._clock_type == ClockType.STEADY_TIME:
             ns = _time.monotonic_ns()
         elif self._sim_time_ns is not None:
@@ -80,6 +90,15 @@ class Clock:
                     self._changed.wait(min(_SLEEP_SLICE_S, remaining / 1e9))
 
     def sleep_for(self, rel_time: Duration, context: Any = None) -> bool:
+        """Sleep for `rel_time` on this clock (on simulated time, until /clock has moved that far).
+
+        :param rel_time: How long to sleep, a Duration.
+        :param context: The context whose shutdown ends the sleep early; the default context if
+            ``None``.
+        :return: ``True`` if the time passed, ``False`` if the sleep ended early (shutdown, or
+            simulated time switched on or off).
+        :raises NotInitializedError: If the context is not initialized.
+        """
         return self.sleep_until(self.now() + rel_time, context)
 
     def __repr__(self) -> str:
@@ -87,11 +106,16 @@ class Clock:
 
 
 class ROSClock(Clock):
+    """A node's clock: system time, or simulated time from /clock while `use_sim_time` is true.
+
+    zros.time_source sets the simulated time; there is no rcl clock handle behind it.
+    """
     def __init__(self) -> None:
         super().__init__(clock_type=ClockType.ROS_TIME)
 
     @property
     def ros_time_is_active(self) -> bool:
+        """Whether the clock reads simulated time (from /clock) rather than system time."""
         return self._sim_time_ns is not None
 
     def _set_ros_time_override(self, nanoseconds: int | None) -> None:

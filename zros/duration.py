@@ -17,15 +17,25 @@ class Duration:
 
     @property
     def nanoseconds(self) -> int:
+        """The duration in nanoseconds (negative for a span backwards)."""
         return self._nanoseconds
 
     def to_msg(self):
+        """The duration as a message.
+
+        :return: A builtin_interfaces/msg/Duration.
+        """
         from interfaces.builtin_interfaces.msg import Duration as DurationMsg
         sec, nsec = divmod(self._nanoseconds, 1_000_000_000)
         return DurationMsg(sec=sec, nanosec=nsec)
 
     @classmethod
     def from_msg(cls, msg) -> 'Duration':
+        """Build a Duration from a message.
+
+        :param msg: A builtin_interfaces/msg/Duration.
+        :return: The duration.
+        """
         return cls(seconds=msg.sec, nanoseconds=msg.nanosec)
 
     def __eq__(self, other: object) -> bool:

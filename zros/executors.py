@@ -100,10 +100,19 @@ class Executor:
 
     @property
     def context(self) -> Any:
+        """The Context whose shutdown stops this executor's spinning."""
         return self._context
 
     # -- nodes -------------------------------------------------------------------------
     def add_node(self, node: 'Node') -> bool:
+        """Make this executor run the callbacks of `node`.
+
+        The node's pending work (messages that arrived while no executor had it, completed futures)
+        is queued at once, so the next spin runs it.
+
+        :param node: The node to add.
+        :return: ``True`` if the node was added, ``False`` if it already was.
+        """
         with self._nodes_lock:
             if node in self._nodes:
                 return False
@@ -114,6 +123,10 @@ class Executor:
         return True
 
     def remove_node(self, node: 'Node') -> None:
+        """Stop running the callbacks of `node`; nothing happens if it was not added.
+
+        :param node: The node to remove.
+        """
         with self._nodes_lock:
             if node in self._nodes:
                 self._nodes.remove(node)
@@ -122,6 +135,10 @@ class Executor:
         self.wake()
 
     def get_nodes(self) -> list['Node']:
+        """The nodes this executor spins.
+
+        :return: A copy of the list, safe to iterate while nodes are added or removed.
+        """
         with self._nodes_lock:
             return list(self._nodes)
 
@@ -138,9 +155,14 @@ class Executor:
         self._queue.put(_COMPLETION)
 
     def create_task(self, callback: Callable | Any, *args: Any, **kwargs: Any) -> Task:
-        """Run `callback(*args, **kwargs)` (a function, coroutine function or coroutine) on
-        this executor; returns its Task, a Future."""
-        task = Task(callback, args, kwargs, executor=self)
+        """Run `callback(*args, **kwargs)` on this executor, outside any callback group.
+
+        :param callback: A function, a coroutine function or a coroutine.
+        :param args: Positional arguments for `callback`.
+        :param kwargs: Keyword arguments for `callback`.
+        :return: The Task, a Future of the callback's return value.
+        """
+        task: Task[Any] = Task(callback, args, kwargs, executor=self)
         self._queue.put(task)
         return task
 
@@ -273,8 +295,12 @@ class Executor:
 
     # -- spinning ----------------------------------------------------------------------
     def spin_once(self, timeout_sec: float | None = None) -> None:
-        """Run at most one callback, waiting up to `timeout_sec` (None: until one is ready).
-        A completed client or action future counts as one."""
+        """Run at most one callback, waiting for one if none is ready.
+
+        A completed client or action future counts as one, so a loop of `spin_once` notices it.
+
+        :param timeout_sec: Seconds to wait for work; ``None`` waits until there is some.
+        """
         with self._spinning():
             self._spin_once(timeout_sec)
 
@@ -297,7 +323,10 @@ class Executor:
         return type(self).spin_once is Executor.spin_once
 
     def spin(self) -> None:
-        """Run callbacks until the executor or its context is shut down."""
+        """Run callbacks until the executor or its context is shut down.
+
+        :raises RuntimeError: If this executor is already spinning in another thread.
+        """
         with self._spinning():
             if not self._builtin_spin_once():
                 while self._context.ok() and not self._is_shutdown:
@@ -315,6 +344,14 @@ class Executor:
                 self._batch = 1
 
     def spin_until_future_complete(self, future: Future, timeout_sec: float | None = None) -> None:
+        """Run callbacks until `future` completes, the timeout passes or the context shuts down.
+
+        The future need not belong to one of the executor's nodes: a future with no executor of its
+        own is given this one, so its completion wakes the spin.
+
+        :param future: The future to wait for.
+        :param timeout_sec: Seconds to wait at most; ``None`` waits forever.
+        """
         self._adopt(future)
         with self._spinning():
             deadline = None if timeout_sec is None else time.monotonic() + timeout_sec
@@ -328,6 +365,11 @@ class Executor:
                     self.spin_once(remaining)
 
     def spin_once_until_future_complete(self, future: Future, timeout_sec: float | None = None) -> None:
+        """Run at most one callback, returning early if `future` completes or the timeout passes.
+
+        :param future: The future to wait for.
+        :param timeout_sec: Seconds to wait at most for work; ``None`` waits until there is some.
+        """
         self._adopt(future)
         with self._spinning():
             if not future.done():
@@ -419,6 +461,7 @@ class MultiThreadedExecutor(Executor):
 
     @property
     def num_threads(self) -> int:
+        """How many worker threads run callbacks in parallel."""
         return self._num_threads
 
     def _dispatch(self, item: Any) -> None:
@@ -453,6 +496,12 @@ class MultiThreadedExecutor(Executor):
         return super()._spin_once(timeout_sec, until)
 
     def shutdown(self, timeout_sec: float | None = None) -> bool:
+        """Stop spinning and shut the worker pool down.
+
+        :param timeout_sec: Seconds to wait for running callbacks; ``None`` waits for them all and
+            0 does not wait.
+        :return: ``True`` if the executor stopped within the timeout.
+        """
         result = super().shutdown(timeout_sec)
         self._pool.shutdown(wait=timeout_sec is None or timeout_sec > 0, cancel_futures=True)
         return result

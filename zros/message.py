@@ -27,7 +27,7 @@ import math
 import operator
 import sys
 import threading
-from typing import Any, Callable
+from typing import Any, Callable, Protocol, TypeVar
 
 import msgpack
 import numpy as np
@@ -37,7 +37,30 @@ from zros.idl import ActionSpec, Field, FieldType, MessageSpec, ServiceSpec
 
 __all__ = ['Message', 'make_message_class', 'make_service_class', 'make_action_class', 'type_hash',
            'ARRAY_TYPECODES', 'NUMPY_DTYPES', 'serialize', 'serialize_parts', 'packed_array', 'deserialize',
-           'encoder', 'decoder']
+           'encoder', 'decoder', 'MsgT', 'SrvRequestT', 'SrvResponseT', 'Srv']
+
+# Type variables for the typed entities (rclpy's type_support has the same): with them a checker
+# or an editor knows that `create_publisher(String, ...)` returns a `Publisher[String]` whose
+# `publish` takes a `String`. Interface classes are built at run time, so a checker sees them as
+# Any unless the user's code declares stand-ins; either way the annotations cost nothing at run time.
+MsgT = TypeVar('MsgT')
+SrvRequestT = TypeVar('SrvRequestT')
+SrvResponseT = TypeVar('SrvResponseT')
+
+
+_RequestT_co = TypeVar('_RequestT_co', covariant=True)
+_ResponseT_co = TypeVar('_ResponseT_co', covariant=True)
+
+
+class Srv(Protocol[_RequestT_co, _ResponseT_co]):
+    """What a checker knows of a service class: its Request and Response classes (read-only,
+    so that a class with nested `Request` and `Response` classes matches)."""
+
+    @property
+    def Request(self) -> type[_RequestT_co]: ...  # noqa: N802 - the generated classes' names
+
+    @property
+    def Response(self) -> type[_ResponseT_co]: ...  # noqa: N802
 
 #: array.array typecode of each numeric primitive, as rclpy uses them (`char` is uint8 in ROS 2).
 ARRAY_TYPECODES: dict[str, str] = {

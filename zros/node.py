@@ -6,7 +6,7 @@ so nothing unvalidated ever reaches zros.keys.
 """
 from __future__ import annotations
 
-from typing import Any, Callable, Iterable
+from typing import TYPE_CHECKING, Any, Callable, Iterable
 
 from zros.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup
 from zros.clock import ROSClock
@@ -14,6 +14,7 @@ from zros.context import Context, get_default_context
 from zros.errors import NotInitializedError
 from zros.graph import Entity, EntityKind, endpoints, entity_token, names_and_types, node_names_and_namespaces
 from zros.logging import RcutilsLogger, add_sink, get_logger, remove_sink
+from zros.message import MsgT, Srv, SrvRequestT, SrvResponseT
 from zros.names import (Remappings, expand_topic_name, fully_qualified_node_name, normalize_namespace,
                         validate_node_name)
 from zros.arguments import parse_ros_args
@@ -27,15 +28,40 @@ from zros.qos_overriding_options import (QoSOverridingOptions, declare_qos_param
 from zros.qos import (QoSProfile, qos_profile_default, qos_profile_parameter_events,
                       qos_profile_services_default, to_profile)
 from zros.service import Service
-from zros.subscription import Subscription
+from zros.subscription import Subscription, SubscriptionCallback
 from zros.guard_condition import GuardCondition
 from zros.timer import Rate, Timer, timer_lists_changed
+
+if TYPE_CHECKING:
+    from zros.qos_monitor import QoSMonitor
 
 __all__ = ['Node']
 
 
 class Node:
-    """A ROS node (rclpy.node.Node's interface)."""
+    """A participant in the ROS graph, as rclpy.node.Node: the factory and owner of its entities.
+
+    Create publishers, subscriptions, services, clients, timers and parameters through its
+    methods; they live until destroyed one by one or with the node. Where rclpy talks to rcl
+    through handles, a zros node announces itself and each entity with a Zenoh liveliness
+    token, which is what other participants' graph queries (`zros node list`) see. Use it as a
+    context manager, or call `destroy_node()`, to leave the graph.
+
+    :param node_name: The node's name (remapped by ``--ros-args -r __node:=``).
+    :param context: The context to run in; the default context (``zros.init()``) if ``None``.
+    :param cli_args: ROS arguments for this node only (``['--ros-args', '-p', 'x:=1']``).
+    :param namespace: The node's namespace; ``None`` for the root (or the ``__ns`` remap).
+    :param use_global_arguments: Also apply the ROS arguments given to ``zros.init()``.
+    :param enable_rosout: Publish the node's log lines on /rosout.
+    :param start_parameter_services: Serve the parameter services `zros param` uses.
+    :param parameter_overrides: Parameters that override the declared defaults.
+    :param allow_undeclared_parameters: Let parameters be set without being declared.
+    :param automatically_declare_parameters_from_overrides: Declare every overridden parameter.
+    :param enable_logger_service: Serve get_logger_levels/set_logger_levels.
+    :param parameter_event_qos_overrides: A zros addition; see `__init__`.
+    :raises NotInitializedError: If the context is not initialized.
+    :raises InvalidNameError: If the node name or namespace is not a valid ROS name.
+    """
 
     def __init__(self, node_name: str, *, context: Context | None = None, cli_args: list[str] | None = None,
                  namespace: str | None = None, use_global_arguments: bool = True,
@@ -78,15 +104,15 @@ class Node:
         self._entities: list[Any] = []
         self._timers: list[Timer] = []
         self._tokens: dict[int, Any] = {}
-        self._qos_monitor = None
+        self._qos_monitor: QoSMonitor | None = None
         self._node_id = self._context.next_id()
         self._zid = str(self._context.session.info.zid())
         self._destroyed = False
         self._node_entity = Entity(EntityKind.NODE, self._zid, self._node_id, 0, self._namespace, self._name)
         self._node_token = self._declare_token(self._node_entity)
         self._context._register_node(self)
-        self._rosout = None
-        self._rosout_sink = None
+        self._rosout: Publisher[Any] | None = None
+        self._rosout_sink: Callable[..., None] | None = None
         if enable_rosout and not any(a.disable_rosout for a in arg_sets):
             self._start_rosout()
         self._parameters = ParameterStore(
@@ -121,20 +147,28 @@ class Node:
         return f'{ns}.{self._name}' if ns else self._name
 
     def get_name(self) -> str:
+        """The node's name (after remapping)."""
         return self._name
 
     def get_namespace(self) -> str:
+        """The node's namespace, always starting with ``/``."""
         return self._namespace
 
     def get_fully_qualified_name(self) -> str:
+        """The namespace and name joined, e.g. ``/robot1/talker``."""
         return fully_qualified_node_name(self._namespace, self._name)
 
     @property
     def context(self) -> Context:
+        """The context the node runs in (its Zenoh session and domain)."""
         return self._context
 
     @property
     def executor(self) -> Any:
+        """The executor that spins this node, or ``None``.
+
+        Setting it moves the node from its current executor to the new one.
+        """
         return self._executor
 
     @executor.setter
@@ -146,16 +180,28 @@ class Node:
 
     @property
     def default_callback_group(self) -> CallbackGroup:
+        """The mutually exclusive group of entities created without a `callback_group`.
+
+        So a node's callbacks never run at the same time unless you put them in other groups.
+        """
         return self._default_callback_group
 
     def get_logger(self) -> RcutilsLogger:
+        """The node's logger, named after its namespace and name (lines also go to /rosout)."""
         return self._logger
 
     def get_clock(self) -> ROSClock:
+        """The node's ROSClock: system time, or /clock while `use_sim_time` is true."""
         return self._clock
 
     def resolve_topic_name(self, topic: str, *, only_expand: bool = False) -> str:
-        """Expand `topic` against this node and apply remapping (unless only_expand)."""
+        """Expand a topic name against this node and apply remapping.
+
+        :param topic: A relative (``chatter``), private (``~/chatter``) or absolute name.
+        :param only_expand: Expand only; skip the ``-r`` remapping rules.
+        :return: The fully qualified name.
+        :raises InvalidNameError: If the name is not a valid ROS name.
+        """
         fq = expand_topic_name(topic, self._name, self._namespace)
         if only_expand:
             return fq
@@ -216,11 +262,31 @@ class Node:
         if self._destroyed:
             raise RuntimeError(f"node '{self._name}' has been destroyed")
 
-    def create_publisher(self, msg_type: type, topic: str, qos_profile: QoSProfile | int = qos_profile_default,
+    def create_publisher(self, msg_type: type[MsgT], topic: str, qos_profile: QoSProfile | int = qos_profile_default,
                          *, callback_group: CallbackGroup | None = None,
                          event_callbacks: PublisherEventCallbacks | None = None,
                          qos_overriding_options: QoSOverridingOptions | None = None,
-                         publisher_class: type = Publisher) -> Publisher:
+                         publisher_class: type[Publisher[Any]] = Publisher) -> Publisher[MsgT]:
+        """Create a publisher of `msg_type` messages on `topic`.
+
+        zros declares a Zenoh publisher on the topic's key (an advanced publisher with a cache when
+        the QoS is transient local) and a liveliness token that puts it in the graph.
+
+        :param msg_type: The message class, e.g. ``String`` from ``interfaces.std_msgs.msg``.
+        :param topic: The topic name, resolved with `resolve_topic_name`.
+        :param qos_profile: A QoSProfile, or a history depth: an int means KEEP_LAST with that
+            depth and the default profile's other policies.
+        :param callback_group: The group for the publisher's event callbacks; the node's default
+            group if ``None``.
+        :param event_callbacks: Callbacks for QoS events (deadline missed, liveliness lost,
+            incompatible QoS).
+        :param qos_overriding_options: Which QoS policies parameters may override at start-up.
+        :param publisher_class: The class to instantiate (a lifecycle node passes its own).
+        :return: The new publisher, typed by its message class.
+        :raises TypeError: If `msg_type` is not a message class, or the QoS is neither a profile
+            nor an int.
+        :raises RuntimeError: If the node has been destroyed.
+        """
         self._check_alive()
         _require_message_type(msg_type)
         topic = self.resolve_topic_name(topic)
@@ -229,12 +295,32 @@ class Node:
         attach_event_callbacks(publisher, event_callbacks or PublisherEventCallbacks())
         return self._add(publisher)
 
-    def create_subscription(self, msg_type: type, topic: str, callback: Callable,
+    def create_subscription(self, msg_type: type[MsgT], topic: str, callback: SubscriptionCallback[MsgT],
                             qos_profile: QoSProfile | int = qos_profile_default, *,
                             callback_group: CallbackGroup | None = None,
                             event_callbacks: SubscriptionEventCallbacks | None = None,
                             qos_overriding_options: QoSOverridingOptions | None = None,
-                            raw: bool = False) -> Subscription:
+                            raw: bool = False) -> Subscription[MsgT]:
+        """Create a subscription to `msg_type` messages on `topic`.
+
+        Samples wait undecoded in a queue of the QoS depth; the node's executor decodes each and
+        calls `callback` (see zros.subscription for what is dropped and counted, and why).
+
+        :param msg_type: The message class.
+        :param topic: The topic name, resolved with `resolve_topic_name`.
+        :param callback: Called with each message; a callback taking two positional arguments also
+            gets a MessageInfo dict (timestamps, sequence number). An ``async def`` callback runs
+            as a task.
+        :param qos_profile: A QoSProfile, or a history depth (KEEP_LAST with that depth).
+        :param callback_group: The group the callback runs in; the node's default group if ``None``.
+        :param event_callbacks: Callbacks for QoS events (deadline missed, liveliness changed,
+            message lost, incompatible QoS).
+        :param qos_overriding_options: Which QoS policies parameters may override at start-up.
+        :param raw: Hand the callback the serialized bytes instead of a message.
+        :return: The new subscription, typed by its message class.
+        :raises TypeError: If `msg_type` is not a message class or `callback` is not callable.
+        :raises RuntimeError: If the node has been destroyed.
+        """
         self._check_alive()
         _require_message_type(msg_type)
         if not callable(callback):
@@ -249,6 +335,19 @@ class Node:
     def create_timer(self, timer_period_sec: float, callback: Callable[[], Any],
                      callback_group: CallbackGroup | None = None, clock: Any = None,
                      autostart: bool = True) -> Timer:
+        """Create a timer that calls `callback` every `timer_period_sec` on the node's executor.
+
+        The first call comes one period after creation. On a clock following /clock the timer
+        stops while simulated time stands still.
+
+        :param timer_period_sec: The period [s].
+        :param callback: A function of no arguments (or ``async def``).
+        :param callback_group: The group the callback runs in; the node's default group if ``None``.
+        :param clock: The clock to schedule on; the node's clock if ``None``.
+        :param autostart: Start at once; with ``False`` the timer waits for `reset()`.
+        :return: The new timer.
+        :raises RuntimeError: If the node has been destroyed.
+        """
         self._check_alive()
         timer = Timer(callback, callback_group or self._default_callback_group,
                       int(timer_period_sec * 1_000_000_000), clock or self._clock, node=self, autostart=autostart)
@@ -256,22 +355,49 @@ class Node:
         timer_lists_changed()
         return self._add(timer)
 
-    def create_service(self, srv_type: type, srv_name: str, callback: Callable[[Any, Any], Any], *,
+    def create_service(self, srv_type: type[Srv[SrvRequestT, SrvResponseT]], srv_name: str,
+                       callback: Callable[[SrvRequestT, SrvResponseT], Any], *,
                        qos_profile: QoSProfile = qos_profile_services_default,
                        callback_group: CallbackGroup | None = None,
-                       expect_other_servers: bool = False) -> Service:
-        """Serve `srv_name`. A second server of the same name and type is logged as a warning
-        (clients reach only one of them) unless `expect_other_servers` (a zros extension) says
-        several nodes serve it by design, as every tf2 Buffer given a node serves tf2_frames."""
+                       expect_other_servers: bool = False) -> Service[SrvRequestT, SrvResponseT]:
+        """Create a server for `srv_name`: `callback(request, response)` fills and returns the response.
+
+        The server is a Zenoh queryable; each request is answered from the node's executor.
+        A second server of the same name and type is logged as a warning (clients reach only one
+        of them).
+
+        :param srv_type: The service class, e.g. ``AddTwoInts`` from ``interfaces.example_interfaces.srv``.
+        :param srv_name: The service name, resolved like a topic name.
+        :param callback: Takes the request and a fresh response; returns the response (or a
+            DeferredResponse to answer later). An exception it raises fails the client's call.
+        :param qos_profile: The QoS profile (kept for the graph; Zenoh queries are reliable).
+        :param callback_group: The group the callback runs in; the node's default group if ``None``.
+        :param expect_other_servers: A zros addition: several nodes serve this name by design (as
+            every tf2 Buffer given a node serves tf2_frames), so do not warn.
+        :return: The new service.
+        :raises TypeError: If `srv_type` is not a service class.
+        :raises RuntimeError: If the node has been destroyed.
+        """
         self._check_alive()
         _require_service_type(srv_type)
         return self._add(Service(self, srv_type, self.resolve_service_name(srv_name), callback,
                                  to_profile(qos_profile), callback_group or self._default_callback_group,
                                  warn_if_shared=not expect_other_servers))
 
-    def create_client(self, srv_type: type, srv_name: str, *,
+    def create_client(self, srv_type: type[Srv[SrvRequestT, SrvResponseT]], srv_name: str, *,
                       qos_profile: QoSProfile = qos_profile_services_default,
-                      callback_group: CallbackGroup | None = None) -> Client:
+                      callback_group: CallbackGroup | None = None) -> Client[SrvRequestT, SrvResponseT]:
+        """Create a client of the service `srv_name`.
+
+        :param srv_type: The service class.
+        :param srv_name: The service name, resolved like a topic name.
+        :param qos_profile: The QoS profile (kept for the graph; Zenoh queries are reliable).
+        :param callback_group: The group for done callbacks of its futures; the node's default
+            group if ``None``.
+        :return: The new client, typed by its service class.
+        :raises TypeError: If `srv_type` is not a service class.
+        :raises RuntimeError: If the node has been destroyed.
+        """
         self._check_alive()
         _require_service_type(srv_type)
         return self._add(Client(self, srv_type, self.resolve_service_name(srv_name), to_profile(qos_profile),
@@ -279,59 +405,113 @@ class Node:
 
     def create_guard_condition(self, callback: Callable[[], Any] | None,
                                callback_group: CallbackGroup | None = None) -> GuardCondition:
+        """Create a guard condition: `trigger()` it from any thread to run `callback` on the executor.
+
+        :param callback: A function of no arguments, or ``None``.
+        :param callback_group: The group the callback runs in; the node's default group if ``None``.
+        :return: The new guard condition.
+        :raises RuntimeError: If the node has been destroyed.
+        """
         self._check_alive()
         return self._add(GuardCondition(callback, callback_group or self._default_callback_group, node=self))
 
     def destroy_guard_condition(self, guard: GuardCondition) -> bool:
+        """Destroy a guard condition made by this node.
+
+        :param guard: The guard condition.
+        :return: ``True`` if the node had it (destroying twice returns ``False``).
+        """
         return self._destroy_entity(guard)
 
-    def destroy_service(self, service: Service) -> bool:
+    def destroy_service(self, service: Service[Any, Any]) -> bool:
+        """Destroy a service made by this node; it leaves the graph and stops answering.
+
+        :param service: The service.
+        :return: ``True`` if the node had it.
+        """
         return self._destroy_entity(service)
 
-    def destroy_client(self, client: Client) -> bool:
+    def destroy_client(self, client: Client[Any, Any]) -> bool:
+        """Destroy a client made by this node; its pending calls fail.
+
+        :param client: The client.
+        :return: ``True`` if the node had it.
+        """
         return self._destroy_entity(client)
 
     def create_rate(self, frequency: float, clock: Any = None) -> Rate:
+        """Create a Rate, to pace a loop in a thread other than the one spinning the node.
+
+        :param frequency: Loop frequency [Hz].
+        :param clock: The clock to run on; the node's clock if ``None``.
+        :return: The new rate.
+        """
         return Rate(frequency, clock or self._clock, context=self._context)
 
-    def destroy_publisher(self, publisher: Publisher) -> bool:
+    def destroy_publisher(self, publisher: Publisher[Any]) -> bool:
+        """Destroy a publisher made by this node; it leaves the graph.
+
+        :param publisher: The publisher.
+        :return: ``True`` if the node had it.
+        """
         return self._destroy_entity(publisher)
 
-    def destroy_subscription(self, subscription: Subscription) -> bool:
+    def destroy_subscription(self, subscription: Subscription[Any]) -> bool:
+        """Destroy a subscription made by this node; messages still queued are dropped.
+
+        :param subscription: The subscription.
+        :return: ``True`` if the node had it.
+        """
         return self._destroy_entity(subscription)
 
     def destroy_timer(self, timer: Timer) -> bool:
+        """Destroy a timer made by this node; its callback is not called again.
+
+        :param timer: The timer.
+        :return: ``True`` if the node had it.
+        """
         return self._destroy_entity(timer)
 
     def destroy_rate(self, rate: Rate) -> bool:
+        """Destroy a rate; a thread sleeping on it gets RuntimeError.
+
+        :param rate: The rate.
+        :return: ``True``.
+        """
         rate.destroy()
         return True
 
     @property
-    def publishers(self) -> Iterable[Publisher]:
+    def publishers(self) -> Iterable[Publisher[Any]]:
+        """The node's publishers (a new list each time)."""
         return [e for e in self._entities if isinstance(e, Publisher)]
 
     @property
-    def subscriptions(self) -> Iterable[Subscription]:
+    def subscriptions(self) -> Iterable[Subscription[Any]]:
+        """The node's subscriptions (a new list each time)."""
         return [e for e in self._entities if isinstance(e, Subscription)]
 
     @property
-    def services(self) -> Iterable[Service]:
+    def services(self) -> Iterable[Service[Any, Any]]:
+        """The node's services, including its parameter services (a new list each time)."""
         return [e for e in self._entities if isinstance(e, Service)]
 
     @property
-    def clients(self) -> Iterable[Client]:
+    def clients(self) -> Iterable[Client[Any, Any]]:
+        """The node's service clients (a new list each time)."""
         return [e for e in self._entities if isinstance(e, Client)]
 
     @property
     def guards(self) -> Iterable[GuardCondition]:
+        """The node's guard conditions (a new list each time)."""
         return [e for e in self._entities if isinstance(e, GuardCondition)]
 
     @property
     def timers(self) -> Iterable[Timer]:
+        """The node's timers (a new list each time)."""
         return list(self._timers)
 
-    def _own_endpoint_objects(self) -> list[Publisher | Subscription]:
+    def _own_endpoint_objects(self) -> list[Publisher[Any] | Subscription[Any]]:
         return [e for e in list(self._entities) if isinstance(e, (Publisher, Subscription))]
 
     def _timers_snapshot(self) -> list[Timer]:
@@ -369,18 +549,39 @@ class Node:
         return self._context.graph.entities()
 
     def get_node_names(self) -> list[str]:
+        """The names of the nodes in the graph, without namespaces.
+
+        :return: One name per node, this one included.
+        """
         return [name for name, _ in node_names_and_namespaces(self._graph_entities())]
 
     def get_node_names_and_namespaces(self) -> list[tuple[str, str]]:
+        """The nodes in the graph.
+
+        :return: ``(name, namespace)`` pairs, sorted.
+        """
         return node_names_and_namespaces(self._graph_entities())
 
     def get_fully_qualified_node_names(self) -> list[str]:
+        """The nodes in the graph, as fully qualified names.
+
+        :return: Names such as ``/turtlesim``.
+        """
         return [fully_qualified_node_name(ns, n) for n, ns in self.get_node_names_and_namespaces()]
 
     def get_topic_names_and_types(self, no_demangle: bool = False) -> list[tuple[str, list[str]]]:
+        """The topics that have a publisher or subscription in the graph.
+
+        :param no_demangle: Accepted for rclpy's signature; zros names are never mangled.
+        :return: ``(topic, [type, ...])`` pairs, sorted by topic.
+        """
         return names_and_types(self._graph_entities(), (EntityKind.PUBLISHER, EntityKind.SUBSCRIPTION))
 
     def get_service_names_and_types(self) -> list[tuple[str, list[str]]]:
+        """The services that have a server in the graph.
+
+        :return: ``(service, [type, ...])`` pairs, sorted by service.
+        """
         return names_and_types(self._graph_entities(), (EntityKind.SERVICE,))
 
     def _by_node(self, kind: str, node_name: str, node_namespace: str) -> list[tuple[str, list[str]]]:
@@ -389,36 +590,96 @@ class Node:
                                 if e.node_name == node_name and e.namespace == ns], (kind,))
 
     def get_publisher_names_and_types_by_node(self, node_name: str, node_namespace: str) -> list:
+        """The topic (publisher) names and types that one node has, from the graph.
+
+        :param node_name: The node's name, without namespace.
+        :param node_namespace: The node's namespace.
+        :return: ``(name, [type, ...])`` pairs, sorted by name.
+        """
         return self._by_node(EntityKind.PUBLISHER, node_name, node_namespace)
 
     def get_subscriber_names_and_types_by_node(self, node_name: str, node_namespace: str) -> list:
+        """The topic (subscription) names and types that one node has, from the graph.
+
+        :param node_name: The node's name, without namespace.
+        :param node_namespace: The node's namespace.
+        :return: ``(name, [type, ...])`` pairs, sorted by name.
+        """
         return self._by_node(EntityKind.SUBSCRIPTION, node_name, node_namespace)
 
     def get_service_names_and_types_by_node(self, node_name: str, node_namespace: str) -> list:
+        """The service (server) names and types that one node has, from the graph.
+
+        :param node_name: The node's name, without namespace.
+        :param node_namespace: The node's namespace.
+        :return: ``(name, [type, ...])`` pairs, sorted by name.
+        """
         return self._by_node(EntityKind.SERVICE, node_name, node_namespace)
 
     def get_client_names_and_types_by_node(self, node_name: str, node_namespace: str) -> list:
+        """The service (client) names and types that one node has, from the graph.
+
+        :param node_name: The node's name, without namespace.
+        :param node_namespace: The node's namespace.
+        :return: ``(name, [type, ...])`` pairs, sorted by name.
+        """
         return self._by_node(EntityKind.CLIENT, node_name, node_namespace)
 
     def count_services(self, service_name: str) -> int:
+        """Count the servers of a service in the graph.
+
+        :param service_name: The service name, resolved against this node.
+        :return: The number of servers.
+        """
         return len(endpoints(self._graph_entities(), EntityKind.SERVICE, self.resolve_service_name(service_name)))
 
     def count_clients(self, service_name: str) -> int:
+        """Count the clients of a service in the graph.
+
+        :param service_name: The service name, resolved against this node.
+        :return: The number of clients.
+        """
         return len(endpoints(self._graph_entities(), EntityKind.CLIENT, self.resolve_service_name(service_name)))
 
     def count_publishers(self, topic_name: str) -> int:
+        """Count the publishers on a topic in the graph.
+
+        :param topic_name: The topic name, resolved against this node.
+        :return: The number of publishers.
+        """
         return len(endpoints(self._graph_entities(), EntityKind.PUBLISHER, self.resolve_topic_name(topic_name)))
 
     def count_subscribers(self, topic_name: str) -> int:
+        """Count the subscriptions on a topic in the graph.
+
+        :param topic_name: The topic name, resolved against this node.
+        :return: The number of subscriptions.
+        """
         return len(endpoints(self._graph_entities(), EntityKind.SUBSCRIPTION, self.resolve_topic_name(topic_name)))
 
     def get_publishers_info_by_topic(self, topic_name: str) -> list[Entity]:
+        """Describe every publisher on a topic: node, type, QoS (what `zros topic info -v` prints).
+
+        :param topic_name: The topic name, resolved against this node.
+        :return: The publishers' graph records (zros.graph.Entity).
+        """
         return endpoints(self._graph_entities(), EntityKind.PUBLISHER, self.resolve_topic_name(topic_name))
 
     def get_subscriptions_info_by_topic(self, topic_name: str) -> list[Entity]:
+        """Describe every subscription on a topic: node, type, QoS.
+
+        :param topic_name: The topic name, resolved against this node.
+        :return: The subscriptions' graph records (zros.graph.Entity).
+        """
         return endpoints(self._graph_entities(), EntityKind.SUBSCRIPTION, self.resolve_topic_name(topic_name))
 
     def wait_for_node(self, fully_qualified_node_name: str, timeout: float) -> bool:
+        """Wait until a node is in the graph (woken by graph changes, not by polling).
+
+        :param fully_qualified_node_name: E.g. ``/turtlesim``; a missing leading ``/`` is added.
+        :param timeout: Seconds to wait at most.
+        :return: ``True`` if the node appeared, ``False`` on timeout.
+        """
         target = fully_qualified_node_name if fully_qualified_node_name.startswith('/') else '/' + fully_qualified_node_name
         return self._context.graph.wait_for(
             lambda entities: any(e.kind == EntityKind.NODE and e.node_fqn == target for e in entities), timeout)
@@ -426,9 +687,30 @@ class Node:
     # -- parameters (rclpy's API; the rules live in ParameterStore) ----------------------------
     def declare_parameter(self, name: str, value: Any = None, descriptor: Any = None,
                           ignore_override: bool = False) -> Parameter:
+        """Declare a parameter, taking its value from the overrides (``-p``, a parameter file) if any.
+
+        :param name: The parameter's name.
+        :param value: The default value, or a Parameter.Type to declare a typed parameter with no
+            value yet.
+        :param descriptor: An rcl_interfaces/msg/ParameterDescriptor (read-only, ranges, dynamic
+            typing).
+        :param ignore_override: Use `value` even if an override is given.
+        :return: The declared parameter.
+        :raises ParameterAlreadyDeclaredException: If it is declared already.
+        :raises InvalidParameterTypeException: If the override's type differs from the default's.
+        :raises InvalidParameterValueException: If a set-parameters callback rejects the value.
+        """
         return self._parameters.declare(name, value, descriptor, ignore_override)
 
     def declare_parameters(self, namespace: str, parameters: list, ignore_override: bool = False) -> list[Parameter]:
+        """Declare several parameters under one namespace.
+
+        :param namespace: The prefix, joined to each name with a dot; empty for none.
+        :param parameters: ``(name, value)`` or ``(name, value, descriptor)`` tuples.
+        :param ignore_override: Use the given values even if overrides are given.
+        :return: The declared parameters, in order.
+        :raises ParameterAlreadyDeclaredException: As `declare_parameter`, for the first failing one.
+        """
         declared = []
         for entry in parameters:
             name, value, descriptor = (tuple(entry) + (None, None))[:3]
@@ -437,21 +719,57 @@ class Node:
         return declared
 
     def undeclare_parameter(self, name: str) -> None:
+        """Remove a declared parameter.
+
+        :param name: The parameter's name.
+        :raises ParameterNotDeclaredException: If it is not declared.
+        :raises ParameterImmutableException: If it is read-only.
+        """
         self._parameters.undeclare(name)
 
     def has_parameter(self, name: str) -> bool:
+        """Tell whether a parameter is declared.
+
+        :param name: The parameter's name.
+        :return: ``True`` if it is.
+        """
         return self._parameters.has(name)
 
     def get_parameter(self, name: str) -> Parameter:
+        """Read a parameter.
+
+        :param name: The parameter's name.
+        :return: The parameter (its `.value` is the Python value).
+        :raises ParameterNotDeclaredException: If it is not declared (and undeclared parameters
+            are not allowed).
+        :raises ParameterUninitializedException: If it was declared with a type and no value.
+        """
         return self._parameters.get(name)
 
     def get_parameters(self, names: list[str]) -> list[Parameter]:
+        """Read several parameters.
+
+        :param names: The parameters' names.
+        :return: The parameters, in order.
+        :raises ParameterNotDeclaredException: If one is not declared.
+        """
         return [self._parameters.get(n) for n in names]
 
     def get_parameter_or(self, name: str, alternative_value: Parameter | None = None) -> Parameter:
+        """Read a parameter, or fall back to `alternative_value` if it is not declared.
+
+        :param name: The parameter's name.
+        :param alternative_value: The fallback; a NOT_SET parameter if ``None``.
+        :return: The parameter or the fallback.
+        """
         return self._parameters.get_or(name, alternative_value)
 
     def get_parameters_by_prefix(self, prefix: str) -> dict[str, Parameter]:
+        """Read every parameter under a prefix, keyed by the rest of its name.
+
+        :param prefix: E.g. ``'controller'`` for ``controller.kp``, ``controller.ki``.
+        :return: ``{'kp': Parameter, 'ki': Parameter}``.
+        """
         dotted = prefix + '.' if prefix else ''
         return {n[len(dotted):]: self._parameters.get(n) for n in self._parameters.names()
                 if n.startswith(dotted)}
@@ -465,38 +783,93 @@ class Node:
                 raise ParameterNotDeclaredException(missing)
 
     def set_parameters(self, parameter_list: list[Parameter]) -> list[Any]:
+        """Set parameters one by one; each succeeds or fails on its own.
+
+        :param parameter_list: The new values.
+        :return: One rcl_interfaces/msg/SetParametersResult per parameter.
+        :raises ParameterNotDeclaredException: If one is not declared (and undeclared parameters
+            are not allowed).
+        """
         self._require_declared(parameter_list)
         return self._parameters.set_each(parameter_list)
 
     def set_parameters_atomically(self, parameter_list: list[Parameter]) -> Any:
+        """Set parameters all together: either every one is set or none is.
+
+        :param parameter_list: The new values.
+        :return: One rcl_interfaces/msg/SetParametersResult for the whole set.
+        :raises ParameterNotDeclaredException: If one is not declared.
+        """
         self._require_declared(parameter_list)
         return self._parameters.set_atomically(parameter_list)
 
     def describe_parameter(self, name: str) -> Any:
+        """The descriptor of a parameter.
+
+        :param name: The parameter's name.
+        :return: An rcl_interfaces/msg/ParameterDescriptor.
+        :raises ParameterNotDeclaredException: If it is not declared.
+        """
         return self._parameters.describe(name)
 
     def describe_parameters(self, names: list[str]) -> list[Any]:
+        """The descriptors of several parameters.
+
+        :param names: The parameters' names.
+        :return: rcl_interfaces/msg/ParameterDescriptor messages, in order.
+        """
         return [self._parameters.describe(n) for n in names]
 
     def add_on_set_parameters_callback(self, callback: Callable) -> Callable:
+        """Register a validator: `callback(parameters)` returns a SetParametersResult; an unsuccessful
+        one rejects the whole set.
+
+        :param callback: The validator.
+        :return: `callback`, for `remove_on_set_parameters_callback`.
+        """
         self._parameters.add_on_set(callback)
         return callback
 
     def remove_on_set_parameters_callback(self, callback: Callable) -> None:
+        """Unregister a validator.
+
+        :param callback: A callback given to `add_on_set_parameters_callback`.
+        :raises ValueError: If it is not registered.
+        """
         self._parameters.remove_callback(callback)
 
     def add_pre_set_parameters_callback(self, callback: Callable) -> Callable:
+        """Register a callback that may change the list of parameters about to be set.
+
+        :param callback: Takes the list of Parameters, returns the list to set instead.
+        :return: `callback`.
+        """
         self._parameters.add_pre_set(callback)
         return callback
 
     def remove_pre_set_parameters_callback(self, callback: Callable) -> None:
+        """Unregister a pre-set callback.
+
+        :param callback: A callback given to `add_pre_set_parameters_callback`.
+        :raises ValueError: If it is not registered.
+        """
         self._parameters.remove_callback(callback)
 
     def add_post_set_parameters_callback(self, callback: Callable) -> Callable:
+        """Register a callback run after parameters were set (to apply them).
+
+        :param callback: Takes the list of Parameters that were set.
+        :return: `callback`.
+        """
         self._parameters.add_post_set(callback)
         return callback
 
     def remove_post_set_parameters_callback(self, callback: Callable) -> None:
+        """Unregister a post-set callback.
+
+        :param callback: A callback given to `add_post_set_parameters_callback`.
+        :raises ValueError: If it is not registered.
+        """
         self._parameters.remove_callback(callback)
 
     @property

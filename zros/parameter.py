@@ -22,6 +22,16 @@ class ParameterFileError(ZrosError):
 
 
 class Parameter:
+    """A named, typed parameter value, as rclpy.parameter.Parameter.
+
+    The type is inferred from the value when not given, with ROS 2's rules: an int given for a
+    DOUBLE parameter becomes a float, tuples and numpy arrays become lists.
+
+    :param name: The parameter's name (dots separate namespaces).
+    :param type_: A Parameter.Type; ``None`` infers it from `value`.
+    :param value: The value; ``None`` with no type gives a NOT_SET parameter.
+    :raises TypeError: If the value does not match the type, or an array mixes element types.
+    """
     class Type(enum.IntEnum):
         NOT_SET = 0
         BOOL = 1
@@ -93,17 +103,24 @@ class Parameter:
 
     @property
     def name(self) -> str:
+        """The parameter's name."""
         return self._name
 
     @property
     def type_(self) -> 'Parameter.Type':
+        """The parameter's Parameter.Type."""
         return self._type
 
     @property
     def value(self) -> Any:
+        """The parameter's value as a Python object (lists for arrays)."""
         return self._value
 
     def get_parameter_value(self):
+        """The value as a message.
+
+        :return: An rcl_interfaces/msg/ParameterValue with the type set and the matching field filled.
+        """
         from interfaces.rcl_interfaces.msg import ParameterValue
         T = Parameter.Type
         msg = ParameterValue(type=int(self._type))
@@ -120,11 +137,20 @@ class Parameter:
         return msg
 
     def to_parameter_msg(self):
+        """The parameter as a message.
+
+        :return: An rcl_interfaces/msg/Parameter (name and ParameterValue).
+        """
         from interfaces.rcl_interfaces.msg import Parameter as ParameterMsg
         return ParameterMsg(name=self._name, value=self.get_parameter_value())
 
     @classmethod
     def from_parameter_msg(cls, msg) -> 'Parameter':
+        """Build a Parameter from its message.
+
+        :param msg: An rcl_interfaces/msg/Parameter.
+        :return: The parameter, typed as the message says.
+        """
         return cls(msg.name, Parameter.Type(msg.value.type), parameter_value_to_python(msg.value))
 
     def __eq__(self, other: object) -> bool:

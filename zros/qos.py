@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import enum
 from dataclasses import dataclass, replace
+from typing import Any
 
 from zros.duration import Duration
 
@@ -33,6 +34,10 @@ __all__ = [
 
 
 class HistoryPolicy(enum.IntEnum):
+    """How many samples a reader keeps: the last `depth` (KEEP_LAST) or all (KEEP_ALL).
+
+    zros bounds KEEP_ALL queues at KEEP_ALL_DEPTH, since a Python process has finite memory.
+    """
     SYSTEM_DEFAULT = 0
     KEEP_LAST = 1
     KEEP_ALL = 2
@@ -40,6 +45,10 @@ class HistoryPolicy(enum.IntEnum):
 
 
 class ReliabilityPolicy(enum.IntEnum):
+    """RELIABLE retransmits and blocks a publisher that is ahead; BEST_EFFORT drops.
+
+    zros maps these onto Zenoh's reliability and congestion control (BLOCK or DROP).
+    """
     SYSTEM_DEFAULT = 0
     RELIABLE = 1
     BEST_EFFORT = 2
@@ -48,6 +57,10 @@ class ReliabilityPolicy(enum.IntEnum):
 
 
 class DurabilityPolicy(enum.IntEnum):
+    """TRANSIENT_LOCAL lets a late subscriber receive the last `depth` samples; VOLATILE does not.
+
+    zros keeps those samples in a Zenoh advanced publisher's cache.
+    """
     SYSTEM_DEFAULT = 0
     TRANSIENT_LOCAL = 1
     VOLATILE = 2
@@ -56,6 +69,9 @@ class DurabilityPolicy(enum.IntEnum):
 
 
 class LivelinessPolicy(enum.IntEnum):
+    """How a publisher shows it is alive: AUTOMATIC (while its node runs) or MANUAL_BY_TOPIC (by
+    publishing or calling `assert_liveliness()` within every lease).
+    """
     SYSTEM_DEFAULT = 0
     AUTOMATIC = 1
     MANUAL_BY_TOPIC = 3
@@ -86,6 +102,12 @@ class QoSPolicyKind(enum.IntEnum):
 
 
 def qos_policy_name_from_kind(policy_kind: 'QoSPolicyKind | int') -> str:
+    """The name of a QoS policy, as QoS events and `zros doctor` print it.
+
+    :param policy_kind: A QoSPolicyKind or its integer value.
+    :return: The policy's name, e.g. ``'RELIABILITY'``.
+    :raises ValueError: If the value is not a policy kind.
+    """
     return QoSPolicyKind(policy_kind).name
 
 
@@ -149,10 +171,16 @@ class QoSProfile:
 
     @classmethod
     def from_token(cls, text: str) -> 'QoSProfile':
+        """Parse the text `to_token` writes, as read from another participant's liveliness token.
+
+        :param text: The token text.
+        :return: The profile; the default profile if the text is malformed (a foreign token must
+            not break graph queries).
+        """
         try:
             rel, dur, hist, *extra = text.split(':')
             durations = {'D': 'deadline', 'S': 'lifespan', 'E': 'liveliness_lease_duration'}
-            optional = {durations[item[0]]: Duration(nanoseconds=int(item[1:]))
+            optional: dict[str, Any] = {durations[item[0]]: Duration(nanoseconds=int(item[1:]))
                         for item in extra if item[:1] in durations}
             return cls(
                 reliability=ReliabilityPolicy.BEST_EFFORT if rel == 'B' else ReliabilityPolicy.RELIABLE,
@@ -166,7 +194,7 @@ class QoSProfile:
             return cls()
 
 
-_POLICIES: dict[str, type] = {'history': HistoryPolicy, 'reliability': ReliabilityPolicy,
+_POLICIES: dict[str, Any] = {'history': HistoryPolicy, 'reliability': ReliabilityPolicy,
                               'durability': DurabilityPolicy, 'liveliness': LivelinessPolicy}
 _SYSTEM_DEFAULTS = {'history': HistoryPolicy.KEEP_LAST, 'reliability': ReliabilityPolicy.RELIABLE,
                     'durability': DurabilityPolicy.VOLATILE, 'liveliness': LivelinessPolicy.AUTOMATIC}
@@ -182,6 +210,7 @@ qos_profile_best_available = QoSProfile(depth=10)
 
 
 class QoSPresetProfiles(enum.Enum):
+    """The named profiles, so that `zros topic pub --qos-profile sensor_data` can look one up."""
     DEFAULT = qos_profile_default
     SENSOR_DATA = qos_profile_sensor_data
     SERVICES_DEFAULT = qos_profile_services_default
@@ -193,6 +222,12 @@ class QoSPresetProfiles(enum.Enum):
 
     @classmethod
     def get_from_short_key(cls, name: str) -> QoSProfile:
+        """Look a preset up by its short name, in any case.
+
+        :param name: E.g. ``'sensor_data'`` or ``'services_default'``.
+        :return: The profile.
+        :raises KeyError: If there is no preset of that name.
+        """
         return cls[name.upper()].value
 
 
@@ -207,6 +242,7 @@ def to_profile(qos: 'QoSProfile | int') -> QoSProfile:
 
 
 class QoSCompatibility(enum.IntEnum):
+    """The verdict of `qos_check_compatible` on a publisher/subscription pair."""
     OK = 0
     WARNING = 1
     ERROR = 2

@@ -12,12 +12,12 @@ from __future__ import annotations
 
 import inspect
 from collections import deque
-from typing import TYPE_CHECKING, Any, Callable
+from typing import TYPE_CHECKING, Any, Callable, Generic
 
 from zros.entity import QueuedEntity
 from zros.errors import DecodeError
 from zros.graph import EntityKind
-from zros.message import deserialize, serialize
+from zros.message import Srv, SrvRequestT, SrvResponseT, deserialize, serialize
 from zros.qos import QoSProfile
 from zros.wire import describe_type, foreign_protocol, max_request_size, mismatch_reason, read_header, type_tail
 
@@ -47,9 +47,17 @@ class DeferredResponse:
             self._finish(kind, value)
 
     def resolve(self, response: Any) -> None:
+        """Send `response` as the answer to the deferred request.
+
+        :param response: An instance of the service's Response type.
+        """
         self._finish('ok', response)
 
     def fail(self, text: str) -> None:
+        """Answer the deferred request with an error; the caller's call fails with this text.
+
+        :param text: The error message the client sees in its ServiceCallError.
+        """
         self._finish('err', text)
 
     def _finish(self, kind: str, value: Any) -> None:
@@ -67,20 +75,25 @@ class DeferredResponse:
             query.drop()
 
 
-class Service(QueuedEntity):
-    """Made by `Node.create_service`."""
+class Service(QueuedEntity, Generic[SrvRequestT, SrvResponseT]):
+    """Answers one service; made by `Node.create_service`.
+
+    It owns a Zenoh queryable on the service's key; requests wait in a queue and the callback
+    answers them on the node's executor. Generic in the service type.
+    """
 
     #: Called with (query, response) after a response has gone out; a DeferredResponse it returns
     #: answers the same query once more, later (an action's send-goal that also brings the result).
     _follow_up: Callable[[Any, Any], DeferredResponse | None] | None = None
 
-    def __init__(self, node: 'Node', srv_type: type, name: str, callback: Callable[[Any, Any], Any],
+    def __init__(self, node: 'Node', srv_type: type[Srv[SrvRequestT, SrvResponseT]], name: str,
+                 callback: Callable[[SrvRequestT, SrvResponseT], Any],
                  qos: QoSProfile, callback_group: Any, *, warn_if_shared: bool = True) -> None:
         from zros.keys import service_key
         self._node = node
-        self.srv_type = srv_type
+        self.srv_type: Any = srv_type   # a class built at run time: its _TYPE is not declared
         self.srv_name = name
-        self.callback = callback
+        self.callback: Callable[[Any, Any], Any] = callback
         self.qos_profile = qos
         self.callback_group = callback_group
         self._tail = type_tail(srv_type)
@@ -91,7 +104,7 @@ class Service(QueuedEntity):
         self._zenoh = node.context.session.declare_queryable(
             service_key(node.context.domain_id, name), self._on_query, complete=True)
         super().__init__(node, EntityKind.SERVICE, name, srv_type, qos)
-        others = [e for e in self._servers(srv_type._TYPE) if e != self._entity]
+        others = [e for e in self._servers(self._entity.type) if e != self._entity]
         if others and warn_if_shared:
             node.get_logger().warn(
                 f"service '{name}' is already served by {', '.join(sorted(e.node_fqn for e in others))}: "
@@ -99,6 +112,7 @@ class Service(QueuedEntity):
 
     @property
     def service_name(self) -> str:
+        """The fully qualified (remapped) name this service serves."""
         return self.srv_name
 
     def _servers(self, type_name: str) -> list:

@@ -21,12 +21,12 @@ import inspect
 import threading
 import time
 from collections import deque
-from typing import TYPE_CHECKING, Any, Callable
+from typing import TYPE_CHECKING, Any, Callable, Generic, Union
 
 from zros.entity import QueuedEntity
 from zros.errors import DecodeError
 from zros.graph import EntityKind
-from zros.message import decoder
+from zros.message import MsgT, decoder
 from zros.qos import DurabilityPolicy, QoSProfile
 from zros.wire import (GID_AT, MAGIC, TYPE_AT, WRITER_STAMP, foreign_protocol, max_message_size,
                        mismatch_reason, read_header, type_tail)
@@ -34,7 +34,7 @@ from zros.wire import (GID_AT, MAGIC, TYPE_AT, WRITER_STAMP, foreign_protocol, m
 if TYPE_CHECKING:
     from zros.node import Node
 
-__all__ = ['Subscription', 'MessageInfo']
+__all__ = ['Subscription', 'MessageInfo', 'SubscriptionCallback']
 
 # How many publishers' rejected samples a subscription logs (one line each).
 _MAX_REPORTED = 16
@@ -42,6 +42,10 @@ _MAX_REPORTED = 16
 _EVICTED_NOTES = 4096
 
 MessageInfo = dict  # {'source_timestamp', 'received_timestamp', 'publication_sequence_number', ...}
+
+#: What a subscription calls: with the message, or (two positional parameters) with the message
+#: and its MessageInfo, as rclpy does.
+SubscriptionCallback = Union[Callable[[MsgT], Any], Callable[[MsgT, MessageInfo], Any]]
 
 
 class _Timed:
@@ -71,20 +75,26 @@ def _wants_info(callback: Callable) -> bool:
 _HAND_OFF_S = 0.002
 
 
-class Subscription(QueuedEntity):
-    """Made by `Node.create_subscription`."""
+class Subscription(QueuedEntity, Generic[MsgT]):
+    """Receives messages of one type on one topic; made by `Node.create_subscription`.
+
+    Samples are queued on Zenoh's thread and decoded and handed to the callback on the node's
+    executor (see the module docstring). Generic in the message type, so that an editor
+    checks the callback's argument against it. `destroy()` or `Node.destroy_subscription`
+    undeclares its Zenoh subscriber and graph token.
+    """
 
     _events: Any = None  # zros.event_handler's tracker, when a deadline or message-lost event needs it
 
-    def __init__(self, node: 'Node', msg_type: type, topic: str, callback: Callable, qos: QoSProfile,
-                 callback_group: Any, raw: bool = False) -> None:
+    def __init__(self, node: 'Node', msg_type: type[MsgT], topic: str, callback: SubscriptionCallback[MsgT],
+                 qos: QoSProfile, callback_group: Any, raw: bool = False) -> None:
         import zenoh
         import zenoh.ext
         from zros.keys import topic_key
         self._node = node  # the Zenoh callback may run before NodeEntity.__init__ below
-        self.msg_type = msg_type
+        self.msg_type: Any = msg_type   # a class built at run time: its _TYPE is not declared
         self.topic_name = topic
-        self.callback = callback
+        self.callback: Callable[..., Any] = callback
         self.qos_profile = qos
         self.callback_group = callback_group
         self.raw = raw

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import inspect
 import threading
-from typing import Any, Callable
+from typing import Any, Callable, Generator, Generic, TypeVar
 
 __all__ = ['Future', 'Task']
 
@@ -32,16 +32,28 @@ __all__ = ['Future', 'Task']
 # future itself to the driver.
 _stepping = threading.local()
 
+#: What a Future completes with (`Future[T].result() -> T | None`, as rclpy's).
+T = TypeVar('T')
 
-class Future:
+
+class Future(Generic[T]):
     # Whether completing counts as a piece of work for the executor (a Task's run already does).
+    """The outcome of work that completes later, as rclpy.task.Future.
+
+    Any thread may complete it; done callbacks run on the executor it knows (see the module
+    docstring). Users get futures from `call_async`, `send_goal_async` and
+    `Executor.create_task` rather than making them.
+
+    :param executor: The executor that runs the done callbacks.
+    :param node: The node whose executor runs them, looked up when the future completes.
+    """
     _marks_work = True
 
     def __init__(self, *, executor: Any = None, node: Any = None) -> None:
         self._state = 'pending'  # pending | done | cancelled
-        self._result: Any = None
+        self._result: T | None = None
         self._exception: BaseException | None = None
-        self._callbacks: list[Callable[['Future'], None]] = []
+        self._callbacks: list[Callable[['Future[T]'], None]] = []
         self._resume: list['Task'] = []          # tasks suspended on `await self`
         self._lock = threading.Lock()
         self._done_event: threading.Event | None = None
@@ -49,27 +61,48 @@ class Future:
         self._node = node
 
     def done(self) -> bool:
+        """Tell whether the future has completed.
+
+        :return: ``True`` once a result or exception is set, or the future is cancelled.
+        """
         return self._state != 'pending'
 
     def cancelled(self) -> bool:
+        """Tell whether the future was cancelled.
+
+        :return: ``True`` after `cancel()` on a pending future.
+        """
         return self._state == 'cancelled'
 
     def cancel(self) -> None:
+        """Complete the future as cancelled, if it is still pending; done callbacks run."""
         self._finish('cancelled', None, None)
 
-    def result(self) -> Any:
+    def result(self) -> T | None:
         """The result; raises the stored exception; None while pending (as rclpy)."""
         if self._exception is not None:
             raise self._exception
         return self._result
 
     def exception(self) -> BaseException | None:
+        """The exception the work ended with.
+
+        :return: The exception, or ``None`` while pending or after success.
+        """
         return self._exception
 
-    def set_result(self, result: Any) -> None:
+    def set_result(self, result: T) -> None:
+        """Complete the future with `result`; ignored if it is already complete.
+
+        :param result: The value `result()` returns from now on.
+        """
         self._finish('done', result, None)
 
     def set_exception(self, exception: BaseException) -> None:
+        """Complete the future with an error; ignored if it is already complete.
+
+        :param exception: The exception `result()` raises from now on.
+        """
         self._finish('done', None, exception)
 
     def _finish(self, state: str, result: Any, exception: BaseException | None) -> None:
@@ -104,7 +137,14 @@ class Future:
             return self._executor
         return getattr(self._node, '_executor', None)
 
-    def add_done_callback(self, callback: Callable[['Future'], None]) -> None:
+    def add_done_callback(self, callback: Callable[['Future[T]'], None]) -> None:
+        """Call `callback(future)` when the future completes (at once if it has).
+
+        The callback runs as a task of the future's executor when it has one, else in the thread
+        that completes the future.
+
+        :param callback: A function of one argument, this future.
+        """
         with self._lock:
             if self._state == 'pending':
                 self._callbacks.append(callback)
@@ -135,14 +175,14 @@ class Future:
             event = self._done_event
         return event.wait(timeout)
 
-    def __await__(self):
+    def __await__(self) -> Generator[Any, None, T | None]:
         while not self.done():
             # A zros Task resumes when this future completes; any other driver gets a bare yield.
             yield self if getattr(_stepping, 'task', False) else None
         return self.result()
 
 
-class Task(Future):
+class Task(Future[T]):
     """Runs a function or a coroutine on an executor (rclpy.task.Task); made by
     `Executor.create_task` and by the executor for `async def` callbacks.
 
@@ -155,10 +195,10 @@ class Task(Future):
     def __init__(self, handler: Any, args: tuple = (), kwargs: dict | None = None, *,
                  executor: Any = None, node: Any = None, callback_group: Any = None) -> None:
         super().__init__(executor=executor, node=node)
-        self._handler = handler
-        self._args = args
-        self._kwargs = kwargs or {}
-        self._coroutine = handler if inspect.iscoroutine(handler) else None
+        self._handler: Any = handler
+        self._args: Any = args
+        self._kwargs: Any = kwargs or {}
+        self._coroutine: Any = handler if inspect.iscoroutine(handler) else None
         self._held_group = callback_group
         self._executing = False
         self._step_lock = threading.Lock()
@@ -167,6 +207,10 @@ class Task(Future):
     _marks_work = False
 
     def executing(self) -> bool:
+        """Tell whether the task is running on some thread now.
+
+        :return: ``True`` while the function or a step of the coroutine runs.
+        """
         return self._executing
 
     def __call__(self) -> None:

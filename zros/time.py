@@ -10,6 +10,7 @@ __all__ = ['Time', 'ClockType']
 
 
 class ClockType(enum.IntEnum):
+    """Which clock a Time was read from; times of different clock types do not compare."""
     UNINITIALIZED = 0
     ROS_TIME = 1
     SYSTEM_TIME = 2
@@ -18,6 +19,13 @@ class ClockType(enum.IntEnum):
 
 @total_ordering
 class Time:
+    """A point in time on one clock, as rclpy.time.Time, in integer nanoseconds.
+
+    :param seconds: Seconds since the clock's epoch (may be fractional).
+    :param nanoseconds: Nanoseconds added to `seconds`.
+    :param clock_type: The clock this time belongs to.
+    :raises ValueError: If the total is negative.
+    """
     __slots__ = ('_nanoseconds', '_clock_type')
 
     def __init__(self, *, seconds: float = 0, nanoseconds: int = 0,
@@ -30,22 +38,38 @@ class Time:
 
     @property
     def nanoseconds(self) -> int:
+        """The time in nanoseconds since the clock's epoch."""
         return self._nanoseconds
 
     @property
     def clock_type(self) -> ClockType:
+        """The ClockType of the clock this time belongs to."""
         return self._clock_type
 
     def seconds_nanoseconds(self) -> tuple[int, int]:
+        """Split the time into whole seconds and the nanoseconds left over.
+
+        :return: ``(seconds, nanoseconds)``, as builtin_interfaces/msg/Time holds it.
+        """
         return divmod(self._nanoseconds, 1_000_000_000)
 
     def to_msg(self):
+        """The time as a message, for a header's `stamp`.
+
+        :return: A builtin_interfaces/msg/Time.
+        """
         from interfaces.builtin_interfaces.msg import Time as TimeMsg
         sec, nsec = divmod(self._nanoseconds, 1_000_000_000)
         return TimeMsg(sec=sec, nanosec=nsec)
 
     @classmethod
     def from_msg(cls, msg, clock_type: ClockType = ClockType.ROS_TIME) -> 'Time':
+        """Build a Time from a message.
+
+        :param msg: A builtin_interfaces/msg/Time (a header's `stamp`).
+        :param clock_type: The clock the stamp was taken on; ROS time, as rclpy assumes.
+        :return: The time.
+        """
         return cls(seconds=msg.sec, nanoseconds=msg.nanosec, clock_type=clock_type)
 
     def _check(self, other: 'Time') -> None:

@@ -20,11 +20,19 @@ _timer_lists_version = 0
 
 
 def timer_lists_changed() -> None:
+    """Note that some node gained or lost a timer.
+
+    Executors cache the list of timers they watch and rebuild it only when this version moves.
+    """
     global _timer_lists_version
     _timer_lists_version += 1
 
 
 def timer_lists_version() -> int:
+    """The version that `timer_lists_changed` bumps.
+
+    :return: A counter that changes whenever any node's set of timers changes.
+    """
     return _timer_lists_version
 
 
@@ -53,6 +61,7 @@ class _Schedule:
         """One due call taken at `now`. Missed periods are skipped, not run in a burst, and the
         schedule keeps its phase (as rcl): a timer of 0.5 s whose simulated time jumps from 0 to
         10.04 s calls once, then at 10.5 s."""
+        assert self.next_ns is not None, 'advance() is only called on a running schedule'
         if self.next_ns <= now:
             self.next_ns += ((now - self.next_ns) // self.period_ns + 1) * self.period_ns
         self.last_ns = now
@@ -76,6 +85,7 @@ class Timer:
 
     @property
     def timer_period_ns(self) -> int:
+        """The period between two calls, in nanoseconds."""
         return self._schedule.period_ns
 
     @timer_period_ns.setter
@@ -85,6 +95,7 @@ class Timer:
 
     @property
     def clock(self) -> Clock:
+        """The clock the timer is scheduled on (the node's ROS clock unless one was given)."""
         return self._clock
 
     @property
@@ -114,13 +125,22 @@ class Timer:
         return self.callback()
 
     def cancel(self) -> None:
+        """Stop calling the callback until `reset()`; the timer stays registered with its node."""
         with self._lock:
             self._canceled = True
 
     def is_canceled(self) -> bool:
+        """Tell whether the timer is cancelled.
+
+        :return: ``True`` after `cancel()` and before the next `reset()`.
+        """
         return self._canceled
 
     def reset(self) -> None:
+        """Restart the period from now, and un-cancel the timer.
+
+        The node's executor is woken so that it picks up the new due time at once.
+        """
         with self._lock:
             self._canceled = False
             self._schedule.restart()
@@ -128,17 +148,33 @@ class Timer:
             self._node._executor.wake()
 
     def is_ready(self) -> bool:
+        """Tell whether the timer is due.
+
+        :return: ``True`` when a period has passed since the last call and the timer is not cancelled.
+        """
         remaining = self._remaining_ns()
         return remaining is not None and remaining <= 0
 
     def time_since_last_call(self) -> int:
+        """Time since the callback was last due (or since creation or reset).
+
+        :return: Nanoseconds, in the timer's scheduling time (simulated time under use_sim_time).
+        """
         return self._schedule.now() - self._schedule.last_ns
 
     def time_until_next_call(self) -> int | None:
+        """Time left until the callback is due.
+
+        :return: Nanoseconds (0 when already due), or ``None`` when the timer is cancelled.
+        """
         remaining = self._remaining_ns()
         return None if remaining is None else max(0, remaining)
 
     def destroy(self) -> None:
+        """Cancel the timer for good.
+
+        `Node.destroy_timer` calls this and also drops the timer from the node; prefer that.
+        """
         self.cancel()
         self._destroyed = True
 
@@ -161,6 +197,14 @@ class Rate:
         self._destroyed = False
 
     def sleep(self) -> None:
+        """Block until the next period of the rate begins.
+
+        Unlike a timer, a rate is waited on in the calling thread, so call it from a thread other
+        than the one spinning the node (as in rclpy).
+
+        :raises RuntimeError: If the rate has been destroyed.
+        :raises ROSInterruptException: If the context shuts down while sleeping.
+        """
         from zros.exceptions import ROSInterruptException
         if self._destroyed:
             raise RuntimeError('Rate cannot sleep because it has been destroyed')
@@ -173,6 +217,7 @@ class Rate:
                 if self._destroyed:
                     raise RuntimeError('Rate cannot sleep because it has been destroyed')
                 now = schedule.now()
+                assert schedule.next_ns is not None   # a rate's schedule always runs
                 remaining = schedule.next_ns - now
                 if remaining <= 0:
                     break
@@ -181,4 +226,5 @@ class Rate:
         schedule.advance(now)
 
     def destroy(self) -> None:
+        """Make further `sleep()` calls fail; `Node.destroy_rate` calls this."""
         self._destroyed = True

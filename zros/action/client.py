@@ -20,6 +20,7 @@ from zros.qos import QoSProfile, qos_profile_action_status_default, qos_profile_
 from zros.task import Future
 
 if TYPE_CHECKING:
+    from zros.client import Client
     from zros.node import Node
 
 __all__ = ['ActionClient', 'ClientGoalHandle']
@@ -43,21 +44,35 @@ class ClientGoalHandle:
 
     @property
     def goal_id(self) -> Any:
+        """The goal's UUID (a unique_identifier_msgs/msg/UUID), chosen by the client."""
         return self._goal_id
 
     @property
     def stamp(self) -> Any:
+        """When the server accepted the goal (builtin_interfaces/msg/Time from its clock)."""
         return self._stamp
 
     @property
     def accepted(self) -> bool:
+        """Whether the server accepted the goal."""
         return self._accepted
 
     @property
     def status(self) -> int:
+        """The goal's latest status (a GoalStatus value), as the server's status topic reports it.
+
+        It is UNKNOWN for a rejected goal and moves on as status messages arrive on the executor.
+        """
         return int(self._status)
 
     def get_result_async(self) -> Future:
+        """Ask the server for the goal's result.
+
+        The server answers when the goal ends, however long it runs.
+
+        :return: A Future completed with the GetResult response (`.status`, `.result`).
+        :raises RuntimeError: If the goal was not accepted.
+        """
         if not self._accepted:
             raise RuntimeError('cannot get the result of a goal that was not accepted')
         return self._client._get_result_async(self)
@@ -69,9 +84,20 @@ class ClientGoalHandle:
         return future.result()
 
     def cancel_goal_async(self) -> Future:
+        """Ask the server to cancel this goal.
+
+        :return: A Future completed with the action_msgs/srv/CancelGoal response (its
+            `goals_canceling` lists the goal if the server accepted the cancel).
+        """
         return self._client._cancel_goal_async(self)
 
     def cancel_goal(self) -> Any:
+        """Blocking: ask the server to cancel this goal and wait for its answer.
+
+        Waits on the future, not by spinning: zros completes service replies on Zenoh's thread.
+
+        :return: The action_msgs/srv/CancelGoal response.
+        """
         future = self.cancel_goal_async()
         future.wait()
         return future.result()
@@ -81,9 +107,25 @@ class ClientGoalHandle:
 
 
 class ActionClient:
-    """`ActionClient(node, action_type, action_name)` as in rclpy."""
+    """Sends goals to one action server, as rclpy.action.ActionClient.
 
-    def __init__(self, node: 'Node', action_type: type, action_name: str, *, callback_group: Any = None,
+    The client is three service clients (send goal, cancel, get result) and two subscriptions
+    (feedback, status) under ``<action>/_action/``. Unlike rclpy, feedback comes on a topic of
+    this client's own, so clients of a busy action do not decode each other's feedback.
+
+    :param node: The node that owns the client's entities.
+    :param action_type: The action class, e.g. ``Fibonacci`` from ``interfaces.example_interfaces.action``.
+    :param action_name: The action's name, resolved like a service name.
+    :param callback_group: The group for feedback, status and done callbacks; the node's
+        default group if ``None``.
+    :param goal_service_qos_profile: QoS of the send-goal client.
+    :param result_service_qos_profile: QoS of the get-result client.
+    :param cancel_service_qos_profile: QoS of the cancel client.
+    :param feedback_sub_qos_profile: QoS of the feedback subscription.
+    :param status_sub_qos_profile: QoS of the status subscription.
+    """
+
+    def __init__(self, node: 'Node', action_type: Any, action_name: str, *, callback_group: Any = None,
                  goal_service_qos_profile: QoSProfile = qos_profile_services_default,
                  result_service_qos_profile: QoSProfile = qos_profile_services_default,
                  cancel_service_qos_profile: QoSProfile = qos_profile_services_default,
@@ -93,7 +135,7 @@ class ActionClient:
         from interfaces.action_msgs.srv import CancelGoal
         self._node = node
         self._action_type = action_type
-        self._types = protocol_types(action_type)
+        self._types: Any = protocol_types(action_type)   # classes built at run time
         self._name = node.resolve_service_name(action_name)
         self.callback_group = callback_group or node.default_callback_group
         self._client_id = os.urandom(8).hex()
@@ -103,12 +145,14 @@ class ActionClient:
         self._handles: dict[bytes, ClientGoalHandle] = {}
         self._settled: dict[bytes, float] = {}
         group = self.callback_group
-        self._send_client = node.create_client(self._types.SendGoal, f'{self._name}/_action/send_goal',
-                                               qos_profile=goal_service_qos_profile, callback_group=group)
+        self._send_client: Client[Any, Any] = node.create_client(
+            self._types.SendGoal, f'{self._name}/_action/send_goal',
+            qos_profile=goal_service_qos_profile, callback_group=group)
         self._cancel_client = node.create_client(CancelGoal, f'{self._name}/_action/cancel_goal',
                                                  qos_profile=cancel_service_qos_profile, callback_group=group)
-        self._result_client = node.create_client(self._types.GetResult, f'{self._name}/_action/get_result',
-                                                 qos_profile=result_service_qos_profile, callback_group=group)
+        self._result_client: Client[Any, Any] = node.create_client(
+            self._types.GetResult, f'{self._name}/_action/get_result',
+            qos_profile=result_service_qos_profile, callback_group=group)
         self._feedback_sub = node.create_subscription(
             self._types.FeedbackMessage, f'{self._name}/_action/feedback/c{self._client_id}', self._on_feedback,
             feedback_sub_qos_profile, callback_group=group)
@@ -121,6 +165,7 @@ class ActionClient:
 
     @property
     def action_name(self) -> str:
+        """The fully qualified (remapped) name of the action."""
         return self._name
 
     def _listed(self, entities: list) -> bool:
@@ -142,6 +187,11 @@ class ActionClient:
                 and all(c.service_is_ready() for c in self._service_clients()))
 
     def wait_for_server(self, timeout_sec: float | None = None) -> bool:
+        """Wait until an action server with this name is in the graph and its services are reachable.
+
+        :param timeout_sec: Seconds to wait at most; ``None`` waits forever.
+        :return: ``True`` if the server is ready, ``False`` on timeout.
+        """
         deadline = None if timeout_sec is None else time.monotonic() + timeout_sec
         graph = self._node.context.graph
         while True:
@@ -158,19 +208,26 @@ class ActionClient:
     # -- goals ---------------------------------------------------------------------------------
     def send_goal_async(self, goal: Any, feedback_callback: Callable | None = None,
                         goal_uuid: Any = None) -> Future:
-        """Future of a ClientGoalHandle (check `.accepted`). Goal ids come from the server."""
+        """Send a goal and return at once.
+
+        :param goal: An instance of the action's Goal type.
+        :param feedback_callback: Called on the executor with each FeedbackMessage of this goal.
+        :param goal_uuid: Accepted for rclpy's signature; zros takes the goal id from the server.
+        :return: A Future completed with a ClientGoalHandle (check its `accepted`).
+        :raises TypeError: If `goal` is not the action's Goal.
+        """
         if type(goal) is not self._action_type.Goal:
             raise TypeError(f"action '{self._name}' expects {self._action_type._TYPE} Goal, "
                             f'got {getattr(type(goal), "_TYPE", type(goal).__name__)}')
-        outer = Future(node=self._node)
+        outer: Future[ClientGoalHandle] = Future(node=self._node)
         inner = self._send_client.call_async(self._types.SendGoal.Request(goal=goal, client_id=self._client_id))
 
-        def on_response(done: Future) -> None:
+        def on_response(done: Future[Any]) -> None:
             exc = done.exception()
             if exc is not None:
                 outer.set_exception(exc)
                 return
-            response = done.result()
+            response: Any = done.result()
             outer.set_result(self._register(response, feedback_callback) if response.accepted
                              else ClientGoalHandle(self, response.goal_id, response.stamp, False))
         inner.add_done_callback(on_response)
@@ -206,10 +263,18 @@ class ActionClient:
                     self._early_feedback.pop(old, None)
 
     def send_goal(self, goal: Any, feedback_callback: Callable | None = None, goal_uuid: Any = None) -> Any:
-        """Blocking: send, wait for acceptance, then for the result (None if rejected).
+        """Send a goal and block until it ends.
 
-        Both requests are answered on this thread (no executor needed); feedback callbacks
-        still need the node to be spun, as in rclpy."""
+        Both answers (acceptance, result) are read on this thread, so no executor is needed;
+        feedback callbacks still need the node to be spun, as in rclpy.
+
+        :param goal: An instance of the action's Goal type.
+        :param feedback_callback: Called on the executor with each FeedbackMessage of this goal.
+        :param goal_uuid: Accepted for rclpy's signature.
+        :return: The GetResult response (`.status`, `.result`), or ``None`` if the goal was rejected.
+        :raises TypeError: If `goal` is not the action's Goal.
+        :raises ServiceCallError: If the server cannot be reached.
+        """
         if type(goal) is not self._action_type.Goal:
             raise TypeError(f"action '{self._name}' expects {self._action_type._TYPE} Goal, "
                             f'got {getattr(type(goal), "_TYPE", type(goal).__name__)}')
@@ -234,7 +299,7 @@ class ActionClient:
         return result
 
     def _get_result_async(self, handle: ClientGoalHandle) -> Future:
-        outer = Future(node=self._node)
+        outer: Future[Any] = Future(node=self._node)
         inner = self._result_client.call_async(self._types.GetResult.Request(goal_id=handle.goal_id))
         name = self._name
 
@@ -278,6 +343,10 @@ class ActionClient:
                     handle._status = GoalStatus(status.status)
 
     def destroy(self) -> None:
+        """Destroy the client's services and subscriptions and leave the graph.
+
+        Calling it twice is harmless; `Node.destroy_node` calls it too.
+        """
         if self._destroyed:
             return
         self._destroyed = True

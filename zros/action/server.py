@@ -25,17 +25,20 @@ from zros.service import DeferredResponse
 
 if TYPE_CHECKING:
     from zros.node import Node
+    from zros.service import Service
 
 __all__ = ['ActionServer', 'ServerGoalHandle', 'GoalResponse', 'CancelResponse', 'GoalStatus',
            'default_goal_callback', 'default_cancel_callback', 'default_handle_accepted_callback']
 
 
 class GoalResponse(enum.IntEnum):
+    """What a goal callback answers: reject the goal, or accept it."""
     REJECT = 1
     ACCEPT = 2
 
 
 class CancelResponse(enum.IntEnum):
+    """What a cancel callback answers: reject the cancel request, or accept it."""
     REJECT = 1
     ACCEPT = 2
 
@@ -103,26 +106,35 @@ class ServerGoalHandle:
 
     @property
     def goal_id(self) -> Any:
+        """The goal's UUID (a unique_identifier_msgs/msg/UUID), chosen by the client."""
         return self._goal_id
 
     @property
     def request(self) -> Any:
+        """The goal message the client sent (an instance of the action's Goal)."""
         return self._request
 
     @property
     def status(self) -> int:
+        """The goal's current status (a GoalStatus value)."""
         return int(self._status)
 
     @property
     def is_active(self) -> bool:
+        """Whether the goal is accepted, executing or canceling (not yet ended)."""
         return self._status in _ACTIVE
 
     @property
     def is_executing(self) -> bool:
+        """Whether the goal is executing."""
         return self._status == GoalStatus.EXECUTING
 
     @property
     def is_cancel_requested(self) -> bool:
+        """Whether a cancel request for this goal was accepted.
+
+        An execute callback polls this and ends the goal with `canceled()` when it is set.
+        """
         return self._status == GoalStatus.CANCELING
 
     def execute(self, execute_callback: Callable | None = None) -> None:
@@ -130,15 +142,34 @@ class ServerGoalHandle:
         self._server._start_execution(self, execute_callback)
 
     def publish_feedback(self, feedback: Any) -> None:
+        """Send feedback to the client that sent the goal.
+
+        zros publishes each client's feedback on a topic of its own, so clients of the same action
+        do not receive (and decode) each other's feedback.
+
+        :param feedback: An instance of the action's Feedback type.
+        """
         self._server._publish_feedback(self, feedback)
 
     def succeed(self) -> None:
+        """End the goal as SUCCEEDED; the execute callback then returns the result.
+
+        :raises RuntimeError: If the goal is not executing or canceling.
+        """
         self._transition(GoalStatus.SUCCEEDED, (GoalStatus.EXECUTING, GoalStatus.CANCELING))
 
     def abort(self) -> None:
+        """End the goal as ABORTED; the execute callback then returns the result.
+
+        :raises RuntimeError: If the goal has already ended.
+        """
         self._transition(GoalStatus.ABORTED, _ACTIVE)
 
     def canceled(self) -> None:
+        """End the goal as CANCELED, after a cancel request was accepted.
+
+        :raises RuntimeError: If no cancel was requested.
+        """
         self._transition(GoalStatus.CANCELED, (GoalStatus.CANCELING,))
 
     def _transition(self, new: GoalStatus, allowed: tuple) -> None:
@@ -167,9 +198,29 @@ class ServerGoalHandle:
 
 
 class ActionServer:
-    """`ActionServer(node, action_type, action_name, execute_callback, ...)` as in rclpy."""
+    """Serves one action, as rclpy.action.ActionServer.
 
-    def __init__(self, node: 'Node', action_type: type, action_name: str, execute_callback: Callable, *,
+    Goals are accepted and cancels rejected unless you give callbacks; each accepted goal's
+    `execute_callback` runs as an executor task (see the module docstring).
+
+    :param node: The node that owns the server's entities.
+    :param action_type: The action class.
+    :param action_name: The action's name, resolved like a service name.
+    :param execute_callback: Takes a ServerGoalHandle, calls `succeed()`, `abort()` or
+        `canceled()` on it and returns an instance of the action's Result.
+    :param callback_group: The group of the goal, cancel and result services.
+    :param goal_callback: Takes the Goal, returns a GoalResponse.
+    :param handle_accepted_callback: Takes the handle of an accepted goal; by default starts it.
+    :param cancel_callback: Takes the handle, returns a CancelResponse.
+    :param goal_service_qos_profile: QoS of the send-goal service.
+    :param result_service_qos_profile: QoS of the get-result service.
+    :param cancel_service_qos_profile: QoS of the cancel service.
+    :param feedback_pub_qos_profile: QoS of the feedback publishers.
+    :param status_pub_qos_profile: QoS of the status publisher.
+    :param result_timeout: Seconds a finished goal's result stays available.
+    """
+
+    def __init__(self, node: 'Node', action_type: Any, action_name: str, execute_callback: Callable, *,
                  callback_group: Any = None, goal_callback: Callable = default_goal_callback,
                  handle_accepted_callback: Callable = default_handle_accepted_callback,
                  cancel_callback: Callable = default_cancel_callback,
@@ -182,7 +233,7 @@ class ActionServer:
         from interfaces.action_msgs.msg import GoalStatusArray
         self._node = node
         self._action_type = action_type
-        self._types = protocol_types(action_type)
+        self._types: Any = protocol_types(action_type)   # classes built at run time
         self._name = node.resolve_service_name(action_name)
         self._execute_callback = execute_callback
         self._goal_callback = goal_callback
@@ -211,7 +262,7 @@ class ActionServer:
         ]
         self._services[0]._follow_up = self._result_too
         self._cancel_qos = cancel_service_qos_profile
-        self._cancel_service = None
+        self._cancel_service: Service[Any, Any] | None = None
         if not any(s._cancel_service for s in self._siblings()):
             self._serve_cancel()
         self._entity = node._declare_entity(EntityKind.ACTION_SERVER, self._name, action_type)
@@ -219,6 +270,7 @@ class ActionServer:
 
     @property
     def action_name(self) -> str:
+        """The fully qualified (remapped) name of the action."""
         return self._name
 
     def _siblings(self) -> list['ActionServer']:
@@ -289,7 +341,7 @@ class ActionServer:
         target = request.goal_info.goal_id.uuid.tobytes()
         stamp = request.goal_info.stamp
         before_ns = stamp.sec * 1_000_000_000 + stamp.nanosec
-        goals = []
+        goals: list[Any] = []
         for server in (self, *self._siblings()):
             with server._lock:
                 goals.extend(server._goals.values())
@@ -379,7 +431,9 @@ class ActionServer:
             result = self._execute_failed(handle, exc)
         self._conclude(handle, result)
 
-    def _execute_failed(self, handle: ServerGoalHandle, exc: Exception) -> None:
+    def _execute_failed(self, handle: ServerGoalHandle, exc: Exception) -> Any:
+        """Log and abort the goal; returns what the goal concludes with: no result (None), so
+        the client gets the default Result."""
         self._node.get_logger().error(
             f"execute callback of action '{self._name}' raised {type(exc).__name__}: {exc} "
             f'(goal {handle._hex()}); aborting the goal')
@@ -474,6 +528,10 @@ class ActionServer:
             pass  # destroyed while a goal was finishing
 
     def destroy(self) -> None:
+        """Destroy the server's services and publishers and leave the graph.
+
+        Calling it twice is harmless; `Node.destroy_node` calls it too.
+        """
         if self._destroyed:
             return
         self._destroyed = True

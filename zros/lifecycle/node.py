@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import threading
 import time
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from zros.lifecycle.managed_entity import ManagedEntity
 from zros.lifecycle.publisher import LifecyclePublisher
@@ -26,11 +26,18 @@ from zros.node import Node
 
 __all__ = ['LifecycleNode', 'LifecycleNodeMixin']
 
+# The mixin is only ever mixed into a Node (LifecycleNode, or a user's class that derives from
+# Node): the checker is told so, while at run time the Node comes from the class that mixes it in.
+if TYPE_CHECKING:
+    _MixedIntoNode = Node
+else:
+    _MixedIntoNode = object
+
 _CALLBACKS = {'configuring': 'on_configure', 'cleaningup': 'on_cleanup', 'shuttingdown': 'on_shutdown',
               'activating': 'on_activate', 'deactivating': 'on_deactivate', 'errorprocessing': 'on_error'}
 
 
-class LifecycleNodeMixin(ManagedEntity):
+class LifecycleNodeMixin(ManagedEntity, _MixedIntoNode):
     """The lifecycle part of LifecycleNode, for classes that already derive from Node."""
 
     def __init__(self, *, enable_communication_interface: bool = True, callback_group: Any = None) -> None:
@@ -55,21 +62,47 @@ class LifecycleNodeMixin(ManagedEntity):
     # -- state ---------------------------------------------------------------------------------
     @property
     def current_state(self) -> LifecycleState:
+        """The state the node is in now (a LifecycleState with `state_id` and `label`)."""
         return self._state_machine.current
 
     def trigger_configure(self) -> TransitionCallbackReturn:
+        """Run the configure transition (unconfigured to inactive), calling `on_configure`.
+
+        :return: What the callback returned (ERROR if it raised).
+        :raises TransitionError: If the node is not unconfigured, or another transition runs.
+        """
         return self._change_state('configure')
 
     def trigger_cleanup(self) -> TransitionCallbackReturn:
+        """Run the cleanup transition (inactive to unconfigured), calling `on_cleanup`.
+
+        :return: What the callback returned (ERROR if it raised).
+        :raises TransitionError: If the node is not inactive, or another transition runs.
+        """
         return self._change_state('cleanup')
 
     def trigger_activate(self) -> TransitionCallbackReturn:
+        """Run the activate transition (inactive to active), calling `on_activate`.
+
+        :return: What the callback returned (ERROR if it raised).
+        :raises TransitionError: If the node is not inactive, or another transition runs.
+        """
         return self._change_state('activate')
 
     def trigger_deactivate(self) -> TransitionCallbackReturn:
+        """Run the deactivate transition (active to inactive), calling `on_deactivate`.
+
+        :return: What the callback returned (ERROR if it raised).
+        :raises TransitionError: If the node is not active, or another transition runs.
+        """
         return self._change_state('deactivate')
 
     def trigger_shutdown(self) -> TransitionCallbackReturn:
+        """Run the shutdown transition from any primary state but finalized, calling `on_shutdown`.
+
+        :return: What the callback returned (ERROR if it raised).
+        :raises TransitionError: If the node is finalized, or another transition runs.
+        """
         return self._change_state('shutdown')
 
     def _change_state(self, transition: int | str) -> TransitionCallbackReturn:
@@ -113,6 +146,11 @@ class LifecycleNodeMixin(ManagedEntity):
 
     # -- managed entities ----------------------------------------------------------------------
     def add_managed_entity(self, entity: ManagedEntity) -> None:
+        """Have the default transition callbacks drive `entity` too.
+
+        :param entity: A ManagedEntity (a lifecycle publisher, or one of your own).
+        :raises TypeError: If `entity` is not a ManagedEntity.
+        """
         if not isinstance(entity, ManagedEntity):
             raise TypeError('Expected a zros.lifecycle.ManagedEntity instance.')
         self._managed_entities.add(entity)
@@ -125,34 +163,71 @@ class LifecycleNodeMixin(ManagedEntity):
         return TransitionCallbackReturn.SUCCESS
 
     def on_configure(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """Override to load parameters and create entities; by default configures the managed entities.
+
+        :param state: The state the transition started from.
+        :return: SUCCESS (to inactive), FAILURE (stay unconfigured) or ERROR (to on_error).
+        """
         return self._for_entities('on_configure', state)
 
     def on_cleanup(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """Override to release what on_configure made; by default cleans up the managed entities.
+
+        :param state: The state the transition started from.
+        :return: SUCCESS (to unconfigured), FAILURE or ERROR.
+        """
         return self._for_entities('on_cleanup', state)
 
     def on_shutdown(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """Override to release everything before the node is finalized; by default shuts the managed
+        entities down.
+
+        :param state: The state the transition started from.
+        :return: SUCCESS (to finalized), FAILURE or ERROR.
+        """
         return self._for_entities('on_shutdown', state)
 
     def on_activate(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """Override to start work; by default activates the managed entities (publishers start sending).
+
+        :param state: The state the transition started from.
+        :return: SUCCESS (to active), FAILURE (stay inactive) or ERROR.
+        """
         return self._for_entities('on_activate', state)
 
     def on_deactivate(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """Override to pause work; by default deactivates the managed entities.
+
+        :param state: The state the transition started from.
+        :return: SUCCESS (to inactive), FAILURE (stay active) or ERROR.
+        """
         return self._for_entities('on_deactivate', state)
 
     def on_error(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """Override to recover after a callback returned ERROR or raised; by default asks the managed
+        entities.
+
+        :param state: The state the failed transition started from.
+        :return: SUCCESS (back to unconfigured) or anything else (to finalized).
+        """
         return self._for_entities('on_error', state)
 
     def create_lifecycle_publisher(self, *args: Any, **kwargs: Any) -> LifecyclePublisher:
         """create_publisher's arguments; the publisher only publishes while the node is active."""
         if 'publisher_class' in kwargs:
             raise TypeError("create_lifecycle_publisher() got an unexpected keyword argument 'publisher_class'")
-        publisher = Node.create_publisher(self, *args, **kwargs, publisher_class=LifecyclePublisher)
+        publisher: Any = Node.create_publisher(self, *args, **kwargs, publisher_class=LifecyclePublisher)
         if self._state_machine.current.label == 'active':
             publisher.on_activate(self._state_machine.current)
         self._managed_entities.add(publisher)
         return publisher
 
     def destroy_lifecycle_publisher(self, publisher: LifecyclePublisher) -> bool:
+        """Destroy a publisher made by `create_lifecycle_publisher`.
+
+        :param publisher: The lifecycle publisher.
+        :return: ``True`` if the node had it.
+        """
         self._managed_entities.discard(publisher)
         return Node.destroy_publisher(self, publisher)
 

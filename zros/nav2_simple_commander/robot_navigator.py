@@ -41,6 +41,7 @@ _REPORT_PERIOD_S = 3.0
 
 
 class TaskResult(Enum):
+    """How a navigator task ended, as `getResult()` reports it."""
     UNKNOWN = 0
     SUCCEEDED = 1
     CANCELED = 2
@@ -48,9 +49,18 @@ class TaskResult(Enum):
 
 
 class BasicNavigator(Node):
+    """A node that drives Nav2's action servers and services from a plain script.
+
+    Every method blocks the calling thread while it spins this node itself, so a mission
+    script needs no executor of its own (and must not spin this node elsewhere). Methods keep
+    Nav2 Humble's camelCase names so that scripts written for it run unchanged.
+
+    :param node_name: The node's name.
+    :param namespace: The robot's namespace: Nav2's servers are looked up under it.
+    """
     def __init__(self, node_name: str = 'basic_navigator', namespace: str = '') -> None:
         super().__init__(node_name=node_name, namespace=namespace)
-        self.initial_pose = None
+        self.initial_pose: Any = None
         self.initial_pose_received = False
         self.goal_handle: Any = None
         self.result_future: Any = None
@@ -87,9 +97,11 @@ class BasicNavigator(Node):
         self.get_costmap_local_srv = self.create_client(GetCostmap, 'local_costmap/get_costmap')
 
     def destroyNode(self) -> None:
+        """Nav2's spelling of `destroy_node`."""
         self.destroy_node()
 
     def destroy_node(self) -> None:
+        """Destroy the navigator's action clients, then the node."""
         for client in (self.nav_through_poses_client, self.nav_to_pose_client, self.follow_waypoints_client,
                        self.follow_path_client, self.compute_path_to_pose_client,
                        self.compute_path_through_poses_client, self.spin_client, self.backup_client,
@@ -132,27 +144,61 @@ class BasicNavigator(Node):
         return True
 
     def goThroughPoses(self, poses: list, behavior_tree: str = '') -> bool:
+        """Send a NavigateThroughPoses goal: reach each pose in turn without stopping at them.
+
+        Waits (logging once a second) until bt_navigator's action server is up.
+
+        :param poses: geometry_msgs/msg/PoseStamped goals, in order.
+        :param behavior_tree: A behavior tree XML file; empty for the navigator's default.
+        :return: ``True`` if the goal was accepted; then poll `isTaskComplete()`.
+        """
         self.info(f'Navigating with {len(poses)} goals....')
         return self._send(self.nav_through_poses_client,
                           NavigateThroughPoses.Goal(poses=list(poses), behavior_tree=behavior_tree),
                           'NavigateThroughPoses')
 
     def goToPose(self, pose: Any, behavior_tree: str = '') -> bool:
+        """Send a NavigateToPose goal.
+
+        Waits (logging once a second) until bt_navigator's action server is up.
+
+        :param pose: The goal, a geometry_msgs/msg/PoseStamped (usually in the ``map`` frame).
+        :param behavior_tree: A behavior tree XML file; empty for the navigator's default.
+        :return: ``True`` if the goal was accepted; then poll `isTaskComplete()`.
+        """
         self.info(f'Navigating to goal: {pose.pose.position.x} {pose.pose.position.y}...')
         return self._send(self.nav_to_pose_client, NavigateToPose.Goal(pose=pose, behavior_tree=behavior_tree),
                           'NavigateToPose')
 
     def followWaypoints(self, poses: list) -> bool:
+        """Send a FollowWaypoints goal: stop at each pose in turn (the waypoint follower's task).
+
+        :param poses: geometry_msgs/msg/PoseStamped waypoints, in order.
+        :return: ``True`` if the goal was accepted; then poll `isTaskComplete()`.
+        """
         self.info(f'Following {len(poses)} goals....')
         return self._send(self.follow_waypoints_client, FollowWaypoints.Goal(poses=list(poses)), 'FollowWaypoints')
 
     def spin(self, spin_dist: float = 1.57, time_allowance: int = 10) -> bool:
+        """Ask the behavior server to turn the robot in place.
+
+        :param spin_dist: The angle to turn [rad], counter-clockwise positive.
+        :param time_allowance: Seconds the behavior may take.
+        :return: ``True`` if the goal was accepted.
+        """
         goal = Spin.Goal(target_yaw=float(spin_dist))
         goal.time_allowance.sec = int(time_allowance)
         self.info(f'Spinning to angle {goal.target_yaw}....')
         return self._send(self.spin_client, goal, 'Spin')
 
     def backup(self, backup_dist: float = 0.15, backup_speed: float = 0.025, time_allowance: int = 10) -> bool:
+        """Ask the behavior server to drive the robot straight backwards.
+
+        :param backup_dist: The distance to cover [m].
+        :param backup_speed: The speed [m/s].
+        :param time_allowance: Seconds the behavior may take.
+        :return: ``True`` if the goal was accepted.
+        """
         goal = BackUp.Goal(speed=float(backup_speed))
         goal.target.x = float(backup_dist)
         goal.time_allowance.sec = int(time_allowance)
@@ -160,6 +206,13 @@ class BasicNavigator(Node):
         return self._send(self.backup_client, goal, 'BackUp')
 
     def driveOnHeading(self, dist: float = 0.15, speed: float = 0.025, time_allowance: int = 10) -> bool:
+        """Ask the behavior server to drive the robot straight along its current heading.
+
+        :param dist: The distance to cover [m].
+        :param speed: The speed [m/s].
+        :param time_allowance: Seconds the behavior may take.
+        :return: ``True`` if the goal was accepted.
+        """
         goal = DriveOnHeading.Goal(speed=float(speed))
         goal.target.x = float(dist)
         goal.time_allowance.sec = int(time_allowance)
@@ -180,12 +233,20 @@ class BasicNavigator(Node):
         return self._send(self.assisted_teleop_client, goal, 'AssistedTeleop')
 
     def followPath(self, path: Any, controller_id: str = '', goal_checker_id: str = '') -> bool:
+        """Have the controller server follow a path already planned (from `getPath`, say).
+
+        :param path: A nav_msgs/msg/Path.
+        :param controller_id: The controller plugin to use; empty for the only or default one.
+        :param goal_checker_id: The goal checker plugin to use; empty for the default.
+        :return: ``True`` if the goal was accepted.
+        """
         self.info('Executing path...')
         return self._send(self.follow_path_client,
                           FollowPath.Goal(path=path, controller_id=controller_id, goal_checker_id=goal_checker_id),
                           'FollowPath')
 
     def cancelTask(self) -> None:
+        """Cancel the running task, if any, and wait for the server's answer."""
         self.info('Canceling current task.')
         if self.result_future and self.goal_handle is not None:
             future = self.goal_handle.cancel_goal_async()
@@ -204,9 +265,18 @@ class BasicNavigator(Node):
         return False
 
     def getFeedback(self) -> Any:
+        """The latest feedback of the running task.
+
+        :return: The action's Feedback message (e.g. NavigateToPose's, with
+            `distance_remaining`), or ``None`` before any arrived.
+        """
         return self.feedback
 
     def getResult(self) -> TaskResult:
+        """How the last finished task ended; call it once `isTaskComplete()` is ``True``.
+
+        :return: SUCCEEDED, CANCELED, FAILED (aborted) or UNKNOWN.
+        """
         if self.status == GoalStatus.STATUS_SUCCEEDED:
             return TaskResult.SUCCEEDED
         if self.status == GoalStatus.STATUS_ABORTED:
@@ -305,11 +375,27 @@ class BasicNavigator(Node):
         return self.result_future.result().result.path
 
     def getPath(self, start: Any, goal: Any, planner_id: str = '', use_start: bool = False) -> Any:
+        """Ask the planner server for a path from `start` to `goal`, without driving it.
+
+        :param start: A geometry_msgs/msg/PoseStamped; used only with `use_start`.
+        :param goal: A geometry_msgs/msg/PoseStamped.
+        :param planner_id: The planner plugin; empty for the default.
+        :param use_start: Plan from `start` instead of the robot's current pose.
+        :return: A nav_msgs/msg/Path, or ``None`` if planning failed (the reason is logged).
+        """
         return self._path(self.compute_path_to_pose_client,
                           ComputePathToPose.Goal(start=start, goal=goal, planner_id=planner_id, use_start=use_start),
                           'ComputePathToPose')
 
     def getPathThroughPoses(self, start: Any, goals: list, planner_id: str = '', use_start: bool = False) -> Any:
+        """Ask the planner server for one path through several goals, without driving it.
+
+        :param start: A geometry_msgs/msg/PoseStamped; used only with `use_start`.
+        :param goals: geometry_msgs/msg/PoseStamped goals, in order.
+        :param planner_id: The planner plugin; empty for the default.
+        :param use_start: Plan from `start` instead of the robot's current pose.
+        :return: A nav_msgs/msg/Path, or ``None`` if planning failed (the reason is logged).
+        """
         return self._path(self.compute_path_through_poses_client,
                           ComputePathThroughPoses.Goal(start=start, goals=list(goals), planner_id=planner_id,
                                                        use_start=use_start),
@@ -334,6 +420,11 @@ class BasicNavigator(Node):
         return future.result()
 
     def changeMap(self, map_filepath: str) -> bool:
+        """Have the map server load another map (and publish it on /map).
+
+        :param map_filepath: The map's YAML file.
+        :return: ``True`` if the map server loaded it.
+        """
         response = self._call(self.change_maps_srv, LoadMap.Request(map_url=map_filepath), 'Change map')
         if response is None or response.result != LoadMap.Response.RESULT_SUCCESS:
             self.error('Change map request failed!')
@@ -342,13 +433,16 @@ class BasicNavigator(Node):
         return True
 
     def clearAllCostmaps(self) -> None:
+        """Clear both costmaps of every obstacle (local first, then global)."""
         self.clearLocalCostmap()
         self.clearGlobalCostmap()
 
     def clearLocalCostmap(self) -> None:
+        """Clear the local costmap of every obstacle; sensors fill it again."""
         self._call(self.clear_costmap_local_srv, ClearEntireCostmap.Request(), 'Clear local costmaps')
 
     def clearGlobalCostmap(self) -> None:
+        """Clear the global costmap's obstacle layers; the static map stays."""
         self._call(self.clear_costmap_global_srv, ClearEntireCostmap.Request(), 'Clear global costmaps')
 
     def clearCostmapExceptRegion(self, reset_distance: float) -> None:
@@ -371,9 +465,17 @@ class BasicNavigator(Node):
                    'ClearCostmapAroundPose')
 
     def getGlobalCostmap(self) -> Any:
+        """Fetch the global costmap.
+
+        :return: A nav2_msgs/msg/Costmap.
+        """
         return self._call(self.get_costmap_global_srv, GetCostmap.Request(), 'Get global costmaps').map
 
     def getLocalCostmap(self) -> Any:
+        """Fetch the local costmap.
+
+        :return: A nav2_msgs/msg/Costmap.
+        """
         return self._call(self.get_costmap_local_srv, GetCostmap.Request(), 'Get local costmaps').map
 
     # -- lifecycle -----------------------------------------------------------------------------
@@ -388,20 +490,26 @@ class BasicNavigator(Node):
         self.info(f'Nav2 is {"ready for use" if verb == "Starting" else "shut down"}!')
 
     def lifecycleStartup(self) -> None:
+        """Ask every lifecycle manager to configure and activate its nodes."""
         self._manage(ManageLifecycleNodes.Request.STARTUP, 'Starting')
 
     def lifecycleShutdown(self) -> None:
+        """Ask every lifecycle manager to shut its nodes down."""
         self._manage(ManageLifecycleNodes.Request.SHUTDOWN, 'Shutting')
 
     # -- logging -------------------------------------------------------------------------------
     def info(self, msg: str) -> None:
+        """Log `msg` at INFO through the node's logger (and /rosout)."""
         self.get_logger().info(msg)
 
     def warn(self, msg: str) -> None:
+        """Log `msg` at WARN through the node's logger (and /rosout)."""
         self.get_logger().warn(msg)
 
     def error(self, msg: str) -> None:
+        """Log `msg` at ERROR through the node's logger (and /rosout)."""
         self.get_logger().error(msg)
 
     def debug(self, msg: str) -> None:
+        """Log `msg` at DEBUG through the node's logger (and /rosout)."""
         self.get_logger().debug(msg)

@@ -84,25 +84,51 @@ class Buffer(BufferCore, BufferInterface):
 
     def can_transform(self, target_frame: str, source_frame: str, time: Any, timeout: Any = None,
                       return_debug_tuple: bool = False) -> bool | tuple[bool, str]:
-        """Whether the transform can be looked up, waiting up to `timeout` for it."""
+        """Tell whether a transform can be looked up, waiting up to `timeout` for it.
+
+        :param target_frame: The frame to express data in.
+        :param source_frame: The frame the data is in.
+        :param time: The time of the transform; ``Time()`` for the latest common time.
+        :param timeout: How long to wait (a Duration or seconds); ``None`` does not wait.
+        :param return_debug_tuple: Return ``(ok, reason)`` instead of ``ok``.
+        :return: ``True`` if it can, or the ``(ok, reason)`` tuple.
+        """
         result = self._wait(lambda: self.can_transform_core(target_frame, source_frame, time), timeout)
         return result if return_debug_tuple else result[0]
 
     def can_transform_full(self, target_frame: str, target_time: Any, source_frame: str, source_time: Any,
                            fixed_frame: str, timeout: Any = None,
                            return_debug_tuple: bool = False) -> bool | tuple[bool, str]:
+        """Tell whether a transform between two times can be looked up, waiting up to `timeout`.
+
+        :param target_frame: The frame to express data in.
+        :param target_time: The time of the target frame (a Time, or a stamp message).
+        :param source_frame: The frame the data is in.
+        :param source_time: The time of the source data.
+        :param fixed_frame: A frame that does not move between the two times (e.g. ``odom``).
+        :param timeout: How long to wait (a Duration or seconds); ``None`` does not wait.
+        :param return_debug_tuple: Return ``(ok, reason)`` instead of ``ok``.
+        :return: ``True`` if it can, or the ``(ok, reason)`` tuple.
+        """
         result = self._wait(lambda: self.can_transform_full_core(target_frame, target_time, source_frame,
                                                                  source_time, fixed_frame), timeout)
         return result if return_debug_tuple else result[0]
 
     # -- lookups -------------------------------------------------------------------------------
     def lookup_transform(self, target_frame: str, source_frame: str, time: Any, timeout: Any = None) -> Any:
-        """The TransformStamped taking data from `source_frame` into `target_frame` at `time`
-        (Time() = the latest time all links are known), waiting up to `timeout`.
+        """The transform taking data from `source_frame` into `target_frame` at `time`.
 
-        Raises:
-            LookupException, ConnectivityException, ExtrapolationException: as tf2, once the
-            timeout has passed; the message says what is missing.
+        The wait blocks on the buffer's condition, which every insert from Zenoh's thread
+        signals, so it works inside a callback of a single-threaded executor.
+
+        :param target_frame: The frame to express data in.
+        :param source_frame: The frame the data is in.
+        :param time: The time of the transform; ``Time()`` for the latest time all links are known.
+        :param timeout: How long to wait (a Duration or seconds); ``None`` does not wait.
+        :return: A geometry_msgs/msg/TransformStamped.
+        :raises LookupException: If a frame is unknown (ConnectivityException,
+            ExtrapolationException as tf2), once the timeout has passed; the message says what
+            is missing.
         """
         if _timeout_seconds(timeout) > 0:
             self.can_transform(target_frame, source_frame, time, timeout)
@@ -110,30 +136,76 @@ class Buffer(BufferCore, BufferInterface):
 
     def lookup_transform_full(self, target_frame: str, target_time: Any, source_frame: str, source_time: Any,
                               fixed_frame: str, timeout: Any = None) -> Any:
+        """The transform taking data from `source_frame` at `source_time` into `target_frame` at
+        `target_time`, through `fixed_frame`, waiting up to `timeout` for it.
+
+        :param target_frame: The frame to express data in.
+        :param target_time: The time of the target frame.
+        :param source_frame: The frame the data is in.
+        :param source_time: The time of the source data.
+        :param fixed_frame: A frame that does not move between the two times.
+        :param timeout: How long to wait (a Duration or seconds); ``None`` does not wait.
+        :return: A geometry_msgs/msg/TransformStamped.
+        :raises LookupException: If a frame is unknown (also Connectivity- and
+            ExtrapolationException, as tf2), once the timeout has passed.
+        """
         if _timeout_seconds(timeout) > 0:
             self.can_transform_full(target_frame, target_time, source_frame, source_time, fixed_frame, timeout)
         return self.lookup_transform_full_core(target_frame, target_time, source_frame, source_time, fixed_frame)
 
     def wait_for_transform_async(self, target_frame: str, source_frame: str, time: Any) -> Future:
-        """A Future that completes with True once the transform can be looked up."""
+        """A Future that completes with ``True`` once the transform can be looked up.
+
+        :param target_frame: The frame to express data in.
+        :param source_frame: The frame the data is in.
+        :param time: The time of the transform.
+        :return: The future, completed by the thread that inserts the missing transform.
+        """
         return self._future_for(lambda: self.can_transform_core(target_frame, source_frame, time))
 
     def wait_for_transform_full_async(self, target_frame: str, target_time: Any, source_frame: str,
                                       source_time: Any, fixed_frame: str) -> Future:
+        """A Future that completes with ``True`` once the transform between two times can be looked up.
+
+        The future is completed by the thread that inserts the missing transform (no polling).
+
+        :param target_frame: The frame to express data in.
+        :param target_time: The time of the target frame.
+        :param source_frame: The frame the data is in.
+        :param source_time: The time of the source data.
+        :param fixed_frame: A frame that does not move between the two times.
+        :return: The future.
+        """
         return self._future_for(lambda: self.can_transform_full_core(target_frame, target_time, source_frame,
                                                                      source_time, fixed_frame))
 
     async def lookup_transform_async(self, target_frame: str, source_frame: str, time: Any) -> Any:
+        """Await the transform from `source_frame` into `target_frame` at `time`.
+
+        :param target_frame: The frame to express data in.
+        :param source_frame: The frame the data is in.
+        :param time: The time of the transform; ``Time()`` for the latest common time.
+        :return: A geometry_msgs/msg/TransformStamped.
+        """
         await self.wait_for_transform_async(target_frame, source_frame, time)
         return self.lookup_transform_core(target_frame, source_frame, time)
 
     async def lookup_transform_full_async(self, target_frame: str, target_time: Any, source_frame: str,
                                           source_time: Any, fixed_frame: str) -> Any:
+        """Await the transform between two times (see `lookup_transform_full`).
+
+        :param target_frame: The frame to express data in.
+        :param target_time: The time of the target frame.
+        :param source_frame: The frame the data is in.
+        :param source_time: The time of the source data.
+        :param fixed_frame: A frame that does not move between the two times.
+        :return: A geometry_msgs/msg/TransformStamped.
+        """
         await self.wait_for_transform_full_async(target_frame, target_time, source_frame, source_time, fixed_frame)
         return self.lookup_transform_full_core(target_frame, target_time, source_frame, source_time, fixed_frame)
 
-    def _future_for(self, check: Callable[[], tuple[bool, str]]) -> Future:
-        future = Future()
+    def _future_for(self, check: Callable[[], tuple[bool, str]]) -> Future[bool]:
+        future: Future[bool] = Future()
         if check()[0]:
             future.set_result(True)
             return future

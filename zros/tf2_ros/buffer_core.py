@@ -278,6 +278,15 @@ class BufferCore:
 
     def can_transform_full_core(self, target_frame: str, target_time: Any, source_frame: str,
                                 source_time: Any, fixed_frame: str) -> tuple[bool, str]:
+        """Tell, without waiting, whether a transform between two times can be looked up.
+
+        :param target_frame: The frame to express data in.
+        :param target_time: The time of the target frame.
+        :param source_frame: The frame the data is in.
+        :param source_time: The time of the source data.
+        :param fixed_frame: A frame that does not move between the two times.
+        :return: ``(True, '')``, or ``(False, reason)`` with tf2's error text.
+        """
         try:
             self.lookup_transform_full_core(target_frame, target_time, source_frame, source_time, fixed_frame)
         except TransformException as exc:

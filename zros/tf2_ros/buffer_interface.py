@@ -37,7 +37,17 @@ class BufferInterface:
 
     def transform_full(self, object_stamped: Any, target_frame: str, target_time: Any, fixed_frame: str,
                        timeout: Any = None, new_type: Any = None) -> Any:
-        """`transform` through `fixed_frame`, from the message's stamp to `target_time`."""
+        """Express a stamped message in `target_frame` at `target_time`, through `fixed_frame`.
+
+        :param object_stamped: a stamped geometry message (PointStamped, PoseStamped, ...).
+        :param target_frame: the frame to express it in.
+        :param target_time: the time of the target frame.
+        :param fixed_frame: a frame that does not move between the two times.
+        :param timeout: how long to wait for the transform (None: don't wait).
+        :param new_type: the message type wanted back; only the input's own type is supported.
+        :return: a new message of the same type, in `target_frame`.
+        :raises TransformException: (a subclass of it) when the transform is not available.
+        """
         from zros.tf2_ros.geometry import do_transform
         transform = self.lookup_transform_full(target_frame, target_time, object_stamped.header.frame_id,
                                                object_stamped.header.stamp, fixed_frame, timeout)

@@ -19,6 +19,11 @@ TF_STATIC_PUB_QOS = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LO
 
 
 class StaticTransformBroadcaster:
+    """Publishes transforms that never change on /tf_static, latched for late joiners.
+
+    :param node: The node that owns the /tf_static publisher.
+    :param qos: A QoSProfile or depth; ``None`` gives depth 1, transient local (tf2_ros's).
+    """
     def __init__(self, node: Any, qos: QoSProfile | int | None = None) -> None:
         from interfaces.tf2_msgs.msg import TFMessage
         self._msg_type = TFMessage
@@ -28,6 +33,13 @@ class StaticTransformBroadcaster:
                                             to_profile(qos) if qos is not None else TF_STATIC_PUB_QOS)
 
     def sendTransform(self, transform: Any | Iterable[Any]) -> None:  # noqa: N802 - tf2_ros's name
+        """Add transforms to the broadcaster's set and publish the whole set.
+
+        Unlike Humble's broadcaster, frames sent by earlier calls stay in the set (see the module
+        docstring); sending a child frame again replaces its transform.
+
+        :param transform: A geometry_msgs/msg/TransformStamped, or a list or tuple of them.
+        """
         with self._lock:
             for t in as_list(transform):
                 self._frames[t.child_frame_id] = t

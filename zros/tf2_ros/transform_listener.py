@@ -66,7 +66,17 @@ class _SharedSubscription(QueuedEntity):
 
 
 class TransformListener:
-    """Feeds `buffer` with every transform published on /tf and /tf_static."""
+    """Feeds a Buffer with every transform published on /tf and /tf_static.
+
+    Keep a reference to it for as long as the buffer should fill.
+
+    :param buffer: The buffer to fill.
+    :param node: The node the /tf subscriptions are listed under.
+    :param spin_thread: Accepted for rclpy's signature; unnecessary in zros (see the module
+        docstring).
+    :param qos: QoS of the /tf subscription (depth 100, volatile by default).
+    :param static_qos: QoS of the /tf_static subscription (depth 100, transient local).
+    """
 
     def __init__(self, buffer: Buffer, node: Any, *, spin_thread: bool = False,
                  qos: QoSProfile | int | None = None, static_qos: QoSProfile | int | None = None) -> None:
