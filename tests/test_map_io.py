@@ -11,7 +11,7 @@ import pytest
 from conftest import REPO
 from zros.map_io import (MapFileError, MapImageError, MapMetadataError, MapNotFoundError, OccupancyMap, load_map,
                          map_from_msg, map_to_msg, read_map_yaml, save_map)
-from zros.view.png import encode_png
+from zros.image_io import encode_png
 
 ROS_YAML = """image: {image}
 mode: {mode}

@@ -27,6 +27,8 @@ from typing import Any, Callable
 
 import numpy as np
 
+from zros.image_io import decode_image, encode_png
+
 __all__ = ['Browser', 'BrowserError', 'find_chromium', 'one_shot']
 
 # Counts the images a page is decoding: viser's client turns an image node (a map) into a blob URL,
@@ -221,13 +223,11 @@ class Browser:
 
     def screenshot(self) -> np.ndarray:
         """The page as (H, W, 3) RGB uint8 pixels."""
-        from zros.view.png import decode_png
         data = self.send('Page.captureScreenshot', format='png')['data']
-        return decode_png(base64.b64decode(data))[..., :3]
+        return decode_image(base64.b64decode(data))[..., :3]
 
     def save_screenshot(self, path: str | os.PathLike) -> np.ndarray:
         """Write a PNG screenshot to `path` (to look at) and return its pixels."""
-        from zros.view.png import encode_png
         pixels = self.screenshot()
         with open(path, 'wb') as handle:
             handle.write(encode_png(pixels))
