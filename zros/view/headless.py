@@ -28,6 +28,7 @@ from typing import Any, Callable
 import numpy as np
 
 from zros.image_io import decode_image, encode_png
+from zros.process_group import kill_group
 
 __all__ = ['Browser', 'BrowserError', 'find_chromium', 'one_shot']
 
@@ -350,14 +351,7 @@ class Browser:
             except Exception:  # noqa: BLE001 - the browser may be gone already
                 pass
         if self._process.poll() is None:
-            try:
-                os.killpg(self._process.pid, 9)
-            except (ProcessLookupError, PermissionError):
-                pass
-        try:
-            self._process.wait(timeout=5)
-        except subprocess.TimeoutExpired:  # pragma: no cover - SIGKILL does not fail
-            pass
+            kill_group(self._process)
         if self._process.stderr is not None:
             self._process.stderr.close()
         shutil.rmtree(self._profile, ignore_errors=True)
