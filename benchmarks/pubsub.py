@@ -801,7 +801,7 @@ def machine_facts() -> dict:
     cpu = platform.processor() or ''
     try:
         with open('/proc/cpuinfo') as f:
-            cpu = next((l.split(':', 1)[1].strip() for l in f if l.startswith('model name')), cpu)
+            cpu = next((line.split(':', 1)[1].strip() for line in f if line.startswith('model name')), cpu)
     except OSError:
         pass
     return {'nproc': os.cpu_count(), 'cpu': cpu, 'python': platform.python_version(),

@@ -208,7 +208,7 @@ def main() -> int:
     for name, r in headless.items():
         rows.append((f'headless sim + lidar, {name}, one core', f"{r['rtf_cpu']:.0f}x", '>= 20x',
                      _mark(r['rtf_cpu'], GOALS['rtf_headless'], True)))
-        rows.append((f'  (same, over wall time)', f"{r['rtf_wall']:.0f}x", '', ''))
+        rows.append(('  (same, over wall time)', f"{r['rtf_wall']:.0f}x", '', ''))
     rows.append(('node, as fast as possible, per core of CPU', f"{fast['rtf_cpu']:.1f}x", '>= 20x',
                  _mark(fast['rtf_cpu'], GOALS['rtf_headless'], True)))
     rows.append(('  (same, over wall time)', f"{fast['rtf_wall']:.1f}x", '', ''))

@@ -22,7 +22,7 @@ diameter and a wheel separation off by 1 % and 2 %), integrated like the diff-dr
 
 Reported: ATE RMSE (and maximum, final, final heading) of SLAM's map -> base_footprint at every
 scan, and of odometry alone, both in the map frame (where the robot started; no alignment is
-fitted); map quality (zros.slam.evaluation); cost as scans per CPU second of this thread
+fitted); map quality (zros.sim.evaluation); cost as scans per CPU second of this thread
 (`time.thread_time`, map updates included) and the CPU share at 5 Hz scans at 1x and 5x.
 """
 from __future__ import annotations
@@ -47,7 +47,7 @@ if str(REPO) not in sys.path:
 from zros.sim import LDS_01, Simulation, load_world, rasterize  # noqa: E402
 from zros.sim.raycast import cast_fan  # noqa: E402
 from zros.slam import Slam, SlamParameters, scan_points  # noqa: E402
-from zros.slam.evaluation import in_map_frame, map_quality, seen_walls, trajectory_error  # noqa: E402
+from zros.sim.evaluation import in_map_frame, map_quality, seen_walls, trajectory_error  # noqa: E402
 from zros.slam.geometry import compose, relative  # noqa: E402
 
 GOALS = {'ate_m': 0.05, 'ate_ratio': 5.0, 'wall_recall': 0.95, 'false_occupied': 0.02, 'scans_per_s': 25.0,

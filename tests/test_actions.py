@@ -6,7 +6,7 @@ import time
 
 import pytest
 
-from zros.action import ActionClient, ActionServer, CancelResponse, GoalResponse
+from zros.action import ActionClient, ActionServer, CancelResponse
 from zros.action.server import GoalStatus
 from zros.callback_groups import ReentrantCallbackGroup
 from zros.errors import ServiceCallError

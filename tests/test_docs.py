@@ -136,7 +136,7 @@ def _parse_error(argv: list[str]) -> str | None:
 
 
 def _check_run(argv: list[str]) -> str | None:
-    from zros.cli.run import executable_name, list_executables
+    from zros.ament_index_python.executables import Executables
     from zros.config import split_session_options
     _, rest = split_session_options(argv[1:])
     if not rest or rest[0] in ('-h', '--help'):
@@ -145,7 +145,7 @@ def _check_run(argv: list[str]) -> str | None:
         return 'zros run needs a package and an executable'
     if _readers_own(rest[0]):
         return None
-    if executable_name(rest[0], rest[1], list_executables(rest[0])) is None:
+    if Executables().name(rest[0], rest[1]) is None:
         return f"no executable '{rest[1]}' in package '{rest[0]}'"
     return None
 

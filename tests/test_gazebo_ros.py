@@ -3,7 +3,6 @@ package's models/ folder), spawn_entity.py from a topic and from a file, the rob
 world's walls, and the one-line errors of bad command lines."""
 from __future__ import annotations
 
-import math
 import sys
 import threading
 from pathlib import Path

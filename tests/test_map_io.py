@@ -11,7 +11,7 @@ import pytest
 from conftest import REPO
 from zros.map_io import (MapFileError, MapImageError, MapMetadataError, MapNotFoundError, OccupancyMap, load_map,
                          map_from_msg, map_to_msg, read_map_yaml, save_map)
-from zros.view.png import encode_png
+from zros.image_io import encode_png
 
 ROS_YAML = """image: {image}
 mode: {mode}
@@ -71,7 +71,7 @@ def test_trinary_round_trip_is_byte_for_byte(tmp_path):
     data = rng.choice(np.array([-1, 0, 100], dtype=np.int8), size=(37, 52))
     grid = OccupancyMap(data, 0.05, (-12.35, 3.0, 0.0))
     yaml_path, image_path = save_map(grid, tmp_path / 'first')
-    header = f'P5\n# CREATOR: map_saver.cpp 0.050 m/pix\n52 37\n255\n'.encode()
+    header = 'P5\n# CREATOR: map_saver.cpp 0.050 m/pix\n52 37\n255\n'.encode()
     assert image_path.read_bytes().startswith(header)
     assert set(np.unique(np.frombuffer(image_path.read_bytes()[len(header):], np.uint8))) == {0, 205, 254}
     assert read_map_yaml(yaml_path).origin == (-12.35, 3.0, 0.0)
@@ -148,6 +148,6 @@ def test_shipped_turtlebot3_world_map_is_the_worlds_exact_raster():
     # occupied; behind the wall is unknown.
     assert cell(-2.0, -0.5) == 0 and cell(0.0, 0.14) == 100 and cell(0.0, 2.52) == 100 and cell(0.0, 2.65) == -1
     # ... and it is what the documented generator makes.
-    from zros.slam.evaluation import ground_truth_map
+    from zros.sim.evaluation import ground_truth_map
     made = ground_truth_map(load_world('turtlebot3_world'))
     assert np.array_equal(made.data, grid.data) and made.origin == grid.origin

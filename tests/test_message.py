@@ -17,7 +17,7 @@ from zros import typesupport
 from zros.errors import DecodeError, MessageTypeError
 from zros.idl import FieldType
 from zros.keys import topic_key
-from zros.message import NUMPY_DTYPES, deserialize, serialize
+from zros.message import deserialize, serialize
 from zros.node import Node
 
 from interfaces.geometry_msgs.msg import Point, Pose, PoseWithCovariance, Twist, Vector3

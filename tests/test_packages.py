@@ -4,12 +4,12 @@ prefix`, `zros interface package` and the package index."""
 from __future__ import annotations
 
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
 from conftest import REPO, assert_clean_failure, run_cli
+from zros.ament_index_python import packages
 from zros.ament_index_python.packages import (PackageNotFoundError, get_package_prefix, get_package_share_directory,
                                               get_packages_with_prefixes)
 
@@ -133,6 +133,31 @@ def test_the_index_finds_shipped_and_message_packages():
         get_package_share_directory('no_such')
     with pytest.raises(KeyError):   # as ament_index_python's
         get_package_share_directory('no_such')
+
+
+def test_executables_read_the_index_once_per_node_start(tmp_path: Path, monkeypatch: pytest.MonkeyPatch):
+    """`zros run` lists, names and loads an executable from one read of the package index (it
+    read the directories six times per node start before zros.ament_index_python.executables)."""
+    from zros.ament_index_python import executables as module
+    (tmp_path / 'my_robot').mkdir()
+    (tmp_path / 'my_robot' / 'spawn.py').write_text('def main():\n    return 7\n')
+    (tmp_path / 'my_robot' / 'no_main.py').write_text('x = 1\n')
+    monkeypatch.setenv('ZROS_NODE_PATH', str(tmp_path))
+    reads = []
+    monkeypatch.setattr(module, 'package_index', lambda: reads.append(1) or packages.package_index())
+    index = module.Executables()
+    assert index.load('demo_nodes', 'talker').__module__ == 'nodes.demo_nodes.talker'
+    assert index.name('my_robot', 'spawn.py') == 'spawn' and index.name('my_robot', 'drive') is None
+    assert index.load('my_robot', 'spawn.py')() == 7
+    assert 'my_robot' in index.packages() and index.of('my_robot') == ['no_main', 'spawn']
+    assert len(reads) == 1
+    with pytest.raises(module.ExecutableNotFoundError, match="has no main"):
+        index.load('my_robot', 'no_main')
+    with pytest.raises(module.ExecutableNotFoundError, match="No executable 'spwn' found in package 'my_robot'. Did you mean 'spawn'"):
+        index.load('my_robot', 'spwn')
+    with pytest.raises(PackageNotFoundError, match="Package 'my_robo' not found"):
+        index.load('my_robo', 'spawn')
+    assert module.executables('nope') == []
 
 
 def test_the_node_path_overlays_shipped_packages(tmp_path: Path, monkeypatch: pytest.MonkeyPatch):

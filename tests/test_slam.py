@@ -122,7 +122,7 @@ def _drive(seconds: float, *, bias: float = 0.03, seed: int = 2):
 
 def test_a_short_drive_builds_a_map_whose_walls_match_the_truth(tmp_path):
     from zros.sim import rasterize
-    from zros.slam.evaluation import trajectory_error
+    from zros.sim.evaluation import trajectory_error
     slam, world, spawn, truths, odoms, estimates = _drive(20.0)
     slam_error = trajectory_error(estimates, truths)
     odom_error = trajectory_error(odoms, truths)

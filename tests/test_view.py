@@ -1,4 +1,4 @@
-"""The web view and `zros image save`: PNG codec, Image conversion, the HTTP endpoints, the
+"""The web view and `zros image save`: Image conversion, the HTTP endpoints, the
 CLI verbs, and a headless Chromium that loads the page and shows turtlesim's trail."""
 from __future__ import annotations
 
@@ -15,62 +15,12 @@ import pytest
 
 from conftest import wait_until
 from zros.view.image import UnsupportedEncoding, image_to_array
-from zros.view.png import PngError, decode_png, encode_png
+from zros.image_io import decode_image
 
 BACKGROUND = (69, 86, 255)
 
 
-# -- PNG and pixels ------------------------------------------------------------------------------
-@pytest.mark.parametrize('shape', [(7, 5), (7, 5, 1), (9, 4, 2), (13, 11, 3), (3, 17, 4)])
-def test_png_round_trip(shape):
-    rng = np.random.default_rng(len(shape) * 31 + shape[0])
-    pixels = rng.integers(0, 256, size=shape, dtype=np.uint8)
-    data = encode_png(pixels)
-    assert data[:8] == b'\x89PNG\r\n\x1a\n'
-    back = decode_png(data)
-    assert back.shape == (shape[0], shape[1], shape[2] if len(shape) == 3 else 1)
-    assert (back.reshape(pixels.shape) == pixels).all()
-
-
-def test_png_reader_handles_every_row_filter():
-    import struct
-    import zlib
-    rng = np.random.default_rng(5)
-    pixels = rng.integers(0, 256, size=(5, 6, 3), dtype=np.uint8)
-    rows = pixels.reshape(5, 18).astype(np.int32)
-    bpp, raw = 3, b''
-    for y, kind in enumerate([0, 1, 2, 3, 4]):   # None, Sub, Up, Average, Paeth
-        line, prior = rows[y], rows[y - 1] if y else np.zeros(18, dtype=np.int32)
-        out = []
-        for i in range(18):
-            left = line[i - bpp] if i >= bpp else 0
-            up_left = prior[i - bpp] if i >= bpp else 0
-            if kind == 0:
-                pred = 0
-            elif kind == 1:
-                pred = left
-            elif kind == 2:
-                pred = prior[i]
-            elif kind == 3:
-                pred = (left + prior[i]) // 2
-            else:
-                p = left + prior[i] - up_left
-                pa, pb, pc = abs(p - left), abs(p - prior[i]), abs(p - up_left)
-                pred = left if pa <= pb and pa <= pc else (prior[i] if pb <= pc else up_left)
-            out.append((line[i] - pred) % 256)
-        raw += bytes([kind]) + bytes(out)
-
-    def chunk(kind: bytes, body: bytes) -> bytes:
-        return struct.pack('>I', len(body)) + kind + body + struct.pack('>I', zlib.crc32(kind + body))
-    png = (b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', struct.pack('>IIBBBBB', 6, 5, 8, 2, 0, 0, 0))
-           + chunk(b'IDAT', zlib.compress(raw)) + chunk(b'IEND', b''))
-    assert (decode_png(png) == pixels).all()
-    with pytest.raises(PngError):
-        decode_png(b'GIF89a')
-    with pytest.raises(ValueError):
-        encode_png(np.zeros((4, 4), dtype=np.float32))
-
-
+# -- pixels ------------------------------------------------------------------------------------
 def _image(encoding: str, pixels: np.ndarray, *, step: int | None = None, bigendian: int = 0) -> Any:
     from interfaces.sensor_msgs.msg import Image
     height, width = pixels.shape[:2]
@@ -184,7 +134,7 @@ def test_view_lists_topics_and_serves_frames(camera, view):
     status, headers, body = _get(view.url + 'frame.png?topic=/camera/image&timeout=5')
     assert status == 200 and headers['Content-Type'] == 'image/png'
     assert (headers['X-Frame-Width'], headers['X-Frame-Height'], headers['X-Frame-Encoding']) == ('40', '30', 'rgb8')
-    pixels = decode_png(body)
+    pixels = decode_image(body)
     assert pixels.shape == (30, 40, 3)
     assert (pixels[..., :2] == _gradient(0)[..., :2]).all()
     seq = int(headers['X-Frame-Seq'])
@@ -215,7 +165,7 @@ def test_image_save_cli(camera, zros_cli, tmp_path):
     result = zros_cli('image', 'save', '/camera/image', str(out), '--timeout', '10')
     assert result.returncode == 0, result
     assert 'Saved a 40x30 rgb8 frame of /camera/image to' in result.stdout
-    pixels = decode_png(out.read_bytes())
+    pixels = decode_image(out.read_bytes())
     assert (pixels[..., :2] == _gradient(0)[..., :2]).all()
     missing = zros_cli('image', 'save', '/no/such/image', str(tmp_path / 'x.png'), '--timeout', '0.5')
     assert missing.returncode == 1 and "no image arrived on '/no/such/image' within 0.5 s" in missing.stderr
@@ -232,7 +182,7 @@ def test_view_cli_prints_its_urls(camera, spawn):
     images = text.split('full-size images at ', 1)[1].split()[0]
     assert images.startswith('http://127.0.0.1:') and images.endswith('/?topic=/camera/image')
     status, _, body = _get(images.split('?')[0] + 'frame.png?topic=/camera/image&timeout=5')
-    assert status == 200 and decode_png(body).shape == (30, 40, 3)
+    assert status == 200 and decode_image(body).shape == (30, 40, 3)
 
 
 def test_view_cli_bad_config_and_busy_port(zros_cli, tmp_path):
@@ -282,7 +232,7 @@ def test_browser_shows_the_turtlesim_trail(spawn, view, tmp_path):
             f'--screenshot={shot}', view.page_url('/turtlesim/image')]
     result = subprocess.run(argv, capture_output=True, timeout=90, cwd=tmp_path)
     assert shot.exists(), f'no screenshot; chromium said:\n{result.stderr.decode(errors="replace")[-2000:]}'
-    pixels = decode_png(shot.read_bytes())[..., :3].astype(int)
+    pixels = decode_image(shot.read_bytes())[..., :3].astype(int)
     # The canvas is where the background colour is; the trail from the middle (5.54, 5.54) to
     # (2, 2) crosses (3.77, 3.77), at canvas pixel (170, 329).
     background = (np.abs(pixels - BACKGROUND).sum(axis=2) <= 6)
@@ -358,7 +308,7 @@ def test_screenshot_waits_for_the_map(spawn, zros_cli, tmp_path):
                       timeout=120)
     assert result.returncode == 0 and f'wrote {shot}' in result.stdout, result.stdout + result.stderr
     assert 'not every display was drawn' not in result.stderr
-    pixels = decode_png(shot.read_bytes())[..., :3].astype(int)
+    pixels = decode_image(shot.read_bytes())[..., :3].astype(int)
     unknown = (np.abs(pixels - UNKNOWN_RGB).max(axis=2) <= 12).sum()       # the grey-green round the room
     walls = (pixels.max(axis=2) <= 40).sum()                                # black walls and pillars
     assert unknown > 20_000 and walls > 2_000, f'no map in {shot}: {unknown} unknown, {walls} wall pixels'

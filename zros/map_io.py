@@ -23,13 +23,12 @@ Two choices differ from nav2 on purpose, and are documented in docs/slam.md:
 - Numbers are written in full (shortest exact form) instead of yaml-cpp's three significant
   digits, which would move an origin such as -12.35 by a cell. Round values read the same.
 
-Everything here is numpy on whole images (no loop per pixel); images are read with a small
-PGM reader and zros.view.png.
+Everything here is numpy on whole images (no loop per pixel); images are read and written
+with zros.image_io (Pillow).
 """
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -38,7 +37,7 @@ import numpy as np
 import yaml
 
 from zros.errors import ZrosError
-from zros.view.png import PngError, decode_png, encode_png
+from zros.image_io import ImageError, decode_image, encode_png
 
 __all__ = ['MapFileError', 'MapNotFoundError', 'MapMetadataError', 'MapImageError', 'MapYaml', 'OccupancyMap', 'MAP_MODES', 'IMAGE_FORMATS', 'DEFAULT_OCCUPIED_THRESH',
            'DEFAULT_FREE_THRESH', 'read_map_yaml', 'read_image', 'image_to_occupancy', 'load_map',
@@ -167,60 +166,23 @@ def read_map_yaml(path: str | Path) -> MapYaml:
                    thresholds['occupied_thresh'], thresholds['free_thresh'], mode)
 
 
-_PNM_TOKEN = re.compile(rb'(?:\s|#[^\n]*\n?)*([^\s#]+)')
-
-
 def read_image(path: str | Path) -> tuple[np.ndarray, bool]:
     """An image's samples as floats: ((H, W, C) array in 0..1, has_alpha), C in 1..4, row 0 at
-    the top. Reads PGM/PPM (P2, P3, P5, P6; 8 or 16 bit) and 8-bit PNG.
+    the top. Reads what zros.image_io reads: PGM/PPM (8 or 16 bit), PNG, and Pillow's other formats.
 
     Raises:
-        MapFileError: the file is missing or not an image this reader supports.
+        MapFileError: the file is missing or not an image.
     """
     path = Path(path)
     try:
         data = path.read_bytes()
     except OSError as exc:
         raise MapImageError(f'{path}: cannot read the map image: {exc.strerror or exc}') from None
-    if data[:8] == b'\x89PNG\r\n\x1a\n':
-        try:
-            pixels = decode_png(data)
-        except (PngError, ValueError) as exc:
-            raise MapImageError(f'{path}: {exc}') from None
-        return pixels.astype(np.float64) / 255.0, pixels.shape[2] in (2, 4)
-    if data[:2] in (b'P2', b'P3', b'P5', b'P6'):
-        return _read_pnm(path, data), False
-    raise MapImageError(f'{path}: not a PGM, PPM or PNG image')
-
-
-def _read_pnm(path: Path, data: bytes) -> np.ndarray:
-    kind = data[:2]
-    fields, pos = [], 2
-    for _ in range(3):
-        match = _PNM_TOKEN.match(data, pos)
-        if match is None or not match.group(1).isdigit():
-            raise MapImageError(f'{path}: bad {kind.decode()} header')
-        fields.append(int(match.group(1)))
-        pos = match.end()
-    width, height, maxval = fields
-    channels = 3 if kind in (b'P3', b'P6') else 1
-    count = width * height * channels
-    if not (0 < maxval < 65536) or width <= 0 or height <= 0:
-        raise MapImageError(f'{path}: bad {kind.decode()} header ({width} x {height}, maximum {maxval})')
-    if kind in (b'P5', b'P6'):
-        dtype = np.dtype('>u2') if maxval > 255 else np.dtype(np.uint8)
-        body = data[pos + 1:]                              # one whitespace byte ends the header
-        if len(body) < count * dtype.itemsize:
-            raise MapImageError(f'{path}: the image is shorter than its header says ({width} x {height})')
-        samples = np.frombuffer(body, dtype=dtype, count=count)
-    else:
-        try:
-            samples = np.array(data[pos:].split()[:count], dtype=np.int64)
-        except ValueError:
-            raise MapImageError(f'{path}: bad {kind.decode()} pixel data') from None
-        if len(samples) < count:
-            raise MapImageError(f'{path}: the image is shorter than its header says ({width} x {height})')
-    return samples.reshape(height, width, channels).astype(np.float64) / maxval
+    try:
+        pixels = decode_image(data)
+    except ImageError as exc:
+        raise MapImageError(f'{path}: {exc}') from None
+    return pixels.astype(np.float64) / np.iinfo(pixels.dtype).max, pixels.shape[2] in (2, 4)
 
 
 def image_to_occupancy(samples: np.ndarray, has_alpha: bool, *, mode: str = 'trinary', negate: bool = False,

@@ -470,7 +470,7 @@ def _generate_codec(cls: type, spec: MessageSpec, nested: dict[str, type]) -> No
             env[f'_native{i}'] = _NATIVE_DTYPES[ftype.base]
             enc.append(f'_put(t, m.{slot})')
             dec.extend([
-                f'    if type(v) is not _int or v < 0:',
+                '    if type(v) is not _int or v < 0:',
                 f"        raise _err(f'{name}: expected an element count, got {{v!r:.40}}')",
                 f'    _len{i}(v)',
                 f'    e = o + v * {wire.itemsize}',

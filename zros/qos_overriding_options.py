@@ -27,7 +27,7 @@ from zros.subscription import Subscription
 if TYPE_CHECKING:
     from zros.node import Node
 
-__all__ = ['QoSOverridingOptions', 'QosCallbackResult', 'QosCallbackType', 'InvalidQosOverridesError',
+__all__ = ['QoSOverridingOptions', 'QosCallbackResult',  # noqa: F822 - QosCallbackResult comes from __getattr__ 'QosCallbackType', 'InvalidQosOverridesError',
            'declare_qos_parameters', 'parameter_events_overriding_options']
 
 

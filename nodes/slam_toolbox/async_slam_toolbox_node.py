@@ -38,7 +38,6 @@ import math
 import sys
 import threading
 from dataclasses import fields
-from pathlib import Path
 from typing import Any
 
 import numpy as np

@@ -23,7 +23,7 @@ USAGE = """Usage: tf2_echo source_frame target_frame [echo_rate]
 This will echo the transform from the coordinate frame of the source_frame
 to the coordinate frame of the target_frame. 
 Note: This is the transform to get data from target_frame into the source_frame.
-Default echo rate is 1 if echo_rate is not given."""
+Default echo rate is 1 if echo_rate is not given."""  # noqa: W291 - tf2_echo's own text, its trailing space included
 
 
 def format_transform(transform) -> str:

@@ -22,8 +22,9 @@ match wins:
 5. `configs` (zros's example launch and parameter files) and `zros` (the directory above it).
 A zros package folder's prefix is the directory that holds it; a ROS package's is the directory
 holding `share/<pkg>`. The executables of packages found by 1a and 3 are the `*.py` files in
-their folder (`executable_directories`); those of 2a are their `zros.nodes` entry points; those
-of ROS packages are their `console_scripts` and `lib/<pkg>/` files (`ros_packages`).
+their folder (`IndexEntry.scripts`); those of 2a are their `zros.nodes` entry points; those
+of ROS packages are their `console_scripts` and `lib/<pkg>/` files (`ros_packages`);
+zros.ament_index_python.executables lists and loads them.
 """
 from __future__ import annotations
 
@@ -33,6 +34,7 @@ import os
 import re
 import sys
 from pathlib import Path
+from typing import NamedTuple
 
 from zros.ament_index_python.ros_packages import (RosPackage, SetupPyError, editable_source_dirs,
                                                   find_source_packages, prefix_packages, source_package)
@@ -40,10 +42,18 @@ from zros.errors import ZrosError, with_suggestion
 
 __all__ = ['PackageNotFoundError', 'get_package_share_directory', 'get_package_share_path',
            'get_package_prefix', 'get_packages_with_prefixes', 'package_directories',
-           'executable_directories', 'ros_packages', 'interface_roots']
+           'ros_packages', 'interface_roots', 'IndexEntry', 'package_index']
 
 _KINDS = ('msg', 'srv', 'action')
 _PACKAGE_NAME = re.compile(r'[A-Za-z][A-Za-z0-9_]*')
+
+
+class IndexEntry(NamedTuple):
+    """What the package index knows of one package (module docstring)."""
+    share: Path                       # its share directory
+    scripts: Path | None              # the folder whose `*.py` files are its executables
+    ros_package: RosPackage | None    # its ROS package record (executables, prefix)
+    module: str | None                # the Python package `scripts` imports as (shipped nodes)
 
 
 class PackageNotFoundError(ZrosError, KeyError):
@@ -157,57 +167,50 @@ def _shipped_root(name: str) -> Path:
     return Path(list(module.__path__)[0]).resolve()
 
 
-def _full_index() -> dict[str, tuple[Path, Path | None, RosPackage | None]]:
-    """{package: (share directory, the folder whose `*.py` files are its executables or None,
-    its ROS package record or None)}, in lookup order (module docstring).
+def package_index() -> dict[str, IndexEntry]:
+    """Every package the index finds, in lookup order (module docstring). Each call reads the
+    directories afresh (a package may appear while a launch runs): read it once per question.
 
     A ROS package in source whose nodes are compiled (ament_cmake: a fetched slam_toolbox or
     turtlebot3_gazebo) has no executables zros can run; when zros ships a package of that
     name, its nodes stand in, and the share directory stays the source's.
     """
-    found: dict[str, tuple[Path, Path | None, RosPackage | None]] = {}
+    found: dict[str, IndexEntry] = {}
     node_path_folders, node_path_sources = _node_path_layout()
     for name, folder in node_path_folders:
-        found.setdefault(name, (folder, folder, None))
+        found.setdefault(name, IndexEntry(folder, folder, None, None))
     for package in _source_packages(node_path_sources):
-        found.setdefault(package.name, (package.share, None, package))
+        found.setdefault(package.name, IndexEntry(package.share, None, package, None))
     for name, folder in _installed_packages().items():
-        found.setdefault(name, (folder, None, None))
+        found.setdefault(name, IndexEntry(folder, None, None, None))
     for package in _source_packages(editable_source_dirs()) + prefix_packages():
-        found.setdefault(package.name, (package.share, None, package))
+        found.setdefault(package.name, IndexEntry(package.share, None, package, None))
     for name, folder in _package_dirs_under(_shipped_root('nodes')).items():
         if name not in found:
-            found[name] = (folder, folder, None)
-            continue
-        share, _, package = found[name]
-        if package is not None and package.compiled:
-            found[name] = (share, folder, package)   # zros's nodes stand in for compiled ones
+            found[name] = IndexEntry(folder, folder, None, f'nodes.{name}')
+        elif found[name].ros_package is not None and found[name].ros_package.compiled:
+            # zros's nodes stand in for compiled ones
+            found[name] = found[name]._replace(scripts=folder, module=f'nodes.{name}')
     from zros import typesupport
     for root in typesupport.search_roots():
         for name, folder in _package_dirs_under(root).items():
             if name not in found and any((folder / kind).is_dir() for kind in _KINDS):
-                found[name] = (folder, None, None)
+                found[name] = IndexEntry(folder, None, None, None)
     configs = _shipped_root('configs')
-    found.setdefault('configs', (configs, None, None))
-    found.setdefault('zros', (configs.parent, None, None))
+    found.setdefault('configs', IndexEntry(configs, None, None, None))
+    found.setdefault('zros', IndexEntry(configs.parent, None, None, None))
     return found
 
 
 def ros_packages() -> dict[str, RosPackage]:
     """The packages of the index that are ROS packages (package.xml in source, or an install
     prefix's ament index), with their executables (zros.ament_index_python.ros_packages)."""
-    return {name: package for name, (_, _, package) in _full_index().items() if package is not None}
+    return {name: entry.ros_package for name, entry in package_index().items() if entry.ros_package is not None}
 
 
 def package_directories() -> dict[str, Path]:
     """Every package and its share directory, in lookup order (module docstring)."""
-    return {name: share for name, (share, _, _) in _full_index().items()}
-
-
-def executable_directories() -> dict[str, Path]:
-    """The packages whose executables are the `*.py` files in their folder (those on
-    ZROS_NODE_PATH and shipped with zros), and that folder; `zros run` reads it."""
-    return {name: scripts for name, (_, scripts, _) in _full_index().items() if scripts is not None}
+    return {name: entry.share for name, entry in package_index().items()}
 
 
 def interface_roots() -> list[Path]:
@@ -252,4 +255,4 @@ def get_package_prefix(package_name: str) -> str:
 
 
 def get_packages_with_prefixes() -> dict[str, str]:
-    return {name: str(_prefix(share, package)) for name, (share, _, package) in _full_index().items()}
+    return {name: str(_prefix(entry.share, entry.ros_package)) for name, entry in package_index().items()}

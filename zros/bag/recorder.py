@@ -16,14 +16,11 @@ from typing import Any, Callable
 
 from zros.bag.definition import MESSAGE_ENCODING
 from zros.bag.errors import BagError
+from zros.graph_content import is_hidden
 
 __all__ = ['Recorder', 'RECORDER_NODE_NAME']
 
 RECORDER_NODE_NAME = 'zros_bag_recorder'
-
-
-def _is_hidden(name: str) -> bool:
-    return any(part.startswith('_') for part in name.split('/') if part)
 
 
 class Recorder:
@@ -135,7 +132,7 @@ class Recorder:
         for name, pubs in sorted(publishers.items()):
             if name in self._subscribed or name in self._refused:
                 continue
-            if not (name in self._wanted or (self._all and (self._include_hidden or not _is_hidden(name)))):
+            if not (name in self._wanted or (self._all and (self._include_hidden or not is_hidden(name)))):
                 continue
             types = sorted({e.type for e in pubs})
             if len(types) > 1:

@@ -9,7 +9,7 @@ from typing import Any
 from zros.context import Context
 from zros.graph import Entity, fetch_entities
 
-__all__ = ['cli_context', 'cli_node', 'graph_entities', 'wait_for_graph', 'is_hidden', 'absolute_name',
+__all__ = ['cli_context', 'cli_node', 'graph_entities', 'wait_for_graph', 'absolute_name',
            'absolute_node_name']
 
 CLI_NODE_PREFIX = '_zros_cli_'
@@ -62,11 +62,6 @@ def wait_for_graph(context: Context, predicate, timeout: float) -> list[Entity] 
         if time.monotonic() >= deadline:
             return None
         time.sleep(0.05)
-
-
-def is_hidden(name: str) -> bool:
-    """ros2's rule: any token of the name starting with '_' hides it."""
-    return any(part.startswith('_') for part in name.split('/') if part)
 
 
 def absolute_name(name: str, kind: str = 'topic name') -> str:

@@ -15,6 +15,8 @@ import argparse
 import json
 from typing import NamedTuple
 
+from zros.graph_content import DEBUG_TOPICS, is_hidden
+
 __all__ = ['add_arguments', 'Finding', 'run_checks']
 
 
@@ -175,7 +177,7 @@ def _graph_checks(entities, findings: list[Finding]) -> None:
                     findings.append(Finding('ERROR', 'qos', f"topic '{topic}': incompatible QoS between publisher "
                                             f'{_who(p)} and subscription {_who(s)}: '
                                             f"{reason.removeprefix('ERROR: ').rstrip(';')}"))
-        if pubs and not subs and topic not in ('/rosout', '/parameter_events') and not _hidden(topic):
+        if pubs and not subs and topic not in DEBUG_TOPICS and not is_hidden(topic):
             findings.append(Finding('WARNING', 'topics', f"publisher without subscriber on '{topic}'"))
         if subs and not pubs and topic == '/clock':
             users = ', '.join(sorted({_who(e) for e in subs}))
@@ -185,10 +187,6 @@ def _graph_checks(entities, findings: list[Finding]) -> None:
 
 def _who(entity) -> str:
     return entity.node_fqn
-
-
-def _hidden(name: str) -> bool:
-    return any(part.startswith('_') for part in name.split('/') if part)
 
 
 def _clock_checks(findings: list[Finding]) -> dict[str, str]:
@@ -247,14 +245,14 @@ def run_checks() -> tuple[list[Finding], dict[str, dict]]:
 
 def _node_report(entities) -> dict[str, str]:
     from zros.graph import EntityKind
-    names = sorted({e.node_fqn for e in entities if e.kind == EntityKind.NODE and not _hidden(e.node_fqn)})
+    names = sorted({e.node_fqn for e in entities if e.kind == EntityKind.NODE and not is_hidden(e.node_fqn)})
     return {f'node {i + 1}': name for i, name in enumerate(names)} or {'nodes': '(none)'}
 
 
 def _topic_report(entities) -> list[dict[str, str]]:
     from zros.graph import EntityKind
     topics = sorted({e.name for e in entities if e.kind in (EntityKind.PUBLISHER, EntityKind.SUBSCRIPTION)
-                     and not _hidden(e.name)})
+                     and not is_hidden(e.name)})
     return [{'topic': t,
              'publisher count': str(sum(1 for e in entities if e.kind == EntityKind.PUBLISHER and e.name == t)),
              'subscriber count': str(sum(1 for e in entities if e.kind == EntityKind.SUBSCRIPTION and e.name == t))}

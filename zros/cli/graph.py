@@ -10,10 +10,9 @@ from __future__ import annotations
 import argparse
 import json
 
+from zros.graph_content import graph_content
+
 __all__ = ['add_arguments', 'to_dot']
-
-DEBUG_TOPICS = ('/rosout', '/parameter_events')
-
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--dot', metavar='FILE', help="Write the DOT text to FILE ('-': stdout, the default)")
@@ -24,33 +23,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.set_defaults(handler=cmd_graph)
 
 
-def _hidden(name: str) -> bool:
-    return any(part.startswith('_') for part in name.split('/') if part)
-
-
 def _quote(text: str) -> str:
     return '"' + text.replace('\\', '\\\\').replace('"', '\\"') + '"'
-
-
-def graph_content(entities, *, include_hidden: bool = False, include_debug: bool = False) -> dict:
-    """{'nodes': [...], 'topics': {name: [types]}, 'edges': [(from, to)]} with 'n:' / 't:' ids."""
-    from zros.graph import EntityKind
-    nodes = sorted({e.node_fqn for e in entities if e.kind == EntityKind.NODE
-                    and (include_hidden or not _hidden(e.node_fqn))})
-    shown = set(nodes)
-    topics: dict[str, set[str]] = {}
-    edges = set()
-    for e in entities:
-        if e.kind not in (EntityKind.PUBLISHER, EntityKind.SUBSCRIPTION) or e.node_fqn not in shown:
-            continue
-        if (not include_hidden and _hidden(e.name)) or (not include_debug and e.name in DEBUG_TOPICS):
-            continue
-        topics.setdefault(e.name, set()).add(e.type)
-        if e.kind == EntityKind.PUBLISHER:
-            edges.add(('n:' + e.node_fqn, 't:' + e.name))
-        else:
-            edges.add(('t:' + e.name, 'n:' + e.node_fqn))
-    return {'nodes': nodes, 'topics': {k: sorted(v) for k, v in sorted(topics.items())}, 'edges': sorted(edges)}
 
 
 def to_dot(content: dict) -> str:

@@ -33,7 +33,7 @@ def cmd_save(args: argparse.Namespace) -> int:
     from zros.executors import SingleThreadedExecutor
     from zros.qos import qos_profile_sensor_data
     from zros.view.image import UnsupportedEncoding, image_to_array
-    from zros.view.png import encode_png
+    from zros.image_io import encode_png
     topic = args.topic_name if args.topic_name.startswith('/') else '/' + args.topic_name
     ctx = cli_context()
     try:

@@ -10,9 +10,10 @@ import argparse
 import sys
 import time
 
-from zros.cli.common import absolute_node_name, cli_context, cli_node, graph_entities, is_hidden
+from zros.cli.common import absolute_node_name, cli_context, cli_node, graph_entities
 from zros.errors import CliError, ServiceCallError
 from zros.graph import EntityKind
+from zros.graph_content import is_hidden
 
 __all__ = ['add_arguments', 'lifecycle_node_names']
 

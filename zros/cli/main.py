@@ -116,6 +116,8 @@ def main(argv: list[str] | None = None) -> int:
         except ZrosError as exc:
             print(f'zros {argv[0]}: {exc}', file=sys.stderr)
             return 1
+        except ImportError as exc:
+            return _missing_extra(exc, ' '.join(['zros', *argv[:3]]))
     parser = build_parser(next((word for word in argv if not word.startswith('-')), None))
     args = parser.parse_args(argv)
     if args.version:
@@ -136,8 +138,21 @@ def main(argv: list[str] | None = None) -> int:
     except ZrosError as exc:
         print(f'zros {args.verb}: {exc}', file=sys.stderr)
         return 1
+    except ImportError as exc:
+        return _missing_extra(exc, f'zros {args.verb}')
     except BrokenPipeError:
         return 0
+
+
+def _missing_extra(exc: ImportError, what: str) -> int:
+    """Exit status 1 with the one-line error when an extra's package is missing (zros.extras);
+    any other ImportError is a bug, and goes on as a traceback."""
+    from zros.extras import missing_extra
+    error = missing_extra(exc, what)
+    if error is None:
+        raise exc
+    print(error, file=sys.stderr)
+    return 1
 
 
 def entry_point(argv: list[str] | None = None) -> None:

@@ -4,8 +4,9 @@ from __future__ import annotations
 import argparse
 import json
 
-from zros.cli.common import absolute_node_name, cli_context, graph_entities, is_hidden
+from zros.cli.common import absolute_node_name, cli_context, graph_entities
 from zros.graph import EntityKind
+from zros.graph_content import is_hidden
 
 __all__ = ['add_arguments']
 

@@ -5,8 +5,9 @@ import argparse
 import re
 import sys
 
-from zros.cli.common import absolute_node_name, cli_context, cli_node, graph_entities, is_hidden
+from zros.cli.common import absolute_node_name, cli_context, cli_node, graph_entities
 from zros.graph import EntityKind
+from zros.graph_content import is_hidden
 
 __all__ = ['add_arguments']
 
@@ -260,8 +261,8 @@ def cmd_load(args: argparse.Namespace) -> int:
 
 
 def cmd_delete(args: argparse.Namespace) -> int:
-    from zros.errors import CliError
     from interfaces.rcl_interfaces.msg import Parameter as ParameterMsg
+    from zros.errors import CliError
     with cli_context() as ctx:
         remote = _Remote(ctx, args.node_name, args.timeout)
         result = remote.call('set_parameters', 'SetParameters',

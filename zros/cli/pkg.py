@@ -8,6 +8,10 @@ from __future__ import annotations
 
 import argparse
 import json
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from zros.ament_index_python.executables import Executables
 
 __all__ = ['add_arguments']
 
@@ -43,10 +47,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     p.set_defaults(handler=cmd_prefix)
 
 
-def _packages() -> list[str]:
+def _packages(index: Executables | None = None) -> list[str]:
+    """Every package: those of the package index and those with executables."""
+    from zros.ament_index_python.executables import Executables
     from zros.ament_index_python.packages import package_directories
-    from zros.cli.run import list_packages
-    return sorted(set(package_directories()) | set(list_packages()))
+    return sorted(set(package_directories()) | set((index or Executables()).packages()))
 
 
 def cmd_list(args: argparse.Namespace) -> int:
@@ -56,12 +61,14 @@ def cmd_list(args: argparse.Namespace) -> int:
 
 
 def cmd_executables(args: argparse.Namespace) -> int:
-    from zros.cli.run import list_executables
+    from zros.ament_index_python.executables import Executables
     from zros.errors import CliError, with_suggestion
-    if args.package_name is not None and args.package_name not in _packages():
-        raise CliError(with_suggestion(f"Package '{args.package_name}' not found", args.package_name, _packages()))
-    packages = [args.package_name] if args.package_name else _packages()
-    rows = [(package, executable) for package in packages for executable in list_executables(package)]
+    index = Executables()
+    known = _packages(index)
+    if args.package_name is not None and args.package_name not in known:
+        raise CliError(with_suggestion(f"Package '{args.package_name}' not found", args.package_name, known))
+    packages = [args.package_name] if args.package_name else known
+    rows = [(package, executable) for package in packages for executable in index.of(package)]
     if args.full_path:
         rows = [(package, _where(package, executable)) for package, executable in rows]
     if args.json:

@@ -5,8 +5,9 @@ import argparse
 import json
 import time
 
-from zros.cli.common import absolute_name, cli_context, cli_node, graph_entities, is_hidden
+from zros.cli.common import absolute_name, cli_context, cli_node, graph_entities
 from zros.graph import EntityKind, names_and_types
+from zros.graph_content import is_hidden
 
 __all__ = ['add_arguments']
 

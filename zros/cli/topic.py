@@ -8,8 +8,9 @@ import sys
 import time
 from typing import TYPE_CHECKING
 
-from zros.cli.common import absolute_name, cli_context, cli_node, graph_entities, is_hidden, wait_for_graph
+from zros.cli.common import absolute_name, cli_context, cli_node, graph_entities, wait_for_graph
 from zros.graph import EntityKind, names_and_types
+from zros.graph_content import is_hidden
 
 if TYPE_CHECKING:
     from zros.duration import Duration

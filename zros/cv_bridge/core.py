@@ -194,7 +194,7 @@ def _no_opencv(fmt: str) -> CvBridgeError:
 
 
 def _encode_png(cvim: np.ndarray, fmt: str) -> bytes:
-    from zros.view.png import encode_png
+    from zros.image_io import encode_png
     if fmt.lower() != 'png':
         raise _no_opencv(fmt)
     if cvim.dtype != np.uint8 or (cvim.ndim == 3 and cvim.shape[2] not in (1, 3, 4)):
@@ -204,12 +204,12 @@ def _encode_png(cvim: np.ndarray, fmt: str) -> bytes:
 
 
 def _decode_png(data: bytes, fmt: str) -> np.ndarray:
-    from zros.view.png import PngError, decode_png
+    from zros.image_io import ImageError, decode_image
     if not data.startswith(b'\x89PNG'):
         raise _no_opencv(fmt.split(';')[0].strip() or 'compressed')
     try:
-        pixels = decode_png(data)
-    except PngError as exc:
+        pixels = decode_image(data)
+    except ImageError as exc:
         raise CvBridgeError(f'cannot decode the PNG: {exc}') from None
     channels = pixels.shape[2]
     if channels == 1:

@@ -455,7 +455,7 @@ class Supervisor:
 
     def _abandon_transitions(self, process: _Process | None = None) -> None:
         """Stop the transition commands for `process` (None: all): it exited, or the launch ends."""
-        from zros.testing.processes import kill_group
+        from zros.process_group import kill_group
         for transition in [t for t in self._transitions if process is None or t.process is process]:
             self._transitions.remove(transition)
             kill_group(transition.popen)

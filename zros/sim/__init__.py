@@ -13,7 +13,8 @@ The `turtlebot3_gazebo gzserver` node wraps it; benchmarks and tests use it dire
     robot.scan()                                    # 360 lidar ranges, float32
     rasterize(world, 0.05).cells                    # exact ground-truth occupancy (bool grid)
 
-See docs/robot.md for the models, worlds, numbers and what differs from Gazebo.
+zros.sim.evaluation scores a SLAM run against that truth. See docs/robot.md for the models,
+worlds, numbers and what differs from Gazebo.
 """
 from __future__ import annotations
 

@@ -13,8 +13,8 @@ turtlebot3_cartographer nodes run.
 Modules: `scan` (ranges to points), `grid` (log-odds map, vectorised ray casting),
 `match_grid` + `matcher` (multi-resolution correlative search, Gauss-Newton refinement),
 `pose_graph` (sparse least squares with loop closures), `mapper` (the pipeline),
-`evaluation` (ATE and map quality against ground truth), `geometry` (SE(2) helpers).
-See docs/slam.md.
+`geometry` (SE(2) helpers). The evaluation against the simulator's ground truth (ATE, map
+quality) is zros.sim.evaluation, so SLAM imports nothing of the simulator. See docs/slam.md.
 """
 from __future__ import annotations
 

@@ -9,21 +9,10 @@ import subprocess
 import sys
 from pathlib import Path
 
+from zros.process_group import kill_group
 from zros.testing.waits import WaitTimeout, wait_until
 
 __all__ = ['Child', 'ProcessGroup', 'kill_group']
-
-
-def kill_group(popen: subprocess.Popen) -> None:
-    """SIGKILL a process and its process group, and reap it."""
-    try:
-        os.killpg(popen.pid, signal.SIGKILL)
-    except (ProcessLookupError, PermissionError):
-        pass
-    try:
-        popen.wait(timeout=5)
-    except subprocess.TimeoutExpired:  # pragma: no cover - SIGKILL does not fail
-        pass
 
 
 class Child:

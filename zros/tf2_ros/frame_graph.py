@@ -72,7 +72,7 @@ def _layout(frames: dict[str, dict[str, Any]]) -> dict[str, tuple[float, float]]
 def to_pdf(frames: dict[str, dict[str, Any]], recorded_seconds: float) -> bytes:
     """A one-page PDF of the tree, with view_frames' edge labels and legend: what ROS's
     view_frames renders through Graphviz, laid out here so that no machine needs Graphviz."""
-    from zros.view.pdf import PdfPage
+    from zros.pdf import PdfPage
     if not frames:
         page = PdfPage(360, 80)
         page.text(20, 45, 'No tf data received', 16)

@@ -27,6 +27,9 @@ from typing import Any, Callable
 
 import numpy as np
 
+from zros.image_io import decode_image, encode_png
+from zros.process_group import kill_group
+
 __all__ = ['Browser', 'BrowserError', 'find_chromium', 'one_shot']
 
 # Counts the images a page is decoding: viser's client turns an image node (a map) into a blob URL,
@@ -221,13 +224,11 @@ class Browser:
 
     def screenshot(self) -> np.ndarray:
         """The page as (H, W, 3) RGB uint8 pixels."""
-        from zros.view.png import decode_png
         data = self.send('Page.captureScreenshot', format='png')['data']
-        return decode_png(base64.b64decode(data))[..., :3]
+        return decode_image(base64.b64decode(data))[..., :3]
 
     def save_screenshot(self, path: str | os.PathLike) -> np.ndarray:
         """Write a PNG screenshot to `path` (to look at) and return its pixels."""
-        from zros.view.png import encode_png
         pixels = self.screenshot()
         with open(path, 'wb') as handle:
             handle.write(encode_png(pixels))
@@ -350,14 +351,7 @@ class Browser:
             except Exception:  # noqa: BLE001 - the browser may be gone already
                 pass
         if self._process.poll() is None:
-            try:
-                os.killpg(self._process.pid, 9)
-            except (ProcessLookupError, PermissionError):
-                pass
-        try:
-            self._process.wait(timeout=5)
-        except subprocess.TimeoutExpired:  # pragma: no cover - SIGKILL does not fail
-            pass
+            kill_group(self._process)
         if self._process.stderr is not None:
             self._process.stderr.close()
         shutil.rmtree(self._profile, ignore_errors=True)

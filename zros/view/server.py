@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any
 from urllib.parse import parse_qs, urlsplit
 
 from zros.view.image import UnsupportedEncoding, image_to_array
-from zros.view.png import encode_png
+from zros.image_io import encode_png
 
 if TYPE_CHECKING:
     from zros.node import Node

@@ -77,11 +77,11 @@ class ComposableNode:
 
     def as_node(self, context: Any, output: Text | None) -> Node:
         """The Node action that runs this composable node as a process."""
-        from zros.cli.run import list_executables
+        from zros.ament_index_python.executables import executables
         package = self.package.perform(context)
         plugin = self.plugin.perform(context)
         candidates = plugin_executables(plugin)
-        available = list_executables(package)
+        available = executables(package)
         executable = next((name for name in candidates if name in available), None)
         if executable is None:
             raise LaunchFileError(self.plugin.origin, f"composable node plugin '{plugin}': no executable "

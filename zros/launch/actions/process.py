@@ -520,14 +520,15 @@ class Node(ExecuteProcess):
 
 
 def _check_node_executable(package: str, executable: str, package_origin: Origin, exec_origin: Origin) -> None:
-    from zros.cli.run import executable_name, list_executables, list_packages
+    from zros.ament_index_python.executables import Executables
     from zros.errors import with_suggestion
-    packages = list_packages()
+    index = Executables()
+    packages = index.packages()
     if package not in packages:
         raise LaunchFileError(package_origin, with_suggestion(f"package '{package}' not found", package, packages,
                                                               otherwise=f" (packages: {', '.join(packages)})"))
-    executables = list_executables(package)
-    if executable_name(package, executable, executables) is None:
+    executables = index.of(package)
+    if index.name(package, executable) is None:
         raise LaunchFileError(exec_origin, with_suggestion(
             f"no executable '{executable}' in package '{package}'", executable, executables,
             otherwise=f" (executables: {', '.join(executables) or 'none'})"))

@@ -502,7 +502,7 @@ class SceneView:
         return self._publishers_on.get(topic, 0)
 
     def _read_graph(self) -> None:
-        from zros.cli.common import is_hidden
+        from zros.graph_content import is_hidden
         from zros.graph import EntityKind
         entities = self.node._graph_entities()
         self._entities = entities

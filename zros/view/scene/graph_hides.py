@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from typing import Any, NamedTuple
 
-from zros.cli.common import is_hidden
+from zros.graph_content import is_hidden
 
 __all__ = ['Hides', 'QUIET_NAMES', 'apply_hides']
 
@@ -41,7 +41,7 @@ class Hides(NamedTuple):
 
 
 def apply_hides(content: dict[str, Any], hides: Hides = Hides()) -> dict[str, Any]:
-    """`content` (zros.cli.graph.graph_content's dict) without what `hides` hides.
+    """`content` (zros.graph_content.graph_content's dict) without what `hides` hides.
 
     Edges to a hidden vertex go with it, and so does a topic left without any edge; nodes stay
     even without edges (rqt_graph shows every node).

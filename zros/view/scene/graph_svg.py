@@ -1,6 +1,6 @@
 """The node/topic graph (rqt_graph's picture) as SVG, laid out in Python: no Graphviz needed.
 
-Input is `zros.cli.graph.graph_content`'s dict (node names, topics with types, edges between
+Input is `zros.graph_content.graph_content`'s dict (node names, topics with types, edges between
 'n:<node>' and 't:<topic>' ids), usually after zros.view.scene.graph_hides; the layout is
 zros.view.scene.graph_layout's layered one, left to right: publishers, topics, subscribers.
 Nodes are ellipses, topics boxes, and edges curves through the layout's route points.

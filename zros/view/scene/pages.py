@@ -242,7 +242,7 @@ class GraphPage(Page):
         return Hides(**{field: bool(box.value) for field, box in self.hide_boxes.items()})
 
     def refresh(self, now: float) -> None:
-        from zros.cli.graph import graph_content
+        from zros.graph_content import graph_content
         if self.view is None:
             return
         hides = self.hides()

@@ -222,7 +222,7 @@ class ServicesPage(Page):
         self._form_order = self.response.order - 0.1
 
     def _services(self) -> list[tuple[str, str]]:
-        from zros.cli.common import is_hidden
+        from zros.graph_content import is_hidden
         from zros.graph import EntityKind
         assert self.view is not None
         everything = bool(self.show_parameter_services.value)

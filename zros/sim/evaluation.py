@@ -1,5 +1,7 @@
 """How good a SLAM run is, against the simulator's ground truth (for benchmarks and tests).
 
+It lives with the simulator, whose truth it reads, so that zros.slam stays free of it.
+
 - Trajectory: absolute trajectory error (ATE), the RMSE of the position error of every pose,
   with the estimate and the truth in the same frame: no alignment is fitted, the map frame's
   place in the world is known (where the robot started), so an error at the start counts.
