@@ -141,7 +141,7 @@ def main(argv: list[str] | None = None) -> int:
                 parser.error(f'{spec}: expected SUITE=DIR with an existing folder')
             print(f'{name}:', flush=True)
             suites[name] = run_suite(name, Path(folder).resolve(), env, Path(work))
-    print(f'\n| suite | passed | tests | % |\n|---|---|---|---|')
+    print('\n| suite | passed | tests | % |\n|---|---|---|---|')
     for name, suite in suites.items():
         print(f'| {name} | {suite["passed"]} | {suite["total"]} | {100 * suite["passed"] / max(1, suite["total"]):.0f} % |')
     passed = sum(s['passed'] for s in suites.values())
