@@ -38,6 +38,7 @@ import numpy as np
 import yaml
 
 from zros.errors import ZrosError
+from zros.grid_geometry import GridGeometry
 from zros.view.png import PngError, decode_png, encode_png
 
 __all__ = ['MapFileError', 'MapNotFoundError', 'MapMetadataError', 'MapImageError', 'MapYaml', 'OccupancyMap', 'MAP_MODES', 'IMAGE_FORMATS', 'DEFAULT_OCCUPIED_THRESH',
@@ -86,10 +87,16 @@ class MapYaml:
 class OccupancyMap:
     """An occupancy grid as numpy: `data[row, col]` is the cell at x = origin + col * resolution,
     y = origin + row * resolution (row 0 is the lowest y, as in nav_msgs/OccupancyGrid), with
-    100 occupied, 0 free, -1 unknown (or graded 0..100)."""
+    100 occupied, 0 free, -1 unknown (or graded 0..100). `geometry` places the cells in the
+    world, the origin's yaw included."""
     data: np.ndarray                        # (height, width) int8
     resolution: float                       # [m/cell]
     origin: tuple[float, float, float]      # x [m], y [m], yaw [rad] of cell (0, 0)'s corner
+
+    @property
+    def geometry(self) -> GridGeometry:
+        """Where the cells lie (made on each call: `data`, `resolution` and `origin` may be reassigned)."""
+        return GridGeometry(self.resolution, self.origin, self.data.shape)
 
     @property
     def width(self) -> int:

@@ -73,8 +73,7 @@ def correlative_search(grid: MatchGrid, points: np.ndarray, initial: np.ndarray,
     c, s = np.cos(thetas)[:, None], np.sin(thetas)[:, None]
     world_x = c * points[:, 0] - s * points[:, 1] + initial[0]
     world_y = s * points[:, 0] + c * points[:, 1] + initial[1]
-    cols = np.floor((world_x - grid.origin[0]) / res).astype(np.int64)       # (A, N)
-    rows = np.floor((world_y - grid.origin[1]) / res).astype(np.int64)
+    rows, cols = grid.geometry.world_to_cell(world_x, world_y)                # (A, N)
     radius = int(math.ceil(window.linear / res))
     top = min(len(grid.levels) - 1, max(0, math.ceil(math.log2(2 * radius + 1))))
     starts = np.arange(-radius, radius + 1, 1 << top)
