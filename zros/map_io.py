@@ -39,11 +39,12 @@ import yaml
 
 from zros.errors import ZrosError
 from zros.grid_geometry import GridGeometry
+from zros.rotations import quaternion_from_yaw, yaw_from_quaternion
 from zros.view.png import PngError, decode_png, encode_png
 
 __all__ = ['MapFileError', 'MapNotFoundError', 'MapMetadataError', 'MapImageError', 'MapYaml', 'OccupancyMap', 'MAP_MODES', 'IMAGE_FORMATS', 'DEFAULT_OCCUPIED_THRESH',
            'DEFAULT_FREE_THRESH', 'read_map_yaml', 'read_image', 'image_to_occupancy', 'load_map',
-           'occupancy_to_image', 'save_map', 'map_to_msg', 'map_from_msg', 'resample', 'yaw_of_quaternion']
+           'occupancy_to_image', 'save_map', 'map_to_msg', 'map_from_msg', 'resample']
 
 MAP_MODES = ('trinary', 'scale', 'raw')
 IMAGE_FORMATS = ('pgm', 'png')
@@ -369,7 +370,8 @@ def map_to_msg(grid: OccupancyMap, *, frame_id: str = 'map', stamp: Any = None) 
     msg.info.width, msg.info.height = grid.width, grid.height
     x, y, yaw = grid.origin
     msg.info.origin.position.x, msg.info.origin.position.y = float(x), float(y)
-    msg.info.origin.orientation.z, msg.info.origin.orientation.w = math.sin(yaw / 2.0), math.cos(yaw / 2.0)
+    q = msg.info.origin.orientation
+    q.x, q.y, q.z, q.w = quaternion_from_yaw(float(yaw))
     msg.data = np.ascontiguousarray(grid.data, dtype=np.int8).ravel()
     return msg
 
@@ -386,7 +388,7 @@ def map_from_msg(msg: Any) -> OccupancyMap:
         raise ValueError(f'OccupancyGrid has {data.size} cells for {width} x {height}')
     o = msg.info.origin
     return OccupancyMap(data.reshape(height, width).copy(), float(msg.info.resolution),
-                        (float(o.position.x), float(o.position.y), yaw_of_quaternion(o.orientation)))
+                        (float(o.position.x), float(o.position.y), yaw_from_quaternion(o.orientation.x, o.orientation.y, o.orientation.z, o.orientation.w)))
 
 
 def resample(grid: OccupancyMap, resolution: float) -> OccupancyMap:
@@ -404,10 +406,3 @@ def resample(grid: OccupancyMap, resolution: float) -> OccupancyMap:
     old_cols = np.minimum(((np.arange(grid.width) + 0.5) * scale).astype(int), width - 1)
     np.maximum.at(data, (old_rows[:, None], old_cols[None, :]), grid.data.astype(np.int16))
     return OccupancyMap(data.astype(np.int8), float(resolution), grid.origin)
-
-
-def yaw_of_quaternion(q: Any) -> float:
-    """Yaw [rad] of a geometry_msgs/Quaternion (its rotation about z); 0 for an all-zero one."""
-    if q.x == q.y == q.z == q.w == 0.0:
-        return 0.0
-    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
