@@ -32,7 +32,7 @@ import numpy as np
 
 from zros.amcl import Amcl, AmclParameters, MapGrid
 from zros.amcl.localizer import compose
-from zros.amcl.motion_models import angle_diff
+from zros.rotations import angle_diff
 from zros.sim import BURGER, LDS_01, Simulation, load_world, rasterize
 
 SCAN_PERIOD = 1.0 / LDS_01.rate          # [s]

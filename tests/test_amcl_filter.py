@@ -10,9 +10,9 @@ import pytest
 from zros.amcl import (Amcl, AmclParameters, DifferentialMotionModel, LikelihoodFieldModel, MapGrid, OmniMotionModel,
                        ParticleFilter, create_laser_model, create_motion_model)
 from zros.amcl.localizer import compose, inverse
-from zros.amcl.motion_models import angle_diff
 from zros.amcl.particle_filter import kld_limit
 from zros.amcl.sensor_models import LaserScanData, distance_field
+from zros.rotations import angle_diff
 from zros.sim import BURGER, LDS_01, Simulation, load_world, rasterize
 
 LASER = (BURGER.lidar_mount[0], 0.0, 0.0)

@@ -223,10 +223,10 @@ def test_clearing_a_square_around_or_outside_a_point_forgets_only_those_marks():
     costmap.add_scan((0.0, 0.0), angles, np.where(np.abs(angles) < 0.2, 0.55, 1.55), 0.1, 3.5)
     marks = lambda: np.argwhere(costmap._obstacles == LETHAL_OBSTACLE)   # noqa: E731
     assert len(marks()) > 0
-    near = costmap.cell_centres(marks()[:, 1], marks()[:, 0])
+    near = np.column_stack(costmap.geometry.cell_centre(marks()[:, 0], marks()[:, 1]))
     assert (np.hypot(*near.T) < 1.0).any() and (np.hypot(*near.T) > 1.0).any()
     costmap.clear_square((0.0, 0.0), 2.0)                            # around: the close marks go
-    left = costmap.cell_centres(marks()[:, 1], marks()[:, 0])
+    left = np.column_stack(costmap.geometry.cell_centre(marks()[:, 0], marks()[:, 1]))
     assert len(left) > 0 and (np.abs(left) > 1.0).any(axis=1).all()
     costmap.clear_square((0.0, 0.0), 2.0, outside=True)              # except: the rest goes
     assert len(marks()) == 0

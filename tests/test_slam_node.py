@@ -60,9 +60,9 @@ zros.shutdown()
 
 
 def _pose_of(transform):
-    from zros.map_io import yaw_of_quaternion
-    t = transform.transform
-    return np.array([t.translation.x, t.translation.y, yaw_of_quaternion(t.rotation)])
+    from zros.rotations import yaw_from_quaternion
+    t, r = transform.transform, transform.transform.rotation
+    return np.array([t.translation.x, t.translation.y, yaw_from_quaternion(r.x, r.y, r.z, r.w)])
 
 
 def test_slam_node_maps_the_world_and_corrects_an_odometry_error(spawn, make_context, zros_cli, tmp_path):

@@ -37,11 +37,13 @@ import numpy as np
 import yaml
 
 from zros.errors import ZrosError
+from zros.grid_geometry import GridGeometry
 from zros.image_io import ImageError, decode_image, encode_png
+from zros.rotations import quaternion_from_yaw, yaw_from_quaternion
 
 __all__ = ['MapFileError', 'MapNotFoundError', 'MapMetadataError', 'MapImageError', 'MapYaml', 'OccupancyMap', 'MAP_MODES', 'IMAGE_FORMATS', 'DEFAULT_OCCUPIED_THRESH',
            'DEFAULT_FREE_THRESH', 'read_map_yaml', 'read_image', 'image_to_occupancy', 'load_map',
-           'occupancy_to_image', 'save_map', 'map_to_msg', 'map_from_msg', 'resample', 'yaw_of_quaternion']
+           'occupancy_to_image', 'save_map', 'map_to_msg', 'map_from_msg', 'resample']
 
 MAP_MODES = ('trinary', 'scale', 'raw')
 IMAGE_FORMATS = ('pgm', 'png')
@@ -85,10 +87,16 @@ class MapYaml:
 class OccupancyMap:
     """An occupancy grid as numpy: `data[row, col]` is the cell at x = origin + col * resolution,
     y = origin + row * resolution (row 0 is the lowest y, as in nav_msgs/OccupancyGrid), with
-    100 occupied, 0 free, -1 unknown (or graded 0..100)."""
+    100 occupied, 0 free, -1 unknown (or graded 0..100). `geometry` places the cells in the
+    world, the origin's yaw included."""
     data: np.ndarray                        # (height, width) int8
     resolution: float                       # [m/cell]
     origin: tuple[float, float, float]      # x [m], y [m], yaw [rad] of cell (0, 0)'s corner
+
+    @property
+    def geometry(self) -> GridGeometry:
+        """Where the cells lie (made on each call: `data`, `resolution` and `origin` may be reassigned)."""
+        return GridGeometry(self.resolution, self.origin, self.data.shape)
 
     @property
     def width(self) -> int:
@@ -324,7 +332,8 @@ def map_to_msg(grid: OccupancyMap, *, frame_id: str = 'map', stamp: Any = None) 
     msg.info.width, msg.info.height = grid.width, grid.height
     x, y, yaw = grid.origin
     msg.info.origin.position.x, msg.info.origin.position.y = float(x), float(y)
-    msg.info.origin.orientation.z, msg.info.origin.orientation.w = math.sin(yaw / 2.0), math.cos(yaw / 2.0)
+    q = msg.info.origin.orientation
+    q.x, q.y, q.z, q.w = quaternion_from_yaw(float(yaw))
     msg.data = np.ascontiguousarray(grid.data, dtype=np.int8).ravel()
     return msg
 
@@ -341,7 +350,7 @@ def map_from_msg(msg: Any) -> OccupancyMap:
         raise ValueError(f'OccupancyGrid has {data.size} cells for {width} x {height}')
     o = msg.info.origin
     return OccupancyMap(data.reshape(height, width).copy(), float(msg.info.resolution),
-                        (float(o.position.x), float(o.position.y), yaw_of_quaternion(o.orientation)))
+                        (float(o.position.x), float(o.position.y), yaw_from_quaternion(o.orientation.x, o.orientation.y, o.orientation.z, o.orientation.w)))
 
 
 def resample(grid: OccupancyMap, resolution: float) -> OccupancyMap:
@@ -359,10 +368,3 @@ def resample(grid: OccupancyMap, resolution: float) -> OccupancyMap:
     old_cols = np.minimum(((np.arange(grid.width) + 0.5) * scale).astype(int), width - 1)
     np.maximum.at(data, (old_rows[:, None], old_cols[None, :]), grid.data.astype(np.int16))
     return OccupancyMap(data.astype(np.int8), float(resolution), grid.origin)
-
-
-def yaw_of_quaternion(q: Any) -> float:
-    """Yaw [rad] of a geometry_msgs/Quaternion (its rotation about z); 0 for an all-zero one."""
-    if q.x == q.y == q.z == q.w == 0.0:
-        return 0.0
-    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))

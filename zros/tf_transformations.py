@@ -9,6 +9,9 @@ are given. The default `'sxyz'` is roll about x, then pitch about y, then yaw ab
     q = quaternion_from_euler(roll, pitch, yaw)          # [x, y, z, w]
     roll, pitch, yaw = euler_from_quaternion([q.x, q.y, q.z, q.w])
 
+The rotation maths is transforms3d's, as in ROS's own tf_transformations (which wraps it too):
+each function here only checks the `axes` string and turns transforms3d's (w, x, y, z)
+quaternions into ROS's (x, y, z, w). transforms3d has no slerp, so that one is written here.
 Plain numpy; no zros session is involved.
 """
 from __future__ import annotations
@@ -17,6 +20,7 @@ import math
 from typing import Sequence
 
 import numpy as np
+from transforms3d import axangles, euler, quaternions
 
 __all__ = ['identity_matrix', 'translation_matrix', 'translation_from_matrix', 'rotation_matrix',
            'euler_matrix', 'euler_from_matrix', 'euler_from_quaternion', 'quaternion_from_euler',
@@ -26,28 +30,34 @@ __all__ = ['identity_matrix', 'translation_matrix', 'translation_from_matrix', '
            'inverse_matrix', 'is_same_transform', 'unit_vector', 'vector_norm']
 
 _EPS = np.finfo(float).eps * 4.0
-_AXIS_INDEX = {'x': 0, 'y': 1, 'z': 2}
 
 
-def _parse_axes(axes: str) -> tuple[bool, tuple[int, int, int]]:
-    """('sxyz') -> (static?, (0, 1, 2)); ValueError names the accepted form."""
+def _check_axes(axes: str) -> str:
+    """`axes` if it names one of the 24 conventions; else ValueError naming the accepted form
+    (transforms3d would raise a bare KeyError)."""
     if (not isinstance(axes, str) or len(axes) != 4 or axes[0] not in 'sr'
-            or any(c not in _AXIS_INDEX for c in axes[1:]) or axes[1] == axes[2] or axes[2] == axes[3]):
+            or any(c not in 'xyz' for c in axes[1:]) or axes[1] == axes[2] or axes[2] == axes[3]):
         raise ValueError(f"axes must be 's' or 'r' and three axes with no axis twice in a row, "
                          f"like 'sxyz' or 'rzxz'; got {axes!r}")
-    return axes[0] == 's', tuple(_AXIS_INDEX[c] for c in axes[1:])
+    return axes
 
 
-def _parity(i: int, j: int) -> float:
-    """+1 when i -> j is a cyclic step (x->y, y->z, z->x), else -1."""
-    return 1.0 if (j - i) % 3 == 1 else -1.0
+def _wxyz(quaternion: Sequence[float]) -> np.ndarray:
+    """transforms3d's order of a ROS (x, y, z, w) quaternion."""
+    x, y, z, w = np.asarray(quaternion, dtype=float)[:4]
+    return np.array([w, x, y, z])
 
 
-def _axis_quaternion(axis: int, angle: float) -> np.ndarray:
-    q = np.zeros(4)
-    q[axis] = math.sin(angle / 2.0)
-    q[3] = math.cos(angle / 2.0)
-    return q
+def _xyzw(quaternion: np.ndarray) -> np.ndarray:
+    """ROS's order of a transforms3d (w, x, y, z) quaternion."""
+    w, x, y, z = quaternion
+    return np.array([x, y, z, w], dtype=float)
+
+
+def _homogeneous(rotation: np.ndarray) -> np.ndarray:
+    m = np.identity(4)
+    m[:3, :3] = rotation
+    return m
 
 
 # -- matrices ------------------------------------------------------------------------------------
@@ -67,12 +77,8 @@ def translation_from_matrix(matrix: np.ndarray) -> np.ndarray:
 
 def rotation_matrix(angle: float, direction: Sequence[float], point: Sequence[float] | None = None) -> np.ndarray:
     """Rotation by `angle` about the axis along `direction` through `point` (the origin by default)."""
-    axis = unit_vector(np.asarray(direction, dtype=float)[:3])
-    m = quaternion_matrix(np.append(axis * math.sin(angle / 2.0), math.cos(angle / 2.0)))
-    if point is not None:
-        p = np.asarray(point, dtype=float)[:3]
-        m[:3, 3] = p - m[:3, :3] @ p
-    return m
+    return axangles.axangle2aff(np.asarray(direction, dtype=float)[:3], angle,
+                                None if point is None else np.asarray(point, dtype=float)[:3])
 
 
 def concatenate_matrices(*matrices: np.ndarray) -> np.ndarray:
@@ -97,95 +103,49 @@ def is_same_transform(matrix0: np.ndarray, matrix1: np.ndarray) -> bool:
 # -- Euler angles ----------------------------------------------------------------------------------
 def quaternion_from_euler(ai: float, aj: float, ak: float, axes: str = 'sxyz') -> np.ndarray:
     """[x, y, z, w] of three turns; with 'sxyz', ai=roll, aj=pitch, ak=yaw."""
-    static, (i, j, k) = _parse_axes(axes)
-    qi, qj, qk = _axis_quaternion(i, ai), _axis_quaternion(j, aj), _axis_quaternion(k, ak)
-    if static:  # fixed axes: the first turn is applied first, so it is the rightmost factor
-        return quaternion_multiply(qk, quaternion_multiply(qj, qi))
-    return quaternion_multiply(qi, quaternion_multiply(qj, qk))
+    return _xyzw(euler.euler2quat(ai, aj, ak, _check_axes(axes)))
 
 
 def euler_matrix(ai: float, aj: float, ak: float, axes: str = 'sxyz') -> np.ndarray:
-    return quaternion_matrix(quaternion_from_euler(ai, aj, ak, axes))
+    return _homogeneous(euler.euler2mat(ai, aj, ak, _check_axes(axes)))
 
 
 def euler_from_matrix(matrix: np.ndarray, axes: str = 'sxyz') -> tuple[float, float, float]:
     """The three angles (in the order `axes` names them) of the rotation in `matrix`."""
-    static, (i, j, k) = _parse_axes(axes)
-    r = np.asarray(matrix, dtype=float)[:3, :3]
-    if static:  # R = R_k(ak) R_j(aj) R_i(ai): the rotating sequence k, j, i with the angles reversed
-        c, b, a = _intrinsic_angles(r, k, j, i)
-        return a, b, c
-    return _intrinsic_angles(r, i, j, k)
-
-
-def _intrinsic_angles(r: np.ndarray, i: int, j: int, k: int) -> tuple[float, float, float]:
-    """(a, b, c) with R = R_i(a) R_j(b) R_k(c), turns about the moving axes i, j, k."""
-    if i != k:  # Tait-Bryan: three different axes
-        s = _parity(i, j)
-        cos_b = math.hypot(r[i, i], r[i, j])
-        b = math.atan2(s * r[i, k], cos_b)
-        if cos_b > _EPS:
-            return math.atan2(-s * r[j, k], r[k, k]), b, math.atan2(-s * r[i, j], r[i, i])
-        return math.atan2(s * r[k, j], r[j, j]), b, 0.0  # gimbal lock: put all of the turn in a
-    m = 3 - i - j  # proper Euler (i, j, i): m is the axis not named
-    s = _parity(i, j)
-    sin_b = math.hypot(r[i, j], r[i, m])
-    b = math.atan2(sin_b, r[i, i])
-    if sin_b > _EPS:
-        return math.atan2(r[j, i], -s * r[m, i]), b, math.atan2(r[i, j], s * r[i, m])
-    return math.atan2(s * r[m, j], r[j, j]), b, 0.0
+    return euler.mat2euler(np.asarray(matrix, dtype=float)[:3, :3], _check_axes(axes))
 
 
 def euler_from_quaternion(quaternion: Sequence[float], axes: str = 'sxyz') -> tuple[float, float, float]:
     """(roll, pitch, yaw) of [x, y, z, w] with the default axes."""
-    return euler_from_matrix(quaternion_matrix(quaternion), axes)
+    return euler.quat2euler(_wxyz(quaternion), _check_axes(axes))
 
 
 # -- quaternions -----------------------------------------------------------------------------------
 def quaternion_about_axis(angle: float, axis: Sequence[float]) -> np.ndarray:
-    v = unit_vector(np.asarray(axis, dtype=float)[:3])
-    return np.append(v * math.sin(angle / 2.0), math.cos(angle / 2.0))
+    return _xyzw(quaternions.axangle2quat(np.asarray(axis, dtype=float)[:3], angle))
 
 
 def quaternion_matrix(quaternion: Sequence[float]) -> np.ndarray:
     """4x4 rotation matrix of [x, y, z, w] (normalised first; a zero quaternion gives identity)."""
-    q = np.asarray(quaternion, dtype=float)[:4]
-    n = float(q @ q)
-    if n < _EPS:
-        return np.identity(4)
-    x, y, z, w = q * math.sqrt(2.0 / n)
-    return np.array([[1.0 - y * y - z * z, x * y - z * w, x * z + y * w, 0.0],
-                     [x * y + z * w, 1.0 - x * x - z * z, y * z - x * w, 0.0],
-                     [x * z - y * w, y * z + x * w, 1.0 - x * x - y * y, 0.0],
-                     [0.0, 0.0, 0.0, 1.0]])
+    return _homogeneous(quaternions.quat2mat(_wxyz(quaternion)))
 
 
 def quaternion_from_matrix(matrix: np.ndarray) -> np.ndarray:
-    """[x, y, z, w] of the rotation in a 3x3 or 4x4 matrix."""
-    from zros.tf2_ros.transform_math import from_matrix
-    m = np.identity(4)
-    m[:3, :3] = np.asarray(matrix, dtype=float)[:3, :3]
-    return np.array(from_matrix(m)[3:])
+    """[x, y, z, w] of the rotation in a 3x3 or 4x4 matrix (w >= 0)."""
+    return _xyzw(quaternions.mat2quat(np.asarray(matrix, dtype=float)[:3, :3]))
 
 
 def quaternion_multiply(quaternion1: Sequence[float], quaternion0: Sequence[float]) -> np.ndarray:
     """quaternion1 * quaternion0: the rotation quaternion0 followed by quaternion1."""
-    x1, y1, z1, w1 = quaternion1
-    x0, y0, z0, w0 = quaternion0
-    return np.array([w1 * x0 + x1 * w0 + y1 * z0 - z1 * y0,
-                     w1 * y0 - x1 * z0 + y1 * w0 + z1 * x0,
-                     w1 * z0 + x1 * y0 - y1 * x0 + z1 * w0,
-                     w1 * w0 - x1 * x0 - y1 * y0 - z1 * z0], dtype=float)
+    return _xyzw(quaternions.qmult(_wxyz(quaternion1), _wxyz(quaternion0)))
 
 
 def quaternion_conjugate(quaternion: Sequence[float]) -> np.ndarray:
-    x, y, z, w = quaternion
-    return np.array([-x, -y, -z, w], dtype=float)
+    return _xyzw(quaternions.qconjugate(_wxyz(quaternion)))
 
 
 def quaternion_inverse(quaternion: Sequence[float]) -> np.ndarray:
-    q = np.asarray(quaternion, dtype=float)
-    return quaternion_conjugate(q) / float(q @ q)
+    return _xyzw(quaternions.qinverse(_wxyz(quaternion)))
 
 
 def quaternion_real(quaternion: Sequence[float]) -> float:

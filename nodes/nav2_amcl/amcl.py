@@ -37,6 +37,7 @@ from zros.lifecycle import LifecycleNodeMixin, State, TransitionCallbackReturn
 from zros.node import Node
 from zros.parameter import Parameter
 from zros.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
+from zros.rotations import quaternion_from_yaw, yaw_from_quaternion
 from zros.tf2_ros import Buffer, TransformBroadcaster, TransformException, TransformListener
 from zros.time import Time
 from zros.tf_transformations import quaternion_matrix
@@ -237,7 +238,7 @@ class AmclNode(LifecycleNodeMixin, Node):
             return None
         if not (q.x or q.y or q.z or q.w):
             self.get_logger().warn('The initial pose has an all-zero quaternion: read as yaw 0')
-        yaw = math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+        yaw = yaw_from_quaternion(q.x, q.y, q.z, q.w)
         covariance = np.array([[c[0], c[1], 0.0], [c[6], c[7], 0.0], [0.0, 0.0, c[35]]])
         if min(c[0], c[7], c[35]) < 0.0:
             self.get_logger().warn('Ignoring an initial pose with a negative variance')
@@ -390,7 +391,8 @@ class AmclNode(LifecycleNodeMixin, Node):
         t.header.stamp, t.header.frame_id, t.child_frame_id = stamp.to_msg(), self._global_frame, self._odom_frame
         x, y, yaw = self._map_to_odom
         t.transform.translation.x, t.transform.translation.y = float(x), float(y)
-        t.transform.rotation.z, t.transform.rotation.w = math.sin(yaw / 2.0), math.cos(yaw / 2.0)
+        r = t.transform.rotation
+        r.x, r.y, r.z, r.w = quaternion_from_yaw(float(yaw))
         self._tf_broadcaster.sendTransform(t)
 
     def _save_pose(self, pose: np.ndarray) -> None:
@@ -438,14 +440,13 @@ class AmclNode(LifecycleNodeMixin, Node):
 
 
 def _pose2d(translation: Any, rotation: Any) -> np.ndarray:
-    yaw = math.atan2(2.0 * (rotation.w * rotation.z + rotation.x * rotation.y),
-                     1.0 - 2.0 * (rotation.y * rotation.y + rotation.z * rotation.z))
-    return np.array([translation.x, translation.y, yaw])
+    return np.array([translation.x, translation.y, yaw_from_quaternion(rotation.x, rotation.y, rotation.z, rotation.w)])
 
 
 def _fill_pose(msg: Any, pose: np.ndarray) -> Any:
     msg.position.x, msg.position.y = float(pose[0]), float(pose[1])
-    msg.orientation.z, msg.orientation.w = math.sin(pose[2] / 2.0), math.cos(pose[2] / 2.0)
+    q = msg.orientation
+    q.x, q.y, q.z, q.w = quaternion_from_yaw(float(pose[2]))
     return msg
 
 

@@ -26,11 +26,11 @@ import zros
 from zros.executors import ExternalShutdownException, spin_nodes
 from zros.lifecycle import LifecycleNode
 from zros.navigation.assisted_teleop import collision_scale, projected_poses
-from zros.navigation.controller import angle_diff
 from zros.navigation.costmap import INSCRIBED_INFLATED_OBSTACLE, NO_INFORMATION
 from zros.navigation.costmap_ros import CostmapSubscriber
 from zros.navigation.node_support import Nav2Params, duration_msg, lookup_pose
 from zros.navigation.servers import GoalRunner, gated_action_server
+from zros.rotations import angle_diff
 from zros.tf2_ros import Buffer, TransformListener
 
 from interfaces.geometry_msgs.msg import Twist

@@ -34,7 +34,6 @@ node with one line naming it (when it waits for transitions: fails `configure`, 
 """
 from __future__ import annotations
 
-import math
 import sys
 import threading
 from dataclasses import fields
@@ -49,9 +48,10 @@ from zros.errors import CliError
 from zros.executors import ExternalShutdownException, spin_nodes
 from zros.lifecycle import LifecycleNodeMixin, State, TransitionCallbackReturn
 from zros.lifecycle.autostart import waits_for_transitions
-from zros.map_io import MapFileError, map_to_msg, save_map, yaw_of_quaternion
+from zros.map_io import MapFileError, map_to_msg, save_map
 from zros.node import Node
 from zros.qos import DurabilityPolicy, QoSProfile, qos_profile_sensor_data
+from zros.rotations import quaternion_from_yaw, yaw_from_quaternion
 from zros.slam import PoseGraphFileError, Slam, SlamParameters, scan_points
 from zros.tf2_ros import Buffer, TransformBroadcaster, TransformException, TransformListener
 from zros.time import Time
@@ -283,14 +283,16 @@ class SlamNode(LifecycleNodeMixin, Node):
         t.header.stamp = (self.get_clock().now() + Duration(seconds=self._p['transform_timeout'])).to_msg()
         t.header.frame_id, t.child_frame_id = self._p['map_frame'], self._p['odom_frame']
         t.transform.translation.x, t.transform.translation.y = float(x), float(y)
-        t.transform.rotation.z, t.transform.rotation.w = math.sin(yaw / 2.0), math.cos(yaw / 2.0)
+        r = t.transform.rotation
+        r.x, r.y, r.z, r.w = quaternion_from_yaw(float(yaw))
         self._tf_broadcaster.sendTransform(t)
 
     def _publish_pose(self, pose: np.ndarray, stamp: Any) -> None:
         msg = PoseWithCovarianceStamped()
         msg.header.stamp, msg.header.frame_id = stamp, self._p['map_frame']
         msg.pose.pose.position.x, msg.pose.pose.position.y = float(pose[0]), float(pose[1])
-        msg.pose.pose.orientation.z, msg.pose.pose.orientation.w = math.sin(pose[2] / 2.0), math.cos(pose[2] / 2.0)
+        q = msg.pose.pose.orientation
+        q.x, q.y, q.z, q.w = quaternion_from_yaw(float(pose[2]))
         self._pose_pub.publish(msg)
 
     def _current_map(self) -> OccupancyGrid:
@@ -370,7 +372,8 @@ class SlamNode(LifecycleNodeMixin, Node):
 
 def _pose2d(transform: TransformStamped) -> tuple[float, float, float]:
     t = transform.transform
-    return float(t.translation.x), float(t.translation.y), yaw_of_quaternion(t.rotation)
+    r = t.rotation
+    return float(t.translation.x), float(t.translation.y), yaw_from_quaternion(r.x, r.y, r.z, r.w)
 
 
 def main(args: list[str] | None = None) -> int:

@@ -11,16 +11,11 @@ import math
 
 from zros.sim import RobotSpec
 
-__all__ = ['yaw_quaternion', 'static_frames', 'wheel_frames', 'WHEEL_JOINTS']
+__all__ = ['static_frames', 'wheel_frames', 'WHEEL_JOINTS']
 
 WHEEL_JOINTS = ('wheel_left_joint', 'wheel_right_joint')
 _WHEEL_LINKS = ('wheel_left_link', 'wheel_right_link')
 _WHEEL_ROLL = -1.57        # the URDF's wheel joint rpy: the wheel axle along base_link's y
-
-
-def yaw_quaternion(yaw: float) -> tuple[float, float, float, float]:
-    """(x, y, z, w) of a rotation by `yaw` [rad] about z."""
-    return (0.0, 0.0, math.sin(yaw / 2.0), math.cos(yaw / 2.0))
 
 
 def static_frames(spec: RobotSpec) -> list[tuple[str, str, tuple[float, float, float]]]:

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from zros.qos import DurabilityPolicy, QoSProfile
+from zros.rotations import quaternion_from_yaw
 from zros.sim import SimRobot
 
 from interfaces.geometry_msgs.msg import Twist, TwistStamped, TransformStamped
@@ -26,7 +27,7 @@ from interfaces.sensor_msgs.msg import Imu, JointState, LaserScan
 from interfaces.std_msgs.msg import UInt32
 from interfaces.tf2_msgs.msg import TFMessage
 
-from nodes.turtlebot3_gazebo._frames import WHEEL_JOINTS, static_frames, wheel_frames, yaw_quaternion
+from nodes.turtlebot3_gazebo._frames import WHEEL_JOINTS, static_frames, wheel_frames
 
 if TYPE_CHECKING:
     from zros.node import Node
@@ -159,7 +160,7 @@ class RobotEndpoints:
     def publish_odometry(self, time_ns: int) -> None:
         """odom, the odom -> base_footprint transform (+ wheels), joint_states, ground truth."""
         robot, odom = self.robot, self.robot.odometry()
-        q = yaw_quaternion(odom.yaw)
+        q = quaternion_from_yaw(odom.yaw)
         stamp(self.odom.header, time_ns)
         pose = self.odom.pose.pose
         pose.position.x, pose.position.y = odom.x, odom.y
@@ -187,7 +188,7 @@ class RobotEndpoints:
         stamp(self.truth.header, time_ns)
         pose = self.truth.pose.pose
         pose.position.x, pose.position.y = truth.x, truth.y
-        pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w = yaw_quaternion(truth.yaw)
+        pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w = quaternion_from_yaw(truth.yaw)
         self.truth.twist.twist.linear.x, self.truth.twist.twist.angular.z = linear, angular
         self.truth_pub.publish(self.truth)
 
@@ -200,7 +201,7 @@ class RobotEndpoints:
         reading = self.robot.imu()
         stamp(self.imu.header, time_ns)
         o = self.imu.orientation
-        o.x, o.y, o.z, o.w = yaw_quaternion(reading.yaw)
+        o.x, o.y, o.z, o.w = quaternion_from_yaw(reading.yaw)
         av, la = self.imu.angular_velocity, self.imu.linear_acceleration
         av.x, av.y, av.z = reading.angular_velocity
         la.x, la.y, la.z = reading.linear_acceleration

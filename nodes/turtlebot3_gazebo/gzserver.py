@@ -33,6 +33,7 @@ from zros.errors import CliError
 from zros.executors import ExternalShutdownException, spin_nodes
 from zros.node import Node
 from zros.qos import QoSProfile
+from zros.rotations import quaternion_from_yaw, yaw_from_quaternion
 from zros.sim import (LDS_01, TURTLEBOT3_IMU, LidarSpec, Pose2D, RobotSpec, SimError, SimRobot, Simulation, load_world,
                       rasterize, robot_spec, wrap_angle)
 from zros.sim.model_file import robot_from_xml, turtlebot3_named
@@ -312,7 +313,8 @@ class GazeboNode(Node):
                 return False
             pose, (linear, angular) = robot.sim.pose, robot.sim.velocity
         pose_msg.position.x, pose_msg.position.y = pose.x, pose.y
-        pose_msg.orientation.z, pose_msg.orientation.w = math.sin(pose.yaw / 2), math.cos(pose.yaw / 2)
+        o = pose_msg.orientation
+        o.x, o.y, o.z, o.w = quaternion_from_yaw(pose.yaw)
         twist_msg.linear.x = linear * math.cos(pose.yaw)
         twist_msg.linear.y = linear * math.sin(pose.yaw)
         twist_msg.angular.z = angular
@@ -487,10 +489,8 @@ def _period_ns(rate: float) -> int:
 
 
 def _yaw(q: Any) -> float:
-    """Yaw [rad] of a geometry_msgs/Quaternion (an all-zero quaternion counts as none)."""
-    if q.x == q.y == q.z == q.w == 0.0:
-        return 0.0
-    return wrap_angle(math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z)))
+    """Yaw [rad] in [-pi, pi) of a geometry_msgs/Quaternion (an all-zero quaternion counts as none)."""
+    return wrap_angle(yaw_from_quaternion(q.x, q.y, q.z, q.w))
 
 
 def main(args: list[str] | None = None) -> None:

@@ -30,9 +30,11 @@ from typing import Any, Callable, NamedTuple
 
 import pymunk
 
+from zros.rotations import wrap_angle
+
 from nodes.turtlesim._canvas import SHELL_COLORS, Canvas, Sprite
 
-__all__ = ['World', 'Turtle', 'Pen', 'Rotation', 'Event', 'TurtleError', 'normalize_angle',
+__all__ = ['World', 'Turtle', 'Pen', 'Rotation', 'Event', 'TurtleError',
            'CANVAS_PX', 'METER_PX', 'WORLD_SIZE', 'DT', 'COMMAND_TIMEOUT', 'DEFAULT_BACKGROUND',
            'DEFAULT_PEN']
 
@@ -61,11 +63,6 @@ _TURTLE_CATEGORY = 0b10
 
 class TurtleError(ValueError):
     """A request the world refuses (unknown or duplicate turtle name)."""
-
-
-def normalize_angle(angle: float) -> float:
-    """Wrap to [-pi, pi), as ROS's normalizeAngle."""
-    return angle - 2.0 * math.pi * math.floor((angle + math.pi) / (2.0 * math.pi))
 
 
 @dataclass
@@ -324,12 +321,12 @@ class World:
             turtle.lin_x = turtle.lin_y = turtle.ang = 0.0
             events.append(Event('canceled', turtle.name, rotation))
             return
-        theta = normalize_angle(rotation.target)
-        remaining = normalize_angle(theta - turtle.theta)
-        rotation.delta = normalize_angle(rotation.start - turtle.theta)
+        theta = wrap_angle(rotation.target)
+        remaining = wrap_angle(theta - turtle.theta)
+        rotation.delta = wrap_angle(rotation.start - turtle.theta)
         events.append(Event('feedback', turtle.name, (rotation, remaining)))
         turtle.lin_x = turtle.lin_y = 0.0
-        if abs(normalize_angle(turtle.theta - theta)) < ROTATE_TOLERANCE:
+        if abs(wrap_angle(turtle.theta - theta)) < ROTATE_TOLERANCE:
             turtle.rotation = None
             turtle.ang = 0.0
             events.append(Event('succeeded', turtle.name, rotation))
@@ -349,7 +346,7 @@ class World:
             events.append(Event('wall', turtle.name, (wanted_x, self.height - wanted_y)))
         x = min(max(bx, 0.0), self.width)
         y = min(max(by, 0.0), self.height)
-        theta = normalize_angle(float(body.angle))
+        theta = wrap_angle(float(body.angle))
         if abs(bx - x) > _SNAP_DISTANCE or abs(by - y) > _SNAP_DISTANCE:
             self._place(turtle, x, y, theta)
         elif theta != body.angle:
@@ -358,7 +355,7 @@ class World:
 
     def _place(self, turtle: Turtle, x: float, y: float, theta: float) -> None:
         turtle.body.position = (x, y)
-        turtle.body.angle = normalize_angle(theta)
+        turtle.body.angle = wrap_angle(theta)
         turtle.x, turtle.y = x, y
         self.space.reindex_shapes_for_body(turtle.body)
 

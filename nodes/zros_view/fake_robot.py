@@ -21,6 +21,7 @@ import zros
 from zros.executors import ExternalShutdownException, spin_nodes
 from zros.node import Node
 from zros.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from zros.rotations import quaternion_from_yaw
 
 __all__ = ['FakeRobot', 'world_grid', 'cast_scan', 'main']
 
@@ -133,7 +134,8 @@ class FakeRobot(Node):
         self._header(t, parent)
         t.child_frame_id = child
         t.transform.translation.x, t.transform.translation.y, t.transform.translation.z = x, y, z
-        t.transform.rotation.z, t.transform.rotation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+        r = t.transform.rotation
+        r.x, r.y, r.z, r.w = quaternion_from_yaw(yaw)
         return t
 
     def publish_static(self) -> None:
@@ -154,7 +156,8 @@ class FakeRobot(Node):
         self._header(odom, 'odom')
         odom.child_frame_id = 'base_footprint'
         odom.pose.pose.position.x, odom.pose.pose.position.y = x - offset, y
-        odom.pose.pose.orientation.z, odom.pose.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+        q = odom.pose.pose.orientation
+        q.x, q.y, q.z, q.w = quaternion_from_yaw(yaw)
         odom.twist.twist.linear.x = float(self.p['speed'])
         self.odom_pub.publish(odom)
 
@@ -184,14 +187,16 @@ class FakeRobot(Node):
         for px, py, pyaw in zip(xs.tolist(), ys.tolist(), yaws.tolist()):
             pose = Pose()
             pose.position.x, pose.position.y = px, py
-            pose.orientation.z, pose.orientation.w = math.sin(pyaw / 2), math.cos(pyaw / 2)
+            q = pose.orientation
+            q.x, q.y, q.z, q.w = quaternion_from_yaw(pyaw)
             poses.append(pose)
         cloud.poses = poses
         self.cloud_pub.publish(cloud)
         amcl = PoseWithCovarianceStamped()
         self._header(amcl, 'map')
         amcl.pose.pose.position.x, amcl.pose.pose.position.y = x, y
-        amcl.pose.pose.orientation.z, amcl.pose.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+        q = amcl.pose.pose.orientation
+        q.x, q.y, q.z, q.w = quaternion_from_yaw(yaw)
         covariance = np.zeros(36)
         covariance[0], covariance[1], covariance[6], covariance[7], covariance[35] = 0.04, 0.01, 0.01, 0.02, 0.03
         amcl.pose.covariance = covariance

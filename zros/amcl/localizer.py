@@ -25,9 +25,10 @@ from typing import NamedTuple
 import numpy as np
 
 from zros.amcl.map_grid import MapGrid
-from zros.amcl.motion_models import angle_diff, create_motion_model
+from zros.amcl.motion_models import create_motion_model
 from zros.amcl.particle_filter import ParticleFilter, PoseEstimate
 from zros.amcl.sensor_models import LaserScanData, create_laser_model
+from zros.rotations import angle_diff
 
 __all__ = ['Amcl', 'AmclParameters', 'LaserScanData', 'UpdateResult', 'compose', 'inverse']
 

@@ -8,12 +8,15 @@ or below 25 (free_thresh 0.25) and occupied at or above 65 (occupied_thresh 0.65
 map (0 / 100 / -1, what map_server publishes by default) reads exactly as in Nav2.
 
 Layout as nav_msgs/OccupancyGrid: `data[row, col]` covers x in [ox + col res, ox + (col+1) res),
-y in [oy + row res, ...); row 0 is the lowest y. The origin's rotation is ignored, as in Nav2.
+y in [oy + row res, ...); row 0 is the lowest y (zros.grid_geometry). The origin's rotation is
+ignored, as in Nav2's AMCL: the geometry has yaw 0.
 """
 from __future__ import annotations
 
 import numpy as np
 from scipy.ndimage import binary_dilation, label
+
+from zros.grid_geometry import GridGeometry, GridGeometryMixin
 
 __all__ = ['MapGrid', 'FREE_MAX', 'OCCUPIED_MIN']
 
@@ -21,7 +24,7 @@ FREE_MAX = 25          # occupancy values 0..FREE_MAX are free space
 OCCUPIED_MIN = 65      # occupancy values >= OCCUPIED_MIN are obstacles
 
 
-class MapGrid:
+class MapGrid(GridGeometryMixin):
     """An occupancy grid, read-only.
 
     Args:
@@ -43,36 +46,23 @@ class MapGrid:
             data = data.reshape(-1, width)
         if data.ndim != 2 or data.size == 0:
             raise ValueError(f'map data must be a non-empty 2D grid, got shape {data.shape}')
-        if not (np.isfinite(resolution) and resolution > 0):
-            raise ValueError(f'map resolution must be > 0 [m], got {resolution}')
-        if not all(np.isfinite(origin)):
-            raise ValueError(f'map origin must be finite, got {origin}')
+        self.geometry = GridGeometry(resolution, (origin[0], origin[1]), data.shape)
         self.data = data.astype(np.int16)
         self.data.flags.writeable = False
-        self.resolution = float(resolution)
-        self.origin = (float(origin[0]), float(origin[1]))
         self.free = (self.data >= 0) & (self.data <= FREE_MAX)
         self.occupied = self.data >= OCCUPIED_MIN
         #: Flat indices of the free cells, for sampling poses in free space.
         self.free_cells = np.flatnonzero(self.free)
 
     @property
-    def height(self) -> int:
-        return int(self.data.shape[0])
-
-    @property
-    def width(self) -> int:
-        return int(self.data.shape[1])
+    def origin(self) -> tuple[float, float]:
+        """(x, y) [m] of the lower-left corner of cell (0, 0)."""
+        return self.geometry.origin[:2]
 
     def cells(self, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Cells of points x, y [m] (same shapes): (rows, cols, inside); rows/cols are clipped
         into the grid, so index with them only where `inside`."""
-        cols = np.floor((x - self.origin[0]) / self.resolution).astype(np.int64)
-        rows = np.floor((y - self.origin[1]) / self.resolution).astype(np.int64)
-        inside = (rows >= 0) & (rows < self.height) & (cols >= 0) & (cols < self.width)
-        np.clip(rows, 0, self.height - 1, out=rows)
-        np.clip(cols, 0, self.width - 1, out=cols)
-        return rows, cols, inside
+        return self.geometry.world_to_cell_clipped(x, y)
 
     def is_free(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
         """Whether each point x, y [m] lies in a free cell of the map: bool, x's shape."""
@@ -81,8 +71,7 @@ class MapGrid:
 
     def cell_centres(self, flat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """x, y [m] of the centres of cells given by flat index."""
-        rows, cols = np.divmod(flat, self.width)
-        return (self.origin[0] + (cols + 0.5) * self.resolution, self.origin[1] + (rows + 0.5) * self.resolution)
+        return self.geometry.cell_centre(*self.geometry.cell_of_index(flat))
 
     def sample_free(self, count: int, rng: np.random.Generator, weights: np.ndarray | None = None) -> np.ndarray:
         """`count` poses (count, 3) x, y [m], yaw [rad] in free space: a free cell drawn uniformly

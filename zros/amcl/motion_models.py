@@ -20,18 +20,9 @@ from typing import Callable
 
 import numpy as np
 
-__all__ = ['MotionModel', 'DifferentialMotionModel', 'OmniMotionModel', 'create_motion_model', 'MOTION_MODELS',
-           'angle_diff', 'wrap']
+from zros.rotations import angle_diff, wrap_angle
 
-
-def wrap(angle: np.ndarray | float) -> np.ndarray | float:
-    """Angle(s) [rad] wrapped into [-pi, pi)."""
-    return (angle + np.pi) % (2.0 * np.pi) - np.pi
-
-
-def angle_diff(a: np.ndarray | float, b: np.ndarray | float) -> np.ndarray | float:
-    """The signed smallest rotation from b to a [rad], in [-pi, pi)."""
-    return wrap(a - b)
+__all__ = ['MotionModel', 'DifferentialMotionModel', 'OmniMotionModel', 'create_motion_model', 'MOTION_MODELS']
 
 
 class MotionModel:
@@ -68,7 +59,7 @@ class DifferentialMotionModel(MotionModel):
         heading = particles[:, 2] + rot1_hat
         particles[:, 0] += trans_hat * np.cos(heading)
         particles[:, 1] += trans_hat * np.sin(heading)
-        particles[:, 2] = wrap(heading + rot2_hat)
+        particles[:, 2] = wrap_angle(heading + rot2_hat)
 
 
 class OmniMotionModel(MotionModel):
@@ -87,7 +78,7 @@ class OmniMotionModel(MotionModel):
         cos_b, sin_b = np.cos(bearing), np.sin(bearing)
         particles[:, 0] += trans_hat * cos_b + strafe_hat * sin_b
         particles[:, 1] += trans_hat * sin_b - strafe_hat * cos_b
-        particles[:, 2] = wrap(particles[:, 2] + rot_hat)
+        particles[:, 2] = wrap_angle(particles[:, 2] + rot_hat)
 
 
 #: `robot_model_type` values: Nav2's plugin names and the pre-Humble aliases ROBOTIS files used.

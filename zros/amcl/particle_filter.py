@@ -36,7 +36,8 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
 from zros.amcl.map_grid import MapGrid
-from zros.amcl.motion_models import MotionModel, wrap
+from zros.amcl.motion_models import MotionModel
+from zros.rotations import wrap_angle
 
 __all__ = ['ParticleFilter', 'PoseEstimate', 'KLD_BIN', 'kld_limit']
 
@@ -73,7 +74,7 @@ def bins(poses: np.ndarray) -> np.ndarray:
     keys = np.empty((len(poses), 3), dtype=np.int64)
     keys[:, 0] = np.floor(poses[:, 0] / KLD_BIN[0])
     keys[:, 1] = np.floor(poses[:, 1] / KLD_BIN[1])
-    keys[:, 2] = np.floor((wrap(poses[:, 2]) + math.pi) / KLD_BIN[2]).clip(0, _YAW_BINS - 1)
+    keys[:, 2] = np.floor((wrap_angle(poses[:, 2]) + math.pi) / KLD_BIN[2]).clip(0, _YAW_BINS - 1)
     return keys
 
 
@@ -116,7 +117,7 @@ class ParticleFilter:
         return len(self.particles)
 
     def _reset(self, particles: np.ndarray) -> None:
-        particles[:, 2] = wrap(particles[:, 2])
+        particles[:, 2] = wrap_angle(particles[:, 2])
         self.particles = particles
         self.weights = np.full(len(particles), 1.0 / len(particles))
         self.w_slow = self.w_fast = 0.0
@@ -262,6 +263,6 @@ def _gaussian_sampler(mean: np.ndarray, covariance: np.ndarray, rng: np.random.G
 
     def draw(count: int) -> np.ndarray:
         samples = mean + rng.standard_normal((count, 3)) @ scale.T
-        samples[:, 2] = wrap(samples[:, 2])
+        samples[:, 2] = wrap_angle(samples[:, 2])
         return samples
     return draw

@@ -21,15 +21,11 @@ from typing import Callable
 import numpy as np
 
 from zros.navigation.costmap import INSCRIBED_INFLATED_OBSTACLE, NO_INFORMATION
+from zros.rotations import angle_diff
 
 __all__ = ['RPPParams', 'RegulatedPurePursuit', 'CollisionAhead', 'ProgressChecker', 'GoalChecker',
            'PathFollower', 'FollowError', 'FAILED_TO_MAKE_PROGRESS', 'NO_VALID_CONTROL', 'INVALID_PATH',
-           'curvature_constraint', 'cost_constraint', 'approach_velocity', 'angle_diff']
-
-
-def angle_diff(a: float, b: float) -> float:
-    """a - b wrapped into [-pi, pi) [rad]."""
-    return (a - b + math.pi) % (2 * math.pi) - math.pi
+           'curvature_constraint', 'cost_constraint', 'approach_velocity']
 
 
 @dataclass

@@ -24,6 +24,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
+from zros.grid_geometry import GridGeometry, GridGeometryMixin
+
 __all__ = [
     'FREE_SPACE', 'MAX_NON_OBSTACLE', 'INSCRIBED_INFLATED_OBSTACLE', 'LETHAL_OBSTACLE',
     'NO_INFORMATION', 'CostmapParams', 'LayeredCostmap', 'static_costs', 'inflate',
@@ -115,45 +117,41 @@ def to_occupancy(costs: np.ndarray) -> np.ndarray:
     return _OCCUPANCY_OF_COST[costs]
 
 
-class LayeredCostmap:
+class LayeredCostmap(GridGeometryMixin):
     """A costmap in one frame: its layers, its master grid and the grid geometry.
 
-    `origin` is the (x, y) of cell (0, 0)'s corner in the costmap frame [m]. A rolling window
-    keeps `width` x `height` metres centred on the robot (`move_to`); otherwise the grid takes
-    the static map's size (`set_static_map`).
+    `geometry` places the cells in the costmap frame (yaw 0: Nav2's costmaps ignore a map's
+    origin yaw). A rolling window keeps `width` x `height` metres centred on the robot
+    (`move_to`); otherwise the grid takes the static map's size (`set_static_map`).
     """
 
     def __init__(self, params: CostmapParams) -> None:
         self.params = params
-        self.resolution = params.resolution
-        self.origin = np.zeros(2)
-        self._static: np.ndarray | None = None
         size = (max(1, round(params.height / params.resolution)), max(1, round(params.width / params.resolution)))
+        self.geometry = GridGeometry(params.resolution, (0.0, 0.0), size)
+        self._static: np.ndarray | None = None
+        self._static_geometry: GridGeometry | None = None
         self._obstacles = np.full(size, NO_INFORMATION, np.uint8)
         self.master = np.full(size, self._default_value(), np.uint8)
 
     # -- geometry --------------------------------------------------------------------------------
     @property
-    def shape(self) -> tuple[int, int]:
-        return self.master.shape
-
-    def world_to_cells(self, xy: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(N, 2) points [m] -> (cols, rows, inside) int arrays."""
-        xy = np.atleast_2d(np.asarray(xy, np.float64))
-        cells = np.floor((xy - self.origin) / self.resolution).astype(np.int64)
-        cols, rows = cells[:, 0], cells[:, 1]
-        inside = (cols >= 0) & (rows >= 0) & (cols < self.shape[1]) & (rows < self.shape[0])
-        return cols, rows, inside
-
-    def cell_centres(self, cols: np.ndarray, rows: np.ndarray) -> np.ndarray:
-        return np.stack([cols, rows], axis=-1) * self.resolution + self.origin + self.resolution / 2
+    def origin(self) -> np.ndarray:
+        """(x, y) [m] of cell (0, 0)'s lower-left corner in the costmap frame (a copy)."""
+        return np.array(self.geometry.origin[:2])
 
     def cost_at(self, xy: np.ndarray) -> np.ndarray:
         """Master cost at (N, 2) points; NO_INFORMATION outside the grid."""
-        cols, rows, inside = self.world_to_cells(xy)
+        rows, cols, inside = self._cells(xy)
         out = np.full(len(cols), NO_INFORMATION, np.uint8)
         out[inside] = self.master[rows[inside], cols[inside]]
         return out
+
+    def _cells(self, xy: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(N, 2) points [m] -> (rows, cols, inside), unbounded int cells of the master grid."""
+        xy = np.atleast_2d(np.asarray(xy, np.float64))
+        rows, cols = self.geometry.world_to_cell(xy[:, 0], xy[:, 1])
+        return rows, cols, self.geometry.contains(rows, cols)
 
     def _default_value(self) -> int:
         return NO_INFORMATION if self.params.track_unknown_space else FREE_SPACE
@@ -165,12 +163,12 @@ class LayeredCostmap:
         costs = static_costs(occupancy, track_unknown_space=self.params.track_unknown_space,
                              lethal_cost_threshold=self.params.lethal_cost_threshold,
                              trinary_costmap=self.params.trinary_costmap)
+        geometry = GridGeometry(resolution, (origin[0], origin[1]), costs.shape)
         if self.params.rolling_window:
-            self._static_geometry = (float(resolution), np.asarray(origin, np.float64))
+            self._static_geometry = geometry
             self._static = costs
             return
-        self.resolution = float(resolution)
-        self.origin = np.asarray(origin, np.float64)
+        self.geometry = geometry
         self._static = costs
         if self._obstacles.shape != costs.shape:
             self._obstacles = np.full(costs.shape, NO_INFORMATION, np.uint8)
@@ -193,7 +191,7 @@ class LayeredCostmap:
         if abs(dr) < rows and abs(dc) < cols:
             moved[dst_r, dst_c] = self._obstacles[src_r, src_c]
         self._obstacles = moved
-        self.origin = new_origin
+        self.geometry = GridGeometry(self.resolution, (new_origin[0], new_origin[1]), self.shape)
 
     def add_scan(self, sensor_xy: tuple[float, float], angles: np.ndarray, ranges: np.ndarray,
                  range_min: float, range_max: float) -> None:
@@ -219,7 +217,7 @@ class LayeredCostmap:
         self._clear_rays(origin, dirs, clear_len, hit & (ranges <= self.params.raytrace_max_range))
         mark = hit & (ranges <= self.params.obstacle_max_range)
         points = origin + dirs[mark] * ranges[mark, None]
-        cols, rows, inside = self.world_to_cells(points)
+        rows, cols, inside = self._cells(points)
         self._obstacles[rows[inside], cols[inside]] = LETHAL_OBSTACLE
 
     def _clear_rays(self, origin: np.ndarray, dirs: np.ndarray, lengths: np.ndarray, ends_at_hit: np.ndarray) -> None:
@@ -233,7 +231,7 @@ class LayeredCostmap:
         keep = t[None, :] <= reach[:, None]
         pts = origin + dirs[:, None, :] * t[None, :, None]
         pts = pts[keep]
-        cols, rows, inside = self.world_to_cells(pts)
+        rows, cols, inside = self._cells(pts)
         self._obstacles[rows[inside], cols[inside]] = FREE_SPACE
 
     def clear(self) -> None:
@@ -243,8 +241,8 @@ class LayeredCostmap:
     def clear_square(self, centre: tuple[float, float], size: float, *, outside: bool = False) -> None:
         """Forget the obstacle marks in the square of side `size` [m] centred on `centre`, or
         outside it (Nav2's clear_around_* and clear_except_* services)."""
-        centres = self.cell_centres(*np.meshgrid(np.arange(self.shape[1]), np.arange(self.shape[0])))
-        within = (np.abs(centres - np.asarray(centre, np.float64)) <= size / 2).all(axis=-1)
+        x, y = self.geometry.centres()
+        within = (np.abs(x - centre[0]) <= size / 2) & (np.abs(y - centre[1]) <= size / 2)
         self._obstacles[within != outside] = NO_INFORMATION
 
     # -- the master grid -------------------------------------------------------------------------
@@ -271,13 +269,9 @@ class LayeredCostmap:
 
     def _static_window(self) -> np.ndarray:
         """The static map's cells under a rolling window (nearest cell; unknown outside the map)."""
-        resolution, origin = self._static_geometry
-        rows, cols = self.shape
-        cc, rr = np.meshgrid(np.arange(cols), np.arange(rows))
-        centres = self.cell_centres(cc.ravel(), rr.ravel())
-        idx = np.floor((centres - origin) / resolution).astype(np.int64)
-        h, w = self._static.shape
-        inside = (idx[:, 0] >= 0) & (idx[:, 1] >= 0) & (idx[:, 0] < w) & (idx[:, 1] < h)
-        out = np.full(rows * cols, self._default_value(), np.uint8)
-        out[inside] = self._static[idx[inside, 1], idx[inside, 0]]
-        return out.reshape(rows, cols)
+        static = self._static_geometry
+        rows, cols = static.world_to_cell(*self.geometry.centres())
+        inside = static.contains(rows, cols)
+        out = np.full(self.shape, self._default_value(), np.uint8)
+        out[inside] = self._static[rows[inside], cols[inside]]
+        return out

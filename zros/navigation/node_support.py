@@ -7,11 +7,11 @@ an error.
 """
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
 
+from zros.rotations import quaternion_from_yaw, yaw_from_quaternion
 from zros.time import Time
 
 __all__ = ['Nav2Params', 'yaw_of', 'quaternion_of', 'lookup_pose', 'path_msg', 'path_points',
@@ -64,15 +64,13 @@ def _convert(value: Any, default: Any) -> Any:
 
 
 def yaw_of(q: Any) -> float:
-    """Yaw [rad] of a geometry_msgs Quaternion (normalised first: goals often set only w)."""
-    n = math.sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w) or 1.0
-    x, y, z, w = q.x / n, q.y / n, q.z / n, q.w / n
-    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+    """Yaw [rad] of a geometry_msgs Quaternion (need not be normalised: goals often set only w)."""
+    return yaw_from_quaternion(q.x, q.y, q.z, q.w)
 
 
 def quaternion_of(yaw: float, q: Any) -> Any:
     """Fill the Quaternion message `q` with a rotation of `yaw` [rad] about z; return it."""
-    q.x, q.y, q.z, q.w = 0.0, 0.0, math.sin(yaw / 2.0), math.cos(yaw / 2.0)
+    q.x, q.y, q.z, q.w = quaternion_from_yaw(yaw)
     return q
 
 

@@ -25,6 +25,7 @@ from typing import Callable, NamedTuple
 import numpy as np
 
 from zros.navigation.costmap import MAX_NON_OBSTACLE, NO_INFORMATION
+from zros.rotations import wrap_angle
 
 __all__ = ['SimpleSmootherParams', 'Smoothed', 'smooth_path', 'taut_step', 'directional_segments', 'approximate_yaws']
 
@@ -84,9 +85,9 @@ def approximate_yaws(points: np.ndarray, yaws: np.ndarray) -> np.ndarray:
         return out
     steps = np.diff(points, axis=0)
     travel = np.arctan2(steps[:, 1], steps[:, 0])
-    reversing = abs(_wrap(yaws[1] - travel[1])) > np.pi / 2
+    reversing = abs(wrap_angle(yaws[1] - travel[1])) > np.pi / 2
     moving = (np.abs(steps) >= 1e-4).any(axis=1)
-    out[:-1][moving] = _wrap(travel[moving] + (np.pi if reversing else 0.0))
+    out[:-1][moving] = wrap_angle(travel[moving] + (np.pi if reversing else 0.0))
     return out
 
 
@@ -145,7 +146,3 @@ def _smooth_segment(original: np.ndarray, params: SimpleSmootherParams, cost_at:
         if change < params.tolerance:
             return path, True
     return path, False
-
-
-def _wrap(angle: np.ndarray | float) -> np.ndarray | float:
-    return (np.asarray(angle) + np.pi) % (2.0 * np.pi) - np.pi

@@ -108,14 +108,13 @@ class GridPlanner:
         """Return the path as (N, 2) points [m] from `start` to `goal` (or the cell the goal was
         moved to), smoothed; raise PlanningError otherwise."""
         cm = self.costmap
-        scol, srow, sin = cm.world_to_cells(np.array([start]))
-        gcol, grow, gin = cm.world_to_cells(np.array([goal]))
-        if not sin[0]:
+        geometry = cm.geometry
+        s = tuple(int(i) for i in geometry.world_to_cell(start[0], start[1]))
+        g = tuple(int(i) for i in geometry.world_to_cell(goal[0], goal[1]))
+        if not geometry.contains(*s):
             raise PlanningError(START_OUTSIDE_MAP, f'Start Coordinates of ({start[0]:.2f}, {start[1]:.2f}) was outside bounds')
-        if not gin[0]:
+        if not geometry.contains(*g):
             raise PlanningError(GOAL_OUTSIDE_MAP, f'Goal Coordinates of ({goal[0]:.2f}, {goal[1]:.2f}) was outside bounds')
-        s = (int(srow[0]), int(scol[0]))
-        g = (int(grow[0]), int(gcol[0]))
         master = cm.master
         if master[s] == LETHAL_OBSTACLE:
             raise PlanningError(START_OCCUPIED, f'Start Coordinates of ({start[0]:.2f}, {start[1]:.2f}) was in lethal cost')
@@ -123,12 +122,12 @@ class GridPlanner:
             raise PlanningError(GOAL_OCCUPIED, f'Goal Coordinates of ({goal[0]:.2f}, {goal[1]:.2f}) was in lethal cost')
         if self._graph is None:
             self._graph = self._build()
-        cols = master.shape[1]
+        start_index, goal_index = int(geometry.index(*s)), int(geometry.index(*g))
         # Search a cost radius that covers a path a few times longer than the straight line through
         # moderately inflated cells first (a fraction of the map); the whole map only if that misses.
         reach = (np.hypot(s[0] - g[0], s[1] - g[1]) + self.tolerance / cm.resolution) * 3.0 * 2 * COST_NEUTRAL + 1000.0
         for limit in (reach, np.inf):
-            dist, pred = dijkstra(self._graph.matrix, indices=s[0] * cols + s[1], return_predecessors=True,
+            dist, pred = dijkstra(self._graph.matrix, indices=start_index, return_predecessors=True,
                                   limit=limit)
             target = self._reachable_goal(g, dist)
             if target is not None:
@@ -136,14 +135,12 @@ class GridPlanner:
         if target is None:
             raise PlanningError(NO_VALID_PATH, f'Failed to create plan with tolerance of: {self.tolerance:.2f}')
         cells = [target]
-        start_index = s[0] * cols + s[1]
         while cells[-1] != start_index:
             cells.append(int(pred[cells[-1]]))
         cells.reverse()
-        idx = np.asarray(cells)
-        points = cm.cell_centres(idx % cols, idx // cols)
+        points = np.column_stack(geometry.cell_centre(*geometry.cell_of_index(np.asarray(cells))))
         points[0] = start
-        if target == g[0] * cols + g[1]:
+        if target == goal_index:
             points[-1] = goal
         if self.smooth and len(points) > 2:
             points = smooth_path(points, cm)

@@ -18,8 +18,9 @@ worlds, numbers and what differs from Gazebo.
 """
 from __future__ import annotations
 
+from zros.rotations import wrap_angle
 from zros.sim.raster import OccupancyRaster, rasterize
-from zros.sim.robot import BURGER, WAFFLE, WAFFLE_PI, RobotSpec, robot_spec, wrap_angle
+from zros.sim.robot import BURGER, WAFFLE, WAFFLE_PI, RobotSpec, robot_spec
 from zros.sim.sensors import LDS_01, TURTLEBOT3_IMU, ImuReading, ImuSpec, LidarSpec
 from zros.sim.simulation import DEFAULT_DT, OdometryState, SimError, SimRobot, Simulation
 from zros.sim.world import Pose2D, World

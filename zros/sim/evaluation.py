@@ -20,9 +20,10 @@ import numpy as np
 from scipy import ndimage
 
 from zros.map_io import OccupancyMap
+from zros.rotations import wrap_angle
 from zros.sim.raster import OccupancyRaster, rasterize
 from zros.sim.world import World
-from zros.slam.geometry import compose, inverse, relative, transform_points, wrap
+from zros.slam.geometry import compose, inverse, relative, transform_points
 
 __all__ = ['TrajectoryError', 'MapQuality', 'trajectory_error', 'in_map_frame', 'map_quality', 'seen_walls',
            'ground_truth_map']
@@ -47,7 +48,7 @@ def trajectory_error(estimate: np.ndarray, truth: np.ndarray) -> TrajectoryError
     estimate, truth = np.asarray(estimate, dtype=np.float64), np.asarray(truth, dtype=np.float64)
     error = np.hypot(estimate[:, 0] - truth[:, 0], estimate[:, 1] - truth[:, 1])
     return TrajectoryError(float(np.sqrt(np.mean(error ** 2))), float(error.max()), float(error[-1]),
-                           float(abs(wrap(estimate[-1, 2] - truth[-1, 2]))))
+                           float(abs(wrap_angle(estimate[-1, 2] - truth[-1, 2]))))
 
 
 def in_map_frame(truth_world: np.ndarray, map_in_world: np.ndarray) -> np.ndarray:

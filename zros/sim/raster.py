@@ -23,6 +23,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from zros.grid_geometry import GridGeometry
 from zros.sim.world import World, loop_edges
 
 __all__ = ['OccupancyRaster', 'rasterize']
@@ -43,6 +44,11 @@ class OccupancyRaster(NamedTuple):
     resolution: float
 
     @property
+    def geometry(self) -> GridGeometry:
+        """Where the cells lie (yaw 0: the raster is aligned with the world's axes)."""
+        return GridGeometry(self.resolution, self.origin, self.cells.shape)
+
+    @property
     def width(self) -> int:
         return int(self.cells.shape[1])
 
@@ -56,8 +62,8 @@ class OccupancyRaster(NamedTuple):
 
     def cell_of(self, x: float, y: float) -> tuple[int, int]:
         """(row, col) of the cell containing the point (x, y) [m] (may be outside the grid)."""
-        return (int(math.floor((y - self.origin[1]) / self.resolution)),
-                int(math.floor((x - self.origin[0]) / self.resolution)))
+        row, col = self.geometry.world_to_cell(x, y)
+        return int(row), int(col)
 
 
 def rasterize(world: World, resolution: float, *, origin: tuple[float, float] | None = None,
@@ -85,13 +91,13 @@ def rasterize(world: World, resolution: float, *, origin: tuple[float, float] | 
     if size is None:
         size = (int(math.ceil((bounds[3] + margin - origin[1]) / resolution)),
                 int(math.ceil((bounds[2] + margin - origin[0]) / resolution)))
-    height, width = int(size[0]), int(size[1])
-    cells = np.zeros((height, width), dtype=bool)
-    ox, oy = float(origin[0]), float(origin[1])
+    geometry = GridGeometry(resolution, origin, size)
+    cells = np.zeros(geometry.shape, dtype=bool)
 
     def grid(xy: np.ndarray) -> np.ndarray:
-        """World coordinates -> grid coordinates (cells as unit squares, origin at 0)."""
-        return (xy - (ox, oy)) / resolution
+        """World coordinates (N, 2) -> continuous grid coordinates (N, 2) x, y [cells]."""
+        rows, cols = geometry.world_to_cell_continuous(xy[:, 0], xy[:, 1])
+        return np.column_stack([cols, rows])
 
     for shape in world.polygons:
         edges = np.vstack([loop_edges(loop) for loop in shape])
@@ -102,8 +108,9 @@ def rasterize(world: World, resolution: float, *, origin: tuple[float, float] | 
         g = np.hstack([grid(world.segments[:, :2]), grid(world.segments[:, 2:])])
         _mark_pieces(cells, g, both_sides_on_line=True)
     for cx, cy, r in world.circles:
-        _mark_disc(cells, (cx - ox) / resolution, (cy - oy) / resolution, r / resolution)
-    return OccupancyRaster(cells, (ox, oy), float(resolution))
+        row, col = geometry.world_to_cell_continuous(cx, cy)
+        _mark_disc(cells, col, row, r / resolution)
+    return OccupancyRaster(cells, geometry.origin[:2], geometry.resolution)
 
 
 def _fill_inside(cells: np.ndarray, edges: np.ndarray) -> None:

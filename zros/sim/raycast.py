@@ -13,6 +13,8 @@ import math
 
 import numpy as np
 
+from zros.rotations import angle_diff
+
 __all__ = ['cast_fan']
 
 _TWO_PI = 2.0 * math.pi
@@ -41,7 +43,7 @@ def cast_fan(origin: tuple[float, float], first_angle: float, increment: float, 
     cx, cy, r = circles[:, 0] - ox, circles[:, 1] - oy, circles[:, 2]
     # The angular interval each obstacle subtends, and whether it is within reach at all.
     angle_a, angle_b = np.arctan2(ay, ax), np.arctan2(by, bx)
-    sweep = (angle_b - angle_a + math.pi) % _TWO_PI - math.pi          # signed, in [-pi, pi)
+    sweep = angle_diff(angle_b, angle_a)                                # signed, in [-pi, pi)
     distance = np.hypot(cx, cy)
     half = np.arcsin(np.clip(r / np.maximum(distance, 1e-300), 0.0, 1.0))  # pi/2 from inside
     start = np.concatenate([np.where(sweep >= 0.0, angle_a, angle_b), np.arctan2(cy, cx) - half])

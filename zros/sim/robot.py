@@ -22,8 +22,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from zros.rotations import wrap_angle
+
 __all__ = ['RobotSpec', 'BURGER', 'WAFFLE', 'WAFFLE_PI', 'robot_spec', 'DiffDrive', 'WheelOdometry',
-           'clamp', 'wrap_angle']
+           'clamp']
 
 
 @dataclass(frozen=True)
@@ -155,8 +157,3 @@ class WheelOdometry:
         self.y += ds * math.sin(heading)
         self.yaw = wrap_angle(self.yaw + dyaw)
         self.linear, self.angular = ds / dt, dyaw / dt
-
-
-def wrap_angle(angle: float) -> float:
-    """Wrap to [-pi, pi)."""
-    return (angle + math.pi) % (2.0 * math.pi) - math.pi

@@ -30,8 +30,9 @@ import numpy as np
 import pymunk
 
 from zros.errors import ZrosError
+from zros.rotations import wrap_angle
 from zros.sim.raster import OccupancyRaster, rasterize
-from zros.sim.robot import BURGER, DiffDrive, RobotSpec, WheelOdometry, wrap_angle
+from zros.sim.robot import BURGER, DiffDrive, RobotSpec, WheelOdometry
 from zros.sim.sensors import GRAVITY, LDS_01, TURTLEBOT3_IMU, ImuReading, ImuSpec, LidarSpec, scan_ranges
 from zros.sim.world import Pose2D, World
 

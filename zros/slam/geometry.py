@@ -11,12 +11,9 @@ import math
 
 import numpy as np
 
-__all__ = ['wrap', 'compose', 'inverse', 'relative', 'transform_points', 'as_pose']
+from zros.rotations import wrap_angle
 
-
-def wrap(angle: np.ndarray | float) -> np.ndarray | float:
-    """Angles [rad] wrapped to [-pi, pi)."""
-    return (angle + math.pi) % (2.0 * math.pi) - math.pi
+__all__ = ['compose', 'inverse', 'relative', 'transform_points', 'as_pose']
 
 
 def as_pose(pose: object) -> np.ndarray:
@@ -33,14 +30,14 @@ def compose(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     c, s = np.cos(a[..., 2]), np.sin(a[..., 2])
     return np.stack([a[..., 0] + c * b[..., 0] - s * b[..., 1],
                      a[..., 1] + s * b[..., 0] + c * b[..., 1],
-                     wrap(a[..., 2] + b[..., 2])], axis=-1)
+                     wrap_angle(a[..., 2] + b[..., 2])], axis=-1)
 
 
 def inverse(a: np.ndarray) -> np.ndarray:
     """a⁻¹, so that compose(a, inverse(a)) is the identity."""
     a = np.asarray(a, dtype=np.float64)
     c, s = np.cos(a[..., 2]), np.sin(a[..., 2])
-    return np.stack([-c * a[..., 0] - s * a[..., 1], s * a[..., 0] - c * a[..., 1], wrap(-a[..., 2])], axis=-1)
+    return np.stack([-c * a[..., 0] - s * a[..., 1], s * a[..., 0] - c * a[..., 1], wrap_angle(-a[..., 2])], axis=-1)
 
 
 def relative(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -48,7 +45,7 @@ def relative(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
     c, s = np.cos(a[..., 2]), np.sin(a[..., 2])
     dx, dy = b[..., 0] - a[..., 0], b[..., 1] - a[..., 1]
-    return np.stack([c * dx + s * dy, -s * dx + c * dy, wrap(b[..., 2] - a[..., 2])], axis=-1)
+    return np.stack([c * dx + s * dy, -s * dx + c * dy, wrap_angle(b[..., 2] - a[..., 2])], axis=-1)
 
 
 def transform_points(pose: np.ndarray, points: np.ndarray) -> np.ndarray:

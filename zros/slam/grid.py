@@ -12,8 +12,9 @@ Ray casting, vectorised: every ray from the sensor to an endpoint is sampled eve
 scan are marked in two boolean windows the size of the scan's bounding box (free, hit), so
 duplicates cost nothing and the window is added to the grid in one operation.
 
-The grid grows as scans reach beyond it. Layout as nav_msgs/OccupancyGrid: `cells[row, col]`
-covers x in [ox + col * res, ox + (col + 1) * res), row 0 is the lowest y.
+The grid grows as scans reach beyond it, over a fixed lattice of cells anchored at the world's
+origin (`lattice`, a zros.grid_geometry.GridGeometry). Layout as nav_msgs/OccupancyGrid:
+`cells[row, col]` covers x in [ox + col * res, ox + (col + 1) * res), row 0 is the lowest y.
 """
 from __future__ import annotations
 
@@ -21,6 +22,7 @@ import math
 
 import numpy as np
 
+from zros.grid_geometry import GridGeometry
 from zros.map_io import OccupancyMap
 from zros.slam.geometry import transform_points
 from zros.slam.scan import ScanPoints
@@ -47,60 +49,73 @@ class LogOddsGrid:
     """
 
     def __init__(self, resolution: float, *, hit_probability: float = 0.7, miss_probability: float = 0.3) -> None:
-        if not resolution > 0:
-            raise ValueError(f'resolution must be > 0 [m], got {resolution}')
         if not (0.5 < hit_probability < 1.0 and 0.0 < miss_probability < 0.5):
             raise ValueError('need 0.5 < hit_probability < 1 and 0 < miss_probability < 0.5')
-        self.resolution = float(resolution)
+        #: The unbounded grid the cells belong to: cell (0, 0)'s corner at the world's origin,
+        #: so a cell keeps its index as the array grows.
+        self.lattice = GridGeometry(resolution)
         self.hit = log_odds(hit_probability)
         self.miss = log_odds(miss_probability)
         self.cells = np.zeros((0, 0), dtype=np.float32)
-        self.origin = (0, 0)            # grid cell (row, col) index of cells[0, 0] in the infinite grid
+        self.offset = (0, 0)            # lattice (row, col) of cells[0, 0]
+
+    @property
+    def resolution(self) -> float:
+        """Cell size [m]."""
+        return self.lattice.resolution
+
+    @property
+    def geometry(self) -> GridGeometry:
+        """Where `cells` lies in the world."""
+        return GridGeometry(self.resolution, self.lattice.cell_corner(*self.offset), self.cells.shape)
 
     # -- updating ---------------------------------------------------------------------------------
     def add_scan(self, pose: np.ndarray, scan: ScanPoints, *, weight: float = 1.0) -> None:
         """Add the evidence of one scan taken at `pose` (x, y, yaw of the base frame); with
         `weight=-1`, remove what the same call added."""
-        res = self.resolution
-        origin = transform_points(pose, scan.origin[None, :])[0] / res
-        ends_hit = transform_points(pose, scan.hits) / res
-        ends_miss = transform_points(pose, scan.misses) / res
+        origin = self._lattice_cells(transform_points(pose, scan.origin[None, :]))[0]
+        ends_hit = self._lattice_cells(transform_points(pose, scan.hits))
+        ends_miss = self._lattice_cells(transform_points(pose, scan.misses))
         ends = np.vstack([ends_hit, ends_miss])
         if len(ends) == 0:
             return
         samples = _ray_samples(origin, ends)
-        free_cells = np.floor(samples).astype(np.int64)            # (S, 2) x, y in cells
+        free_cells = np.floor(samples).astype(np.int64)            # (S, 2) row, col
         hit_cells = np.floor(ends_hit).astype(np.int64)
         every = np.vstack([free_cells, hit_cells, np.floor(origin)[None, :].astype(np.int64)])
-        lo, hi = every.min(axis=0), every.max(axis=0) + 1           # x, y cell bounds
+        lo, hi = every.min(axis=0), every.max(axis=0) + 1           # row, col bounds
         self._ensure(lo, hi)
-        shape = (int(hi[1] - lo[1]), int(hi[0] - lo[0]))
+        shape = (int(hi[0] - lo[0]), int(hi[1] - lo[1]))
         free = np.zeros(shape, dtype=bool)
-        free[free_cells[:, 1] - lo[1], free_cells[:, 0] - lo[0]] = True
+        free[free_cells[:, 0] - lo[0], free_cells[:, 1] - lo[1]] = True
         hit = np.zeros(shape, dtype=bool)
-        hit[hit_cells[:, 1] - lo[1], hit_cells[:, 0] - lo[0]] = True
+        hit[hit_cells[:, 0] - lo[0], hit_cells[:, 1] - lo[1]] = True
         update = np.where(hit, self.hit, np.where(free, self.miss, 0.0)).astype(np.float32)
-        r0, c0 = int(lo[1] - self.origin[0]), int(lo[0] - self.origin[1])
+        r0, c0 = int(lo[0] - self.offset[0]), int(lo[1] - self.offset[1])
         window = self.cells[r0:r0 + shape[0], c0:c0 + shape[1]]
         window += update * np.float32(weight)
 
+    def _lattice_cells(self, points: np.ndarray) -> np.ndarray:
+        """(N, 2) points x, y [m] -> (N, 2) continuous lattice cells (row, col)."""
+        return np.column_stack(self.lattice.world_to_cell_continuous(points[:, 0], points[:, 1]))
+
     def _ensure(self, lo: np.ndarray, hi: np.ndarray) -> None:
-        """Grow the array so that cells x in [lo[0], hi[0]), y in [lo[1], hi[1]) exist."""
-        row0, col0 = self.origin
+        """Grow the array so that lattice cells rows [lo[0], hi[0]), cols [lo[1], hi[1]) exist."""
+        row0, col0 = self.offset
         rows, cols = self.cells.shape
-        if rows and lo[1] >= row0 and hi[1] <= row0 + rows and lo[0] >= col0 and hi[0] <= col0 + cols:
+        if rows and lo[0] >= row0 and hi[0] <= row0 + rows and lo[1] >= col0 and hi[1] <= col0 + cols:
             return
         margin = int(math.ceil(_GROW_MARGIN / self.resolution))
         if rows:
-            new_row0, new_col0 = min(row0, int(lo[1]) - margin), min(col0, int(lo[0]) - margin)
-            new_row1 = max(row0 + rows, int(hi[1]) + margin)
-            new_col1 = max(col0 + cols, int(hi[0]) + margin)
+            new_row0, new_col0 = min(row0, int(lo[0]) - margin), min(col0, int(lo[1]) - margin)
+            new_row1 = max(row0 + rows, int(hi[0]) + margin)
+            new_col1 = max(col0 + cols, int(hi[1]) + margin)
         else:
-            new_row0, new_col0 = int(lo[1]) - margin, int(lo[0]) - margin
-            new_row1, new_col1 = int(hi[1]) + margin, int(hi[0]) + margin
+            new_row0, new_col0 = int(lo[0]) - margin, int(lo[1]) - margin
+            new_row1, new_col1 = int(hi[0]) + margin, int(hi[1]) + margin
         grown = np.zeros((new_row1 - new_row0, new_col1 - new_col0), dtype=np.float32)
         grown[row0 - new_row0:row0 - new_row0 + rows, col0 - new_col0:col0 - new_col0 + cols] = self.cells
-        self.cells, self.origin = grown, (new_row0, new_col0)
+        self.cells, self.offset = grown, (new_row0, new_col0)
 
     # -- reading ------------------------------------------------------------------------------------
     def observed_bounds(self) -> tuple[int, int, int, int] | None:
@@ -125,12 +140,12 @@ class LogOddsGrid:
         data = np.full(window.shape, -1, dtype=np.int8)
         data[window < log_odds(free_thresh)] = 0
         data[window > log_odds(occupied_thresh)] = 100
-        origin = ((self.origin[1] + c0) * self.resolution, (self.origin[0] + r0) * self.resolution, 0.0)
-        return OccupancyMap(data, self.resolution, origin)
+        x, y = self.lattice.cell_corner(self.offset[0] + r0, self.offset[1] + c0)
+        return OccupancyMap(data, self.resolution, (float(x), float(y), 0.0))
 
     def clear(self) -> None:
         self.cells = np.zeros((0, 0), dtype=np.float32)
-        self.origin = (0, 0)
+        self.offset = (0, 0)
 
 
 def _ray_samples(origin: np.ndarray, ends: np.ndarray) -> np.ndarray:

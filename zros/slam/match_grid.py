@@ -21,13 +21,15 @@ import numpy as np
 from scipy import ndimage
 from scipy.spatial import cKDTree
 
+from zros.grid_geometry import GridGeometry, GridGeometryMixin
+
 __all__ = ['MatchGrid']
 
 #: Reference points fitted together into one local line.
 _NEIGHBOURS = 8
 
 
-class MatchGrid:
+class MatchGrid(GridGeometryMixin):
     """Likelihood field of `points` and its max-pooled levels.
 
     Args:
@@ -43,13 +45,12 @@ class MatchGrid:
         points = np.asarray(points, dtype=np.float64)
         if points.ndim != 2 or len(points) == 0:
             raise ValueError('a MatchGrid needs at least one reference point')
-        self.resolution = float(resolution)
         lo = np.floor((points.min(axis=0) - margin) / resolution) * resolution
         hi = points.max(axis=0) + margin
-        self.origin = lo                                            # (x, y) of cell (0, 0)'s corner
         cols, rows = (np.ceil((hi - lo) / resolution)).astype(int) + 1
-        cells = np.floor((points - lo) / resolution).astype(np.int64)
-        flat = cells[:, 1] * cols + cells[:, 0]
+        #: Where level 0's cells lie; level k's cell (r, c) starts at level 0's (r, c).
+        self.geometry = GridGeometry(resolution, (lo[0], lo[1]), (rows, cols))
+        flat = self.geometry.index(*self.geometry.world_to_cell(points[:, 0], points[:, 1]))
         counts = np.bincount(flat, minlength=rows * cols).reshape(rows, cols)
         mean_x = np.bincount(flat, points[:, 0], minlength=rows * cols).reshape(rows, cols)
         mean_y = np.bincount(flat, points[:, 1], minlength=rows * cols).reshape(rows, cols)
@@ -58,10 +59,8 @@ class MatchGrid:
         mean_y[occupied] /= counts[occupied]
         nearest_row, nearest_col = ndimage.distance_transform_edt(~occupied, return_distances=False,
                                                                   return_indices=True)
-        centre_x = lo[0] + (np.arange(cols) + 0.5) * resolution
-        centre_y = lo[1] + (np.arange(rows) + 0.5) * resolution
-        distance = np.hypot(centre_x[None, :] - mean_x[nearest_row, nearest_col],
-                            centre_y[:, None] - mean_y[nearest_row, nearest_col])
+        centre_x, centre_y = self.geometry.centres()
+        distance = np.hypot(centre_x - mean_x[nearest_row, nearest_col], centre_y - mean_y[nearest_row, nearest_col])
         field = np.exp(-0.5 * (distance / sigma) ** 2).astype(np.float32)
         self.levels = [field]
         for k in range(1, levels):
@@ -88,33 +87,22 @@ class MatchGrid:
             self._surfaces = (tree, centroid, normal, np.clip(linear, 0.0, 1.0))
         return self._surfaces
 
-    @property
-    def shape(self) -> tuple[int, int]:
-        return self.levels[0].shape  # type: ignore[return-value]
-
-    def to_cells(self, points: np.ndarray) -> np.ndarray:
-        """(..., 2) points [m] -> continuous (col, row) cell coordinates."""
-        return (points - self.origin) / self.resolution
-
     def lookup(self, level: int, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
         """Level values at integer cells (any shape); 0 outside the grid."""
-        grid = self.levels[level]
-        height, width = grid.shape
-        inside = (rows >= 0) & (rows < height) & (cols >= 0) & (cols < width)
-        flat = np.where(inside, rows * width + cols, 0)
-        return np.where(inside, grid.ravel()[flat], np.float32(0.0))
+        inside = self.geometry.contains(rows, cols)
+        flat = np.where(inside, self.geometry.index(rows, cols), 0)
+        return np.where(inside, self.levels[level].ravel()[flat], np.float32(0.0))
 
     def interpolate(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Bilinear value of level 0 at (N, 2) points [m], and its gradient (N, 2) [1/m]."""
-        c = self.to_cells(points) - 0.5                            # cell centres at integers
-        c0 = np.floor(c).astype(np.int64)
-        f = c - c0
-        col, row = c0[:, 0], c0[:, 1]
+        rows, cols = self.geometry.world_to_cell_continuous(points[:, 0], points[:, 1])
+        rows, cols = rows - 0.5, cols - 0.5                         # cell centres at integers
+        row, col = np.floor(rows).astype(np.int64), np.floor(cols).astype(np.int64)
+        fy, fx = rows - row, cols - col
         v00 = self.lookup(0, row, col)
         v01 = self.lookup(0, row, col + 1)
         v10 = self.lookup(0, row + 1, col)
         v11 = self.lookup(0, row + 1, col + 1)
-        fx, fy = f[:, 0], f[:, 1]
         value = (v00 * (1 - fx) * (1 - fy) + v01 * fx * (1 - fy) + v10 * (1 - fx) * fy + v11 * fx * fy)
         dx = ((v01 - v00) * (1 - fy) + (v11 - v10) * fy) / self.resolution
         dy = ((v10 - v00) * (1 - fx) + (v11 - v01) * fx) / self.resolution

@@ -21,7 +21,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from zros.slam.geometry import transform_points, wrap
+from zros.rotations import wrap_angle
+from zros.slam.geometry import transform_points
 from zros.slam.match_grid import MatchGrid
 
 __all__ = ['SearchWindow', 'MatchResult', 'match_scan', 'correlative_search', 'refine', 'angular_step']
@@ -73,8 +74,7 @@ def correlative_search(grid: MatchGrid, points: np.ndarray, initial: np.ndarray,
     c, s = np.cos(thetas)[:, None], np.sin(thetas)[:, None]
     world_x = c * points[:, 0] - s * points[:, 1] + initial[0]
     world_y = s * points[:, 0] + c * points[:, 1] + initial[1]
-    cols = np.floor((world_x - grid.origin[0]) / res).astype(np.int64)       # (A, N)
-    rows = np.floor((world_y - grid.origin[1]) / res).astype(np.int64)
+    rows, cols = grid.geometry.world_to_cell(world_x, world_y)                # (A, N)
     radius = int(math.ceil(window.linear / res))
     top = min(len(grid.levels) - 1, max(0, math.ceil(math.log2(2 * radius + 1))))
     starts = np.arange(-radius, radius + 1, 1 << top)
@@ -122,7 +122,7 @@ def correlative_search(grid: MatchGrid, points: np.ndarray, initial: np.ndarray,
     if len(a):
         j = int(np.argmax(scores))
         best, best_score = (int(a[j]), int(ox[j]), int(oy[j])), float(scores[j])
-    pose = np.array([initial[0] + best[1] * res, initial[1] + best[2] * res, wrap(thetas[best[0]])])
+    pose = np.array([initial[0] + best[1] * res, initial[1] + best[2] * res, wrap_angle(thetas[best[0]])])
     return pose, best_score
 
 
@@ -152,7 +152,7 @@ def refine(grid: MatchGrid, points: np.ndarray, pose: np.ndarray, *, iterations:
             break
         delta = -np.linalg.solve(hessian, (jacobian * weight[:, None]).T @ residual)
         current = current + delta
-        current[2] = wrap(current[2])
+        current[2] = wrap_angle(current[2])
         if abs(delta[0]) + abs(delta[1]) < 1e-5 and abs(delta[2]) < 1e-5:
             break
     if math.hypot(current[0] - start[0], current[1] - start[1]) > 2.0 * grid.resolution:

@@ -20,7 +20,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import spsolve
 
-from zros.slam.geometry import relative, wrap
+from zros.rotations import wrap_angle
+from zros.slam.geometry import relative
 
 __all__ = ['PoseGraph', 'Edge', 'OptimizationResult']
 
@@ -84,7 +85,7 @@ class PoseGraph:
         poses = self._poses if poses is None else poses
         i, j, z, _, _ = self._arrays()
         error = relative(poses[i], poses[j]) - z
-        error[:, 2] = wrap(error[:, 2])
+        error[:, 2] = wrap_angle(error[:, 2])
         return error
 
     def _arrays(self) -> tuple[np.ndarray, ...]:
@@ -128,7 +129,7 @@ class PoseGraph:
             delta = np.zeros(3 * n)
             delta[free] = -spsolve(h.tocsc(), gradient[free])
             trial = poses + delta.reshape(n, 3)
-            trial[:, 2] = wrap(trial[:, 2])
+            trial[:, 2] = wrap_angle(trial[:, 2])
             trial_weight, trial_cost = self._weights(self.errors(trial), info, robust)
             if trial_cost <= cost:
                 poses, cost, weight = trial, trial_cost, trial_weight

@@ -7,10 +7,11 @@ point).
 """
 from __future__ import annotations
 
-import math
 from typing import Any, NamedTuple
 
 import numpy as np
+
+from zros.rotations import quaternion_from_yaw, yaw_from_quaternion
 
 __all__ = ['Transform', 'IDENTITY', 'quat_multiply', 'quat_rotate', 'quat_from_yaw', 'yaw_of',
            'wxyz', 'pose_transform', 'transform_of_msg']
@@ -36,16 +37,13 @@ def quat_rotate(q: np.ndarray, points: np.ndarray) -> np.ndarray:
 
 
 def quat_from_yaw(yaw: float | np.ndarray) -> np.ndarray:
-    """xyzw quaternion(s) of a rotation about +z by `yaw` [rad]."""
-    half = np.asarray(yaw, dtype=np.float64) / 2.0
-    zeros = np.zeros_like(half)
-    return np.stack([zeros, zeros, np.sin(half), np.cos(half)], axis=-1)
+    """xyzw quaternion(s) of a rotation about +z by `yaw` [rad]: (4,) or (..., 4)."""
+    return np.stack(quaternion_from_yaw(np.asarray(yaw, dtype=np.float64)), axis=-1)
 
 
 def yaw_of(q: np.ndarray) -> float:
     """Heading [rad, -pi..pi, counter-clockwise from +x] of an xyzw quaternion."""
-    x, y, z, w = (float(v) for v in q)
-    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+    return yaw_from_quaternion(*(float(v) for v in q))
 
 
 def wxyz(q: np.ndarray) -> np.ndarray:
