@@ -20,6 +20,13 @@ from typing import Any, Callable, Iterator
 
 import pytest
 
+try:  # property-based tests: no per-example deadline (two cores shared with process tests would miss it)
+    from hypothesis import settings as _hypothesis_settings
+    _hypothesis_settings.register_profile('zros', deadline=None, print_blob=True)
+    _hypothesis_settings.load_profile('zros')
+except ImportError:
+    pass
+
 from zros.testing import DomainLock, ProcessGroup, spin_until, wait_until
 from zros.testing.domains import ALL_SETTINGS, HUB_BASE_PORT, isolated_environment
 from zros.testing.processes import kill_group
