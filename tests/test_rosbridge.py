@@ -17,6 +17,7 @@ from conftest import REPO, assert_clean_failure, run_cli, wait_until
 
 PORT_LINE = re.compile(r'Rosbridge WebSocket server started on port (\d+)')
 MAX_MESSAGE_SIZE = 200_000
+SEND_BUFFER_LIMIT = 1_000_000
 
 
 @pytest.fixture(autouse=True)
@@ -25,14 +26,14 @@ def _isolated(module_domain: int) -> None:
 
 
 @pytest.fixture(scope='module')
-def bridge_url(module_spawn: Any) -> str:
+def bridge(module_spawn: Any) -> tuple[str, Any]:
     """`zros launch rosbridge_server rosbridge_websocket_launch.xml` on a free port, with the demo
     talker and add_two_ints_server beside it."""
     talker = module_spawn.node('demo_nodes_py', 'talker')
     module_spawn.node('demo_nodes_py', 'add_two_ints_server')
     launch = module_spawn.command(sys.executable, '-m', 'zros', 'launch', 'rosbridge_server', 'rosbridge_websocket_launch.xml',
                                   'port:=0', 'address:=127.0.0.1', f'max_message_size:={MAX_MESSAGE_SIZE}',
-                                  name='rosbridge')
+                                  f'send_buffer_limit:={SEND_BUFFER_LIMIT}', name='rosbridge')
     output = launch.wait_for_output('Rosbridge WebSocket server started on port', timeout=30)
     talker.wait_for_output("Publishing: 'Hello World: 1'", timeout=15)
     url = f'ws://127.0.0.1:{PORT_LINE.search(output).group(1)}'
@@ -41,7 +42,12 @@ def bridge_url(module_spawn: Any) -> str:
         wait_until(lambda: _answers(probe, '/rosapi/topics'), 30, message='/rosapi/topics through the bridge')
     finally:
         probe.close()
-    return url
+    return url, launch
+
+
+@pytest.fixture(scope='module')
+def bridge_url(bridge: tuple[str, Any]) -> str:
+    return bridge[0]
 
 
 def _answers(client: 'Client', service: str) -> bool:
@@ -76,6 +82,35 @@ class Client:
 
     def close(self) -> None:
         self.ws.close()
+
+
+class StalledClient:
+    """A WebSocket client that subscribes and then never reads: a raw socket with a small
+    receive buffer (websockets' own clients read ahead into their queues)."""
+
+    def __init__(self, url: str, topic: str) -> None:
+        import base64
+        import os
+        import socket
+        self.sock = socket.socket()
+        self.sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+        self.sock.settimeout(10)
+        self.sock.connect(('127.0.0.1', int(url.rsplit(':', 1)[1])))
+        key = base64.b64encode(os.urandom(16)).decode()
+        self.sock.sendall(f'GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n'
+                          f'Sec-WebSocket-Key: {key}\r\nSec-WebSocket-Version: 13\r\n\r\n'.encode())
+        reply = b''
+        while b'\r\n\r\n' not in reply:
+            reply += self.sock.recv(1)
+        assert reply.startswith(b'HTTP/1.1 101'), reply
+        payload = json.dumps({'op': 'subscribe', 'topic': topic, 'type': 'std_msgs/msg/String'}).encode()
+        mask = os.urandom(4)
+        assert len(payload) < 126
+        self.sock.sendall(bytes([0x81, 0x80 | len(payload)]) + mask
+                          + bytes(b ^ mask[i % 4] for i, b in enumerate(payload)))
+
+    def close(self) -> None:
+        self.sock.close()
 
 
 def _decode(frame: str | bytes) -> dict:
@@ -224,6 +259,28 @@ def test_a_huge_message_is_refused_and_other_clients_keep_their_data(client: Cli
         assert client.wait_for(_op('service_response', id='ok'))['values'] == {'sum': 7}
     finally:
         other.close()
+
+
+def test_a_client_that_stops_reading_loses_its_oldest_frames_not_the_bridge(client: Client,
+                                                                            bridge: tuple[str, Any]) -> None:
+    url, launch = bridge
+    stalled = StalledClient(url, '/web_flood')
+    try:
+        wait_until(lambda: 'Subscription count: 1' in run_cli('topic', 'info', '/web_flood').stdout, 15,
+                   message="the stalled client's subscription")
+        client.send(op='subscribe', topic='/web_flood', type='std_msgs/msg/String')
+        client.send(op='advertise', topic='/web_flood', type='std_msgs/msg/String')
+        flood = 'x' * 100_000
+        for i in range(100):   # 10 MB for a client that reads none of it, ten times its send buffer
+            client.send(op='publish', topic='/web_flood', msg={'data': f'{i:03d}{flood}'})
+        last = client.wait_for(lambda m: m.get('op') == 'publish' and m['msg']['data'].startswith('099'), timeout=30)
+        assert len(last['msg']['data']) == 100_003
+        client.send(op='call_service', id='ok', service='/add_two_ints', args={'a': 5, 'b': 5})
+        assert client.wait_for(_op('service_response', id='ok'))['values'] == {'sum': 10}
+    finally:
+        stalled.close()
+    wait_until(lambda: re.search(r'client .*: \d+ frames were dropped \(send buffer full\)', launch.output()), 15,
+               message='the count of dropped frames in the bridge log')
 
 
 def test_port_in_use_is_a_one_line_error(bridge_url: str) -> None:

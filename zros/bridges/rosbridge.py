@@ -32,6 +32,7 @@ __all__ = ['Rosbridge', 'ClientSession', 'ProtocolError', 'encode_frame', 'STATU
 STATUS_LEVELS = ('none', 'error', 'warning', 'info')
 #: What a send function gets: (frame, queue key, queue length); a key's frames beyond the length drop oldest.
 Send = Callable[[Any, 'str | None', int], None]
+_SUBSCRIPTION_DEPTH = 100
 
 
 class ProtocolError(ZrosError):
@@ -264,11 +265,13 @@ class ClientSession:
         return types[0]
 
     def _subscription_qos(self, topic: str) -> Any:
-        """Reliable depth 10, transient local when every publisher offers it (a latched /map)."""
+        """Reliable, transient local when every publisher offers it (a latched /map). Deep
+        enough for a burst: what a slow client cannot take is dropped by its send queue, counted."""
         from zros.qos import DurabilityPolicy, QoSProfile
         offers = [QoSProfile.from_token(e.qos) for e in self.bridge.node.get_publishers_info_by_topic(topic) if e.qos]
         latched = bool(offers) and all(q.durability == DurabilityPolicy.TRANSIENT_LOCAL for q in offers)
-        return QoSProfile(depth=10, durability=DurabilityPolicy.TRANSIENT_LOCAL if latched else DurabilityPolicy.VOLATILE)
+        return QoSProfile(depth=_SUBSCRIPTION_DEPTH,
+                          durability=DurabilityPolicy.TRANSIENT_LOCAL if latched else DurabilityPolicy.VOLATILE)
 
     def _on_message(self, topic: str, msg: Any) -> None:  # executor thread
         with self._lock:
