@@ -7,13 +7,16 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import re
 import sys
+import threading
+from pathlib import Path
 from typing import Any
 
 import pytest
 
-from conftest import run_cli, wait_until
+from conftest import REPO, run_cli, wait_until
 from npm_roslib import roslib_modules, run_node
 
 PORT_LINE = re.compile(r'Rosbridge WebSocket server started on port (\d+)')
@@ -114,6 +117,53 @@ def test_roslib_navigate_to_pose_goal_succeeds(bridge_url: str) -> None:
     outcome = _client(NAVIGATE, bridge_url, timeout=240)
     assert outcome['status'] == 'succeeded', outcome
     assert outcome['feedback'] > 0 and 'result' in outcome
+
+
+@pytest.fixture
+def example_page(tmp_path: Path) -> str:
+    """examples/roslib_turtlebot.html served on loopback beside the npm install's node_modules."""
+    from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
+    (tmp_path / 'roslib_turtlebot.html').symlink_to(REPO / 'examples' / 'roslib_turtlebot.html')
+    (tmp_path / 'node_modules').symlink_to(roslib_modules())
+
+    class Handler(SimpleHTTPRequestHandler):
+        extensions_map = {**SimpleHTTPRequestHandler.extensions_map, '.mjs': 'text/javascript',
+                          '.js': 'text/javascript'}
+
+        def __init__(self, *args: Any, **kwargs: Any) -> None:
+            super().__init__(*args, directory=str(tmp_path), **kwargs)
+
+        def log_message(self, *args: Any) -> None:
+            pass
+    server = ThreadingHTTPServer(('127.0.0.1', 0), Handler)
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    yield f'http://127.0.0.1:{server.server_address[1]}/roslib_turtlebot.html'
+    server.shutdown()
+    server.server_close()
+
+
+def test_example_page_shows_the_pose_and_its_button_reaches_a_goal(bridge_url: str, example_page: str,
+                                                                   tmp_path: Path) -> None:
+    """The example page in headless Chromium; ZROS_DOC_IMAGES=1 also writes docs/images/roslib_page.png."""
+    from zros.view.headless import Browser, find_chromium
+    if find_chromium() is None:
+        pytest.skip('chromium is needed for the example page (apt-get install chromium)')
+    with Browser(width=760, height=420) as browser:
+        browser.open(f'{example_page}?url={bridge_url}', wait_for='document.getElementById("source")')
+        browser.wait_for('document.getElementById("source").textContent === "/amcl_pose"', timeout=30)
+        browser.evaluate('document.getElementById("goal-x").value = "-2.0";'
+                         'document.getElementById("goal-y").value = "-0.5"')
+        browser.click_text('Send navigate_to_pose goal')
+        browser.wait_for('document.getElementById("goal-status").textContent.includes("distance remaining")', 60)
+        browser.wait_for('parseFloat(document.getElementById("x").textContent) < -0.8', 120)   # half way
+        if os.environ.get('ZROS_DOC_IMAGES'):
+            browser.save_screenshot(REPO / 'docs' / 'images' / 'roslib_page.png')
+        browser.wait_for('document.getElementById("goal-status").textContent.includes("succeeded")', 180)
+        browser.save_screenshot(tmp_path / 'done.png')
+        x = float(browser.evaluate('document.getElementById("x").textContent'))
+        y = float(browser.evaluate('document.getElementById("y").textContent'))
+    assert math.hypot(x + 2.0, y + 0.5) < 0.5, (x, y)
 
 
 def test_roslib_cmd_vel_moves_the_robot(bridge_url: str) -> None:
