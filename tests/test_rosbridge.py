@@ -288,3 +288,9 @@ def test_port_in_use_is_a_one_line_error(bridge_url: str) -> None:
     result = run_cli('run', 'rosbridge_server', 'rosbridge_websocket', '--ros-args', '-r', '__node:=second_bridge', '-p', f'port:={port}',
                      '-p', 'address:=127.0.0.1', timeout=30)
     assert_clean_failure(result, f'cannot listen on 127.0.0.1:{port}')
+
+
+def test_a_port_out_of_range_is_a_one_line_error() -> None:
+    result = run_cli('run', 'rosbridge_server', 'rosbridge_websocket', '--ros-args', '-r', '__node:=third_bridge',
+                     '-p', 'port:=99999', timeout=30)
+    assert_clean_failure(result, 'port 99999 is not a TCP port')

@@ -27,6 +27,10 @@ def main(args: list[str] | None = None) -> int:
             address = node.declare_parameter('address', '').value
             max_message_size = node.declare_parameter('max_message_size', 10_000_000).value
             send_buffer_limit = node.declare_parameter('send_buffer_limit', DEFAULT_SEND_BUFFER_LIMIT).value
+            if not 0 <= port <= 65535:
+                print(f'rosbridge_websocket: port {port} is not a TCP port (0-65535; 0 takes a free one)',
+                      file=sys.stderr)
+                return 1
             server = WebSocketServer(Rosbridge(node, max_message_size=max_message_size), address=address,
                                      port=port, send_buffer_limit=send_buffer_limit)
             try:
