@@ -25,7 +25,7 @@ PORT_LINE = re.compile(r'Rosbridge WebSocket server started on port (\d+)')
 CHATTER = '''
 import { Ros, Topic } from 'ROSLIB';
 const ros = new Ros({ url: process.argv[2] });
-const chatter = new Topic({ ros, name: '/chatter', messageType: 'std_msgs/msg/String' });
+const chatter = new Topic({ ros, name: '/chatter', messageType: 'std_msgs/msg/String', compression: process.argv[3] });
 const seen = [];
 chatter.subscribe((message) => {
   seen.push(message.data);
@@ -96,14 +96,15 @@ def bridge_url(module_spawn: Any) -> str:
     return f'ws://127.0.0.1:{PORT_LINE.search(output).group(1)}'
 
 
-def _client(script: str, url: str, timeout: float = 60.0) -> Any:
-    result = run_node(script, url, timeout=timeout)
+def _client(script: str, url: str, *args: str, timeout: float = 60.0) -> Any:
+    result = run_node(script, url, *args, timeout=timeout)
     assert result.returncode == 0 and result.stdout.strip(), result
     return json.loads(result.stdout.strip().splitlines()[-1])
 
 
-def test_roslib_subscribes_chatter(bridge_url: str) -> None:
-    seen = _client(CHATTER, bridge_url)
+@pytest.mark.parametrize('compression', ['none', 'cbor'])
+def test_roslib_subscribes_chatter(bridge_url: str, compression: str) -> None:
+    seen = _client(CHATTER, bridge_url, compression)
     assert len(seen) == 2 and all(text.startswith('Hello World: ') for text in seen)
 
 
