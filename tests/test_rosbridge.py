@@ -148,6 +148,27 @@ def test_subscribe_chatter_then_unsubscribe(client: Client) -> None:
         client.wait_for(_op('publish', topic='/chatter'), timeout=2.5)
 
 
+def test_subscriptions_match_best_effort_and_latched_publishers(client: Client, module_spawn: Any) -> None:
+    """A sensor's best-effort topic and a latched one (published once, before the client came)."""
+    module_spawn.command(sys.executable, '-m', 'zros', 'topic', 'pub', '-r', '5', '--qos-reliability', 'best_effort',
+                         '/be_words', 'std_msgs/msg/String', '{data: best effort}', name='best_effort')
+    latched = module_spawn.command(sys.executable, '-m', 'zros', 'topic', 'pub', '-t', '1', '-w', '0', '--keep-alive', '60',
+                                   '--qos-durability', 'transient_local', '/latched_words', 'std_msgs/msg/String',
+                                   '{data: latched}', name='latched')
+    wait_until(lambda: 'Publisher count: 1' in run_cli('topic', 'info', '/be_words').stdout, 15, message='/be_words')
+    latched.wait_for_output('publishing #1', timeout=15)
+    client.send(op='subscribe', topic='/be_words')
+    client.send(op='subscribe', topic='/latched_words')
+    seen: dict[str, dict] = {}
+
+    def both(message: dict) -> bool:
+        if message.get('op') == 'publish':
+            seen[message['topic']] = message['msg']
+        return len(seen) == 2
+    client.wait_for(both)
+    assert seen == {'/be_words': {'data': 'best effort'}, '/latched_words': {'data': 'latched'}}
+
+
 def test_subscribe_with_cbor_gets_binary_frames(client: Client) -> None:
     client.send(op='subscribe', topic='/chatter', compression='cbor')   # type inferred from the graph
     frame = None

@@ -265,12 +265,16 @@ class ClientSession:
         return types[0]
 
     def _subscription_qos(self, topic: str) -> Any:
-        """Reliable, transient local when every publisher offers it (a latched /map). Deep
-        enough for a burst: what a slow client cannot take is dropped by its send queue, counted."""
-        from zros.qos import DurabilityPolicy, QoSProfile
+        """What the publishers offer, as `ros2 topic echo` adapts: reliable and transient local
+        (a latched /map) when every publisher offers it, else best effort (a sensor's /scan)
+        and volatile. Deep enough for a burst: what a slow client cannot take is dropped by its
+        send queue, counted."""
+        from zros.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
         offers = [QoSProfile.from_token(e.qos) for e in self.bridge.node.get_publishers_info_by_topic(topic) if e.qos]
+        reliable = not offers or all(q.reliability == ReliabilityPolicy.RELIABLE for q in offers)
         latched = bool(offers) and all(q.durability == DurabilityPolicy.TRANSIENT_LOCAL for q in offers)
         return QoSProfile(depth=_SUBSCRIPTION_DEPTH,
+                          reliability=ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT,
                           durability=DurabilityPolicy.TRANSIENT_LOCAL if latched else DurabilityPolicy.VOLATILE)
 
     def _on_message(self, topic: str, msg: Any) -> None:  # executor thread
