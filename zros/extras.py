@@ -19,7 +19,8 @@ EXTRA_OF = {
     'collada': 'sim',
     'xacro': 'sim',           # robot descriptions
     'viser': 'view',
-    'websockets': 'view',
+    'websockets': 'view',     # the view's server; rosbridge's too (its 'bridge' extra has it)
+    'cbor2': 'bridge',        # rosbridge's CBOR frames
     'mcap': 'bag',
     'mcap_ros2': 'bag',
     'rosbags': 'bag',
