@@ -1,15 +1,16 @@
 """Upstream test suites, run unmodified: how many of the tests that rclpy, launch, launch_ros,
 tf2_ros_py and nav2_simple_commander ship pass under `zros python -m pytest`.
 
-    python benchmarks/upstream_tests.py --interfaces IFACES SUITE=DIR [SUITE=DIR ...] [--json out.json]
+    python benchmarks/upstream_tests.py [--interfaces IFACES] SUITE=DIR [SUITE=DIR ...] [--json out.json]
 
 Each DIR is a suite's test folder as fetched at its jazzy commit (nothing is fetched here and
 nothing is copied into zros), for example
 `rclpy=rclpy/rclpy/test launch=launch/launch/test launch_xml=launch/launch_xml/test
 launch_yaml=launch/launch_yaml/test launch_ros=launch_ros/test_launch_ros/test
 tf2_ros_py=geometry2/tf2_ros_py/test nav2_simple_commander=nav2/nav2_simple_commander/test`.
-IFACES is a folder holding ROS interface packages the suites import (rcl_interfaces's
-`test_msgs`); it goes on ZROS_INTERFACE_PATH. Each suite's folder goes on PYTHONPATH, as colcon's
+IFACES is a folder holding ROS interface packages the suites import (by default
+benchmarks/upstream_interfaces: `test_msgs`, in rcl_interfaces's shape); it goes on
+ZROS_INTERFACE_PATH. Each suite's folder goes on PYTHONPATH, as colcon's
 pytest has it (launch's tests import their `temporary_environment` helper so), beside an empty
 `test_rclpy` module: rclpy's test package imports that compiled test extension, which tests
 rclpy's C internals and has no part in the API.
@@ -122,7 +123,8 @@ def run_suite(name: str, folder: Path, env: dict[str, str], work: Path) -> dict:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     parser.add_argument('suites', nargs='+', metavar='SUITE=DIR')
-    parser.add_argument('--interfaces', type=Path, help='folder of interface packages (test_msgs)')
+    parser.add_argument('--interfaces', type=Path, default=Path(__file__).parent / 'upstream_interfaces',
+                        help='folder of interface packages (test_msgs); default: benchmarks/upstream_interfaces')
     parser.add_argument('--json', type=Path, help='write the results here')
     args = parser.parse_args(argv)
     env = dict(os.environ)
