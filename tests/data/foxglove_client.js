@@ -5,10 +5,12 @@
 //   node foxglove_client.js '<plan JSON>'
 //
 // plan: {url, subscribe: [topics], count, timeoutMs, malformed, publish: {topic, schemaName, message,
-// times}, call: {service, request}}. Prints one JSON line per event: {"event": "message", "topic",
+// times}, call: {service, request}, stamps}. Prints one JSON line per event: {"event": "message", "topic",
 // "schemaName", "encoding", "message"}, {"event": "status", ...}, {"event": "response", ...};
 // exits 0 once `count` messages of every subscribed topic (and the call's response) arrived, 2 on
-// timeout.
+// timeout. With `stamps` (benchmarks/foxglove_bridge.py) it prints, for every message until
+// timeoutMs, {"event": "stamp", "topic", "recvNs", "stampNs"} (receive time, header.stamp; wall
+// clock) and exits 0 at timeoutMs.
 const { FoxgloveClient } = require("@foxglove/ws-protocol");
 const { parse } = require("@foxglove/rosmsg");
 const { MessageReader, MessageWriter } = require("@foxglove/rosmsg2-serialization");
@@ -37,7 +39,7 @@ function finishIfDone() {
 }
 setTimeout(() => {
   emit({ event: "timeout", received: Object.fromEntries(received) });
-  process.exit(2);
+  process.exit(plan.stamps ? 0 : 2);
 }, plan.timeoutMs ?? 20000);
 
 // The SDK server speaks `foxglove.sdk.v1` (the same protocol renamed); offering both, as Foxglove and
@@ -97,6 +99,12 @@ client.on("message", ({ subscriptionId, data }) => {
   if (!entry) return;
   const message = entry.reader.readMessage(new Uint8Array(data.buffer, data.byteOffset, data.byteLength));
   received.set(entry.topic, (received.get(entry.topic) ?? 0) + 1);
+  if (plan.stamps) {
+    const recvNs = Math.round((performance.timeOrigin + performance.now()) * 1e6);
+    const { sec, nanosec } = message.header.stamp;
+    emit({ event: "stamp", topic: entry.topic, recvNs, stampNs: sec * 1e9 + nanosec });
+    return;
+  }
   if (received.get(entry.topic) <= count) {
     emit({ event: "message", topic: entry.topic, schemaName: entry.schemaName, encoding: entry.encoding, message });
   }
