@@ -140,3 +140,45 @@ def test_scan_map_and_tf_of_the_turtlebot3_world_are_decoded(spawn, run_client, 
     assert tf['schemaName'] == 'tf2_msgs/msg/TFMessage'
     assert {t['header']['frame_id'] for t in tf['message']['transforms']} <= {'odom', 'base_footprint', 'base_link'}
     assert tf['message']['transforms'], tf
+
+
+def test_parameters_are_read_and_set_as_node_dot_name(spawn, run_client, zros_cli):
+    spawn.node('demo_nodes', 'talker')
+    bridge, url = start_bridge(spawn)
+    plan = {'url': url, 'getParameters': ['/talker.use_sim_time'], 'until': ['parameters']}
+    code, events = run_client(plan)
+    assert code == 0, (events, bridge.output())
+    got = next(e for e in events if e['event'] == 'parameters')
+    assert got['parameters'] == [{'name': '/talker.use_sim_time', 'value': False}]
+    plan = {'url': url, 'setParameters': [{'name': '/talker.use_sim_time', 'value': True}], 'until': ['parameters']}
+    code, events = run_client(plan)
+    assert code == 0, (events, bridge.output())
+    result = zros_cli('param', 'get', '/talker', 'use_sim_time')
+    assert result.returncode == 0 and 'True' in result.stdout, result
+
+
+def test_channels_and_the_connection_graph_follow_the_zros_graph(spawn, run_client, probe):
+    import threading
+    talker = spawn.node('demo_nodes', 'talker')
+    bridge, url = start_bridge(spawn)
+    plan = {'url': url, 'subscribe': ['/chatter'], 'graph': True, 'until': ['graph'], 'count': 1}
+    code, events = run_client(plan)
+    assert code == 0, (events, bridge.output())
+    published = {t['name']: t['publisherIds'] for e in events if e['event'] == 'graph'
+                 for t in e['update']['publishedTopics']}
+    assert '/talker' in published.get('/chatter', []), published
+    # The client has gone: its subscription's zros subscription goes with it.
+    wait_until(lambda: probe.count_subscribers('/chatter') == 0, 15, message='the bridge to unsubscribe /chatter')
+    # A client listens to /chatter; when the talker goes, the client is told the channel is gone.
+    outcome: list = []
+    client = threading.Thread(target=lambda: outcome.append(run_client(
+        {'url': url, 'subscribe': ['/chatter'], 'count': 0, 'until': ['unadvertise']})))
+    client.start()
+    wait_until(lambda: probe.count_subscribers('/chatter') >= 1, 15, message='the bridge subscribing /chatter')
+    talker.kill()
+    client.join(timeout=60)
+    code, events = outcome[0]
+    assert code == 0, '\n'.join(map(str, events)) + bridge.output()
+    advertised = {c['id']: c['topic'] for e in events if e['event'] == 'advertise' for c in e['channels']}
+    removed = [advertised.get(i) for e in events if e['event'] == 'unadvertise' for i in e['channelIds']]
+    assert '/chatter' in removed, events

@@ -5,10 +5,11 @@
 //   node foxglove_client.js '<plan JSON>'
 //
 // plan: {url, subscribe: [topics], count, timeoutMs, malformed, publish: {topic, schemaName, message,
-// times}, call: {service, request}, stamps}. Prints one JSON line per event: {"event": "message", "topic",
+// times}, call: {service, request}, getParameters: [names], setParameters: [{name, value}], graph,
+// until: [event names], stamps}. Prints one JSON line per event: {"event": "message", "topic",
 // "schemaName", "encoding", "message"}, {"event": "status", ...}, {"event": "response", ...};
-// exits 0 once `count` messages of every subscribed topic (and the call's response) arrived, 2 on
-// timeout. With `stamps` (benchmarks/foxglove_bridge.py) it prints, for every message until
+// exits 0 once `count` messages of every subscribed topic, the call's response and one event of
+// each name in `until` ("advertise", "unadvertise", "parameters", "graph") arrived, 2 on timeout. With `stamps` (benchmarks/foxglove_bridge.py) it prints, for every message until
 // timeoutMs, {"event": "stamp", "topic", "recvNs", "stampNs"} (receive time, header.stamp; wall
 // clock) and exits 0 at timeoutMs.
 const { FoxgloveClient } = require("@foxglove/ws-protocol");
@@ -27,12 +28,16 @@ function summary(key, value) {
   if (ArrayBuffer.isView(value)) return { length: value.length, head: Array.from(value.slice(0, 8)) };
   return value;
 }
+const seen = new Set();
 function emit(event) {
   process.stdout.write(JSON.stringify(event, summary) + "\n");
+  seen.add(event.event);
+  if (event.event !== "message" && event.event !== "response") finishIfDone();
 }
 function finishIfDone() {
   const topicsDone = [...wanted].every((t) => (received.get(t) ?? 0) >= count);
-  if (topicsDone && callDone) {
+  const waits = !plan.stamps && (wanted.size > 0 || plan.call || (plan.until ?? []).length > 0); // else: until timeoutMs
+  if (waits && topicsDone && callDone && (plan.until ?? []).every((name) => seen.has(name))) {
     client.close();
     process.exit(0);
   }
@@ -58,6 +63,9 @@ client.on("open", () => {
     ws.send(Buffer.from([0xff, 0x00, 0x01]));
     ws.send(JSON.stringify({ op: "subscribe", subscriptions: "not a list" }));
   }
+  if (plan.getParameters) client.getParameters(plan.getParameters, "get");
+  if (plan.setParameters) client.setParameters(plan.setParameters, "set");
+  if (plan.graph) client.subscribeConnectionGraph();
   if (plan.publish) {
     const p = plan.publish;
     const channelId = client.advertise({ topic: p.topic, encoding: "cdr", schemaName: p.schemaName });
@@ -69,7 +77,11 @@ client.on("open", () => {
     }, 100);
   }
 });
+client.on("parameterValues", (values) => emit({ event: "parameters", id: values.id, parameters: values.parameters }));
+client.on("connectionGraphUpdate", (update) => emit({ event: "graph", update }));
+client.on("unadvertise", (ids) => emit({ event: "unadvertise", channelIds: ids }));
 client.on("advertise", (channels) => {
+  emit({ event: "advertise", channels: channels.map((c) => ({ id: c.id, topic: c.topic })) });
   for (const channel of channels) {
     if (!wanted.has(channel.topic) || subscribed.has(channel.topic)) continue;
     subscribed.add(channel.topic);
