@@ -154,15 +154,30 @@ class FoxgloveBridge:
         return self._server.port
 
     def close(self) -> None:
-        """Stop the server and destroy the bridge's zros entities. Idempotent."""
+        """Stop the server, then destroy the bridge's zros entities (on the executor's thread, or
+        after spinning has stopped). Idempotent."""
         if self._server is None:
             return
         self._node.context.graph.remove_listener(self._on_graph_change)
         self._server.stop()
         self._server = None
-        for topic in self._topics.values():
-            topic.channel.close()
-        self._topics.clear()
+        for name in list(self._topics):
+            self._drop_topic(name)
+        node = self._node
+        for client in self._services.values():
+            node.destroy_client(client)
+        for _, _, publisher in self._client_channels.values():
+            node.destroy_publisher(publisher)
+        for client in self._param_clients.values():
+            client.destroy()
+        for subscription in (self._clock_sub, self._events_sub):
+            if subscription is not None:
+                node.destroy_subscription(subscription)
+        node.destroy_timer(self._timer)
+        node.destroy_guard_condition(self._wake)
+        self._services.clear()
+        self._client_channels.clear()
+        self._param_clients.clear()
 
     # -- executor side ------------------------------------------------------------------------
     def _on_graph_change(self) -> None:
@@ -415,7 +430,8 @@ class FoxgloveBridge:
             except (ValueError, TypeError) as exc:
                 self._status(f"parameter '{p.name}' not set: {exc}")
         for node, params in by_node.items():
-            if _answer(self._param_client(node).set_parameters(params)) is None:
+            client = self._param_client(node)
+            if client is None or _answer(client.set_parameters(params)) is None:
                 self._status(f"parameters of '{node}' not set: no answer within {_CALL_TIMEOUT_S:.0f} s")
         return self._get_parameters([p.name for p in parameters])
 
@@ -435,19 +451,19 @@ class FoxgloveBridge:
 
     # -- parameters ---------------------------------------------------------------------------
     def _param_client(self, node_fqn: str) -> Any:
-        """A parameter client of `node_fqn` (made once; AsyncParameterClient is thread-safe to call)."""
+        """A parameter client of `node_fqn`, made once on the executor's thread and then called
+        from the SDK's; None if the executor did not make it within _CALL_TIMEOUT_S."""
         from zros.parameter_client import AsyncParameterClient
-        client = self._param_clients.get(node_fqn)
-        if client is None:
+        if node_fqn not in self._param_clients:
             done = threading.Event()
 
             def create() -> None:
-                self._param_clients[node_fqn] = AsyncParameterClient(self._node, node_fqn)
+                if node_fqn not in self._param_clients:
+                    self._param_clients[node_fqn] = AsyncParameterClient(self._node, node_fqn)
                 done.set()
             self._post(create)
             done.wait(_CALL_TIMEOUT_S)
-            client = self._param_clients[node_fqn]
-        return client
+        return self._param_clients.get(node_fqn)
 
     def _get_parameters(self, names: list[str]) -> list:
         """Parameters by '/node.param' name; all parameters of every node when `names` is empty."""
@@ -468,6 +484,8 @@ class FoxgloveBridge:
         result = []
         for node, params in wanted.items():
             client = self._param_client(node)
+            if client is None:
+                continue
             if params is None:
                 listed = _answer(client.list_parameters())
                 if listed is None:
