@@ -182,3 +182,27 @@ def test_channels_and_the_connection_graph_follow_the_zros_graph(spawn, run_clie
     advertised = {c['id']: c['topic'] for e in events if e['event'] == 'advertise' for c in e['channels']}
     removed = [advertised.get(i) for e in events if e['event'] == 'unadvertise' for i in e['channelIds']]
     assert '/chatter' in removed, events
+
+
+CLOCK = '''
+import time, zros
+from zros.node import Node
+from interfaces.rosgraph_msgs.msg import Clock
+with zros.init():
+    node = Node('clock_source')
+    pub = node.create_publisher(Clock, '/clock', 10)
+    for i in range(10_000):
+        msg = Clock()
+        msg.clock.sec, msg.clock.nanosec = 42, i
+        pub.publish(msg)
+        time.sleep(0.05)
+'''
+
+
+def test_with_use_sim_time_clock_is_the_server_time(spawn, run_client):
+    spawn.script(CLOCK, name='clock')
+    bridge, url = start_bridge(spawn, 'use_sim_time:=true')
+    code, events = run_client({'url': url, 'until': ['time']})
+    assert code == 0, (events, bridge.output())
+    stamp = int(next(e for e in events if e['event'] == 'time')['timestamp'])
+    assert 42_000_000_000 <= stamp < 42_000_010_000, stamp

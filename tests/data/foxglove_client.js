@@ -9,7 +9,7 @@
 // until: [event names], stamps}. Prints one JSON line per event: {"event": "message", "topic",
 // "schemaName", "encoding", "message"}, {"event": "status", ...}, {"event": "response", ...};
 // exits 0 once `count` messages of every subscribed topic, the call's response and one event of
-// each name in `until` ("advertise", "unadvertise", "parameters", "graph") arrived, 2 on timeout. With `stamps` (benchmarks/foxglove_bridge.py) it prints, for every message until
+// each name in `until` ("advertise", "unadvertise", "parameters", "graph", "time") arrived, 2 on timeout. With `stamps` (benchmarks/foxglove_bridge.py) it prints, for every message until
 // timeoutMs, {"event": "stamp", "topic", "recvNs", "stampNs"} (receive time, header.stamp; wall
 // clock) and exits 0 at timeoutMs.
 const { FoxgloveClient } = require("@foxglove/ws-protocol");
@@ -79,6 +79,7 @@ client.on("open", () => {
 });
 client.on("parameterValues", (values) => emit({ event: "parameters", id: values.id, parameters: values.parameters }));
 client.on("connectionGraphUpdate", (update) => emit({ event: "graph", update }));
+client.on("time", ({ timestamp }) => emit({ event: "time", timestamp: timestamp.toString() }));
 client.on("unadvertise", (ids) => emit({ event: "unadvertise", channelIds: ids }));
 client.on("advertise", (channels) => {
   emit({ event: "advertise", channels: channels.map((c) => ({ id: c.id, topic: c.topic })) });
