@@ -48,7 +48,8 @@ def main(args=None) -> int:
         with zros.init(args=args):
             node = Node('foxglove_bridge')
             try:
-                bridge = FoxgloveBridge(node, read_config(node))
+                config = read_config(node)
+                bridge = FoxgloveBridge(node, config)
             except ModuleNotFoundError as exc:
                 print(f"foxglove_bridge: the '{exc.name}' package is missing: pip install 'zros[bridge]'",
                       file=sys.stderr)
@@ -57,7 +58,7 @@ def main(args=None) -> int:
                 print(f'foxglove_bridge: {exc}', file=sys.stderr)
                 return 1
             node.get_logger().info(f'Foxglove WebSocket server listening on '
-                                   f"ws://{bridge.config.address}:{bridge.port}")
+                                   f'ws://{config.address}:{bridge.port}')
             try:
                 zros.spin(node)
             finally:

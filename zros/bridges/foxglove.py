@@ -145,10 +145,6 @@ class FoxgloveBridge:
                                                         qos_profile_parameter_events)
 
     @property
-    def config(self) -> BridgeConfig:
-        return self._config
-
-    @property
     def port(self) -> int:
         """The port the server listens on (the configured one, or the one picked for port 0)."""
         return self._server.port
