@@ -206,3 +206,16 @@ def test_with_use_sim_time_clock_is_the_server_time(spawn, run_client):
     assert code == 0, (events, bridge.output())
     stamp = int(next(e for e in events if e['event'] == 'time')['timestamp'])
     assert 42_000_000_000 <= stamp < 42_000_010_000, stamp
+
+
+def test_a_message_over_send_buffer_limit_is_counted_and_reported_and_others_flow(spawn, run_client):
+    spawn.node('demo_nodes', 'talker')
+    spawn(sys.executable, '-m', 'zros', 'topic', 'pub', '-r', '5', '/big', 'std_msgs/msg/String',
+          "{data: '" + 'x' * 5000 + "'}", name='big')
+    bridge, url = start_bridge(spawn, 'send_buffer_limit:=1000')
+    code, events = run_client({'url': url, 'subscribe': ['/big', '/chatter'], 'count': 0, 'until': ['status']})
+    assert code == 0, (events, bridge.output())
+    status = next(e['text'] for e in events if e['event'] == 'status')
+    assert "'/big': 1 message(s) not sent, larger than send_buffer_limit (1000 bytes" in status, status
+    code, events = run_client({'url': url, 'subscribe': ['/chatter'], 'count': 1})
+    assert code == 0 and messages(events, '/chatter'), (events, bridge.output())

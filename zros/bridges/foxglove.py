@@ -341,8 +341,9 @@ class FoxgloveBridge:
             return
         if len(data) > self._config.send_buffer_limit:
             topic.oversize += 1
-            self._warn_once(f'{topic.name}#size', f"'{topic.name}': a {len(data)}-byte message is larger than "
-                                                  f'send_buffer_limit ({self._config.send_buffer_limit}); not sent')
+            if _is_power_of_ten(topic.oversize):   # 1, 10, 100, ...: counted, not one line per message
+                self._status(f"'{topic.name}': {topic.oversize} message(s) not sent, larger than "
+                             f'send_buffer_limit ({self._config.send_buffer_limit} bytes; the last: {len(data)})')
             return
         topic.channel.log(data)
 
@@ -509,6 +510,10 @@ class FoxgloveBridge:
         self._log(text)
         if self._server is not None:
             self._server.publish_status(text, StatusLevel.Warning)
+
+
+def _is_power_of_ten(count: int) -> bool:
+    return count > 0 and str(count).rstrip('0') == '1'
 
 
 def _answer(future: Any) -> Any:
