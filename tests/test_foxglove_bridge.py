@@ -127,7 +127,7 @@ def test_scan_map_and_tf_of_the_turtlebot3_world_are_decoded(spawn, run_client, 
                '-p', 'autostart:=true')
     bridge, url = start_bridge(spawn)
     code, events = run_client({'url': url, 'subscribe': ['/scan', '/map', '/tf'], 'count': 1}, timeout_s=60)
-    assert code == 0, (events, bridge.output(), world.output())
+    assert code == 0, '\n'.join(map(str, events)) + bridge.output() + world.output()
     scan, = messages(events, '/scan')
     assert scan['schemaName'] == 'sensor_msgs/msg/LaserScan'
     assert scan['message']['header']['frame_id'] == 'base_scan' and scan['message']['ranges']['length'] == 360
@@ -213,9 +213,10 @@ def test_a_message_over_send_buffer_limit_is_counted_and_reported_and_others_flo
     spawn(sys.executable, '-m', 'zros', 'topic', 'pub', '-r', '5', '/big', 'std_msgs/msg/String',
           "{data: '" + 'x' * 5000 + "'}", name='big')
     bridge, url = start_bridge(spawn, 'send_buffer_limit:=1000')
-    code, events = run_client({'url': url, 'subscribe': ['/big', '/chatter'], 'count': 0, 'until': ['status']})
+    code, events = run_client({'url': url, 'subscribe': ['/big', '/chatter'], 'count': 0, 'until': ['statusMatch'],
+                               'untilStatus': "'/big'"})
     assert code == 0, (events, bridge.output())
-    status = next(e['text'] for e in events if e['event'] == 'status')
+    status = next(e['text'] for e in events if e['event'] == 'status' and "'/big'" in e['text'])
     assert "'/big': 1 message(s) not sent, larger than send_buffer_limit (1000 bytes" in status, status
     code, events = run_client({'url': url, 'subscribe': ['/chatter'], 'count': 1})
     assert code == 0 and messages(events, '/chatter'), (events, bridge.output())

@@ -6,12 +6,13 @@
 //
 // plan: {url, subscribe: [topics], count, timeoutMs, malformed, publish: {topic, schemaName, message,
 // times}, call: {service, request}, getParameters: [names], setParameters: [{name, value}], graph,
-// until: [event names], stamps}. Prints one JSON line per event: {"event": "message", "topic",
+// until: [event names], untilStatus, stamps}. Prints one JSON line per event: {"event": "message", "topic",
 // "schemaName", "encoding", "message"}, {"event": "status", ...}, {"event": "response", ...};
 // exits 0 once `count` messages of every subscribed topic, the call's response and one event of
-// each name in `until` ("advertise", "unadvertise", "parameters", "graph", "time") arrived, 2 on timeout. With `stamps` (benchmarks/foxglove_bridge.py) it prints, for every message until
-// timeoutMs, {"event": "stamp", "topic", "recvNs", "stampNs"} (receive time, header.stamp; wall
-// clock) and exits 0 at timeoutMs.
+// each name in `until` ("advertise", "unadvertise", "parameters", "graph", "time", and
+// "statusMatch": a status containing `untilStatus`) arrived, 2 on timeout. With `stamps`
+// (benchmarks/foxglove_bridge.py) it prints, for every message until timeoutMs, {"event": "stamp",
+// "topic", "recvNs", "stampNs"} (receive time, header.stamp; wall clock) and exits 0 at timeoutMs.
 const { FoxgloveClient } = require("@foxglove/ws-protocol");
 const { parse } = require("@foxglove/rosmsg");
 const { MessageReader, MessageWriter } = require("@foxglove/rosmsg2-serialization");
@@ -55,7 +56,15 @@ const readers = new Map(); // subscription id -> {topic, reader, schemaName, enc
 const subscribed = new Set();
 
 client.on("error", (error) => emit({ event: "error", text: String(error) }));
-client.on("status", (status) => emit({ event: "status", level: status.level, text: status.message }));
+client.on("status", (status) => {
+  if (plan.untilStatus && status.message.includes(plan.untilStatus)) seen.add("statusMatch");
+  emit({ event: "status", level: status.level, text: status.message });
+  // foxglove-sdk 0.30 queues an advertisement before it records the channel, so a subscription
+  // sent at once can be refused as unknown (docs/web-tools.md); subscribe again, as a user would.
+  const refused = /Unknown channel ID: (\d+)/.exec(status.message);
+  const channel = refused && advertised.get(Number(refused[1]));
+  if (channel) setTimeout(() => subscribeTo(channel), 100);
+});
 client.on("open", () => {
   if (plan.malformed) {
     ws.send("{this is not json");
@@ -81,14 +90,19 @@ client.on("parameterValues", (values) => emit({ event: "parameters", id: values.
 client.on("connectionGraphUpdate", (update) => emit({ event: "graph", update }));
 client.on("time", ({ timestamp }) => emit({ event: "time", timestamp: timestamp.toString() }));
 client.on("unadvertise", (ids) => emit({ event: "unadvertise", channelIds: ids }));
+const advertised = new Map(); // channel id -> channel we subscribed to
+function subscribeTo(channel) {
+  const reader = new MessageReader(parse(channel.schema, { ros2: true }));
+  const id = client.subscribe(channel.id);
+  readers.set(id, { topic: channel.topic, reader, schemaName: channel.schemaName, encoding: channel.encoding });
+}
 client.on("advertise", (channels) => {
   emit({ event: "advertise", channels: channels.map((c) => ({ id: c.id, topic: c.topic })) });
   for (const channel of channels) {
     if (!wanted.has(channel.topic) || subscribed.has(channel.topic)) continue;
     subscribed.add(channel.topic);
-    const reader = new MessageReader(parse(channel.schema, { ros2: true }));
-    const id = client.subscribe(channel.id);
-    readers.set(id, { topic: channel.topic, reader, schemaName: channel.schemaName, encoding: channel.encoding });
+    advertised.set(channel.id, channel);
+    subscribeTo(channel);
   }
 });
 client.on("advertiseServices", (services) => {
