@@ -80,12 +80,13 @@ class FoxgloveBridge:
     stops the server and destroys what the bridge created. Not reusable after close.
 
     Args:
-        node: the bridge's node; the bridge adds a guard condition and a timer to it.
+        node: the bridge's node; the bridge adds a guard condition to it (woken by graph changes
+            and by the SDK's requests).
         config: the parameters.
         log: where warnings go (default: the node's logger).
     Raises:
         ValueError: a whitelist pattern or a capability name is invalid.
-        OSError: the port cannot be bound.
+        RuntimeError: the server cannot start (the SDK's FoxgloveError, e.g. the port is in use).
     """
 
     def __init__(self, node: 'Node', config: BridgeConfig = BridgeConfig(), *,
@@ -132,7 +133,7 @@ class FoxgloveBridge:
             server_listener=self, supported_encodings=[CDR_ENCODING], context=self._context,
             message_backlog_size=config.message_backlog_size)
         node.context.graph.add_listener(self._on_graph_change)
-        self._timer = node.create_timer(0.2, self._sync)
+        self._wake.trigger()   # the first sync
         self._clock_sub = None
         if config.use_sim_time:
             from interfaces.rosgraph_msgs.msg import Clock
@@ -169,7 +170,6 @@ class FoxgloveBridge:
         for subscription in (self._clock_sub, self._events_sub):
             if subscription is not None:
                 node.destroy_subscription(subscription)
-        node.destroy_timer(self._timer)
         node.destroy_guard_condition(self._wake)
         self._services.clear()
         self._client_channels.clear()
@@ -178,6 +178,7 @@ class FoxgloveBridge:
     # -- executor side ------------------------------------------------------------------------
     def _on_graph_change(self) -> None:
         self._graph_changed.set()
+        self._wake.trigger()
 
     def _post(self, request: Callable[[], None]) -> None:
         """Run `request` on the executor's thread (called from the SDK's threads)."""
@@ -185,15 +186,17 @@ class FoxgloveBridge:
         self._wake.trigger()
 
     def _run_requests(self) -> None:
+        """The guard condition's callback: the SDK's queued requests, then a sync if the graph changed."""
         while True:
             try:
                 request = self._requests.get_nowait()
             except queue.Empty:
-                return
+                break
             request()
+        self._sync()
 
     def _sync(self) -> None:
-        """Match channels and services to the graph (the timer's callback, on graph changes)."""
+        """Match channels and services to the graph, when it has changed since the last sync."""
         if not self._graph_changed.is_set() or self._server is None:
             return
         self._graph_changed.clear()
@@ -442,6 +445,7 @@ class FoxgloveBridge:
         # The SDK forbids publishing the graph from this callback: the next sync does it.
         self._graph_wanted = True
         self._graph_changed.set()
+        self._wake.trigger()
 
     def on_connection_graph_unsubscribe(self) -> None:
         self._graph_wanted = False
