@@ -155,6 +155,35 @@ def test_parameters_are_read_and_set_as_node_dot_name(spawn, run_client, zros_cl
     assert code == 0, (events, bridge.output())
     result = zros_cli('param', 'get', '/talker', 'use_sim_time')
     assert result.returncode == 0 and 'True' in result.stdout, result
+    # A value of the wrong type is refused with the node's reason, and the value stays.
+    plan = {'url': url, 'setParameters': [{'name': '/talker.use_sim_time', 'value': 'yes'}],
+            'until': ['statusMatch'], 'untilStatus': 'not set'}
+    code, events = run_client(plan)
+    assert code == 0, (events, bridge.output())
+    status = next(e['text'] for e in events if e['event'] == 'status' and 'not set' in e['text'])
+    assert status.startswith("parameter '/talker.use_sim_time' not set:"), status
+
+
+def test_a_parameter_change_is_pushed_to_subscribed_clients(spawn, run_client, zros_cli):
+    import threading
+    spawn.node('demo_nodes', 'parameter_blackboard')
+    bridge, url = start_bridge(spawn)
+    outcome: list = []
+    client = threading.Thread(target=lambda: outcome.append(run_client(
+        {'url': url, 'subscribeParameters': ['/parameter_blackboard.colour'], 'until': ['parameters']})))
+    client.start()
+
+    def set_and_see_the_push() -> bool:
+        # When the client's subscription reaches the server is not visible from here: set the
+        # value again until the client has had its push (and ended).
+        assert zros_cli('param', 'set', '/parameter_blackboard', 'colour', 'green').returncode == 0
+        client.join(timeout=1)
+        return not client.is_alive()
+    wait_until(set_and_see_the_push, 30, message=bridge.output)
+    code, events = outcome[0]
+    assert code == 0, (events, bridge.output())
+    pushed = [p for e in events if e['event'] == 'parameters' for p in e['parameters']]
+    assert {'name': '/parameter_blackboard.colour', 'value': 'green'} in pushed, events
 
 
 def test_channels_and_the_connection_graph_follow_the_zros_graph(spawn, run_client, probe):

@@ -5,7 +5,8 @@
 //   node foxglove_client.js '<plan JSON>'
 //
 // plan: {url, subscribe: [topics], count, timeoutMs, malformed, publish: {topic, schemaName, message,
-// times}, call: {service, request}, getParameters: [names], setParameters: [{name, value}], graph,
+// times}, call: {service, request}, getParameters: [names], setParameters: [{name, value}],
+// subscribeParameters: [names], graph,
 // until: [event names], untilStatus, stamps}. Prints one JSON line per event: {"event": "message", "topic",
 // "schemaName", "encoding", "message"}, {"event": "status", ...}, {"event": "response", ...};
 // exits 0 once `count` messages of every subscribed topic, the call's response and one event of
@@ -73,6 +74,7 @@ client.on("open", () => {
     ws.send(JSON.stringify({ op: "subscribe", subscriptions: "not a list" }));
   }
   if (plan.getParameters) client.getParameters(plan.getParameters, "get");
+  if (plan.subscribeParameters) client.subscribeParameterUpdates(plan.subscribeParameters);
   if (plan.setParameters) client.setParameters(plan.setParameters, "set");
   if (plan.graph) client.subscribeConnectionGraph();
   if (plan.publish) {

@@ -424,6 +424,9 @@ class FoxgloveBridge:
         from zros.parameter import Parameter
         by_node: dict[str, list] = {}
         for p in parameters:
+            if not self._param_allowed(p.name):
+                self._status(f"parameter '{p.name}' not set: not in param_whitelist")
+                continue
             try:
                 node, name = split_parameter_name(p.name)
                 by_node.setdefault(node, []).append(Parameter(name, value=_native(p.get_value())))
@@ -431,8 +434,13 @@ class FoxgloveBridge:
                 self._status(f"parameter '{p.name}' not set: {exc}")
         for node, params in by_node.items():
             client = self._param_client(node)
-            if client is None or _answer(client.set_parameters(params)) is None:
+            response = None if client is None else _answer(client.set_parameters(params))
+            if response is None:
                 self._status(f"parameters of '{node}' not set: no answer within {_CALL_TIMEOUT_S:.0f} s")
+                continue
+            for param, result in zip(params, response.results):
+                if not result.successful:
+                    self._status(f"parameter '{parameter_name(node, param.name)}' not set: {result.reason}")
         return self._get_parameters([p.name for p in parameters])
 
     def on_parameters_subscribe(self, param_names: list[str]) -> None:
@@ -497,14 +505,20 @@ class FoxgloveBridge:
                 continue
             for param, value in zip(params, values.values):
                 full = parameter_name(node, param)
-                if allowed(full, self._param_filter) or allowed(param, self._param_filter):
+                if self._param_allowed(full):
                     result.append(_sdk_parameter(full, parameter_value_to_python(value)))
         return result
+
+    def _param_allowed(self, full_name: str) -> bool:
+        """param_whitelist matches '/node.param' or, as in ROS's bridge, the parameter's own name."""
+        param = full_name.partition('.')[2]
+        return allowed(full_name, self._param_filter) or allowed(param, self._param_filter)
 
     def _on_parameter_event(self, event: Any) -> None:
         from zros.parameter import parameter_value_to_python
         changed = [_sdk_parameter(parameter_name(event.node, p.name), parameter_value_to_python(p.value))
-                   for p in list(event.new_parameters) + list(event.changed_parameters)]
+                   for p in list(event.new_parameters) + list(event.changed_parameters)
+                   if self._param_allowed(parameter_name(event.node, p.name))]
         if changed and self._server is not None:
             self._server.publish_parameter_values(changed)
 
