@@ -1,4 +1,4 @@
-"""Bags and the ROS 2 ecosystem: `--format cdr` bags that rosbags and mcap_ros2 read with their
+"""Bags and the ROS 2 ecosystem: default (CDR) recordings that rosbags and mcap_ros2 read with their
 own type definitions, `zros bag convert` both ways, rosbag2 bags (MCAP and .db3) written by
 rosbags played into zros, and corrupt or truncated files refused in one line."""
 from __future__ import annotations
@@ -29,14 +29,13 @@ def rosbags_messages(bag):
                 for c, _, data in reader.messages()], connections
 
 
-def test_record_cdr_is_read_by_rosbags_and_mcap_ros2(domain, spawn, tmp_path, zros_cli):
+def test_a_recording_with_defaults_is_read_by_rosbags_and_mcap_ros2(domain, spawn, tmp_path, zros_cli):
     from mcap.reader import make_reader
     from mcap_ros2.decoder import DecoderFactory
     source = spawn.script(PUBLISHER, name='source')
     source.wait_for_output('ready', timeout=15)
     bag = tmp_path / 'cdr'
-    result = zros_cli('bag', 'record', '/bagged', '/posed', '--format', 'cdr', '-o', str(bag),
-                      '--max-duration', '1.5', timeout=30)
+    result = zros_cli('bag', 'record', '-a', '-o', str(bag), '--max-duration', '1.5', timeout=30)
     assert result.returncode == 0, result
     source.kill()
 

@@ -1,12 +1,12 @@
 """Recording and playing back topics: `zros bag record|play|info|convert`.
 
-A zros recording is a directory (ros2 bag's layout) holding one `.mcap` file and a small
-`metadata.yaml`. Each topic is one MCAP channel whose message encoding is `msgpack` (the zros
-payload, stored byte for byte as it arrived) and whose schema is the message definition in
-ROS 2's concatenated `ros2msg` form. Log time is the receive time, publish time the sender's
-source timestamp. ROS tools cannot decode MessagePack, so `--format cdr` writes a rosbag2 bag
-instead (`zros.bag.rosbag2`, CDR from `zros.bag.cdr`), and rosbag2 bags from ROS 2 (MCAP or
-SQLite 3) are read and played. See docs/bag.md.
+A recording is a directory (ros2 bag's layout) holding one `.mcap` file and a `metadata.yaml`.
+By default it is a rosbag2 bag: CDR payloads (`zros.bag.cdr`) under `ros2msg` schemas, what
+ros2 bag, Foxglove, PlotJuggler, `rosbags` and `mcap_ros2` read (`zros.bag.rosbag2`). With
+`--format msgpack` it is zros's own: each topic's MCAP channel has message encoding `msgpack`
+(the zros payload, stored byte for byte as it arrived, no re-encoding) under the same schemas.
+Log time is the receive time, publish time the sender's source timestamp. rosbag2 bags from
+ROS 2 (MCAP or SQLite 3) are read and played too. See docs/bag.md.
 
 Only `zros.bag.definition` is light; the writers and readers import `mcap` / `rosbags` when used.
 """

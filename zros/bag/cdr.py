@@ -12,6 +12,7 @@ type's field list: numeric arrays become numpy arrays of the field's dtype whate
 """
 from __future__ import annotations
 
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -35,6 +36,15 @@ _DTYPES = {
 }
 
 
+@lru_cache(maxsize=None)
+def _store_name(type_name: str) -> str:
+    """The typestore's key for `type_name`: a service's or action's parts ('pkg/srv/Name_Request')
+    are filed as messages of their package ('pkg/msg/Name_Request'), so that rosbags resolves the
+    package-relative type names in their definitions ('ParameterValue[] values') as in a .msg."""
+    package, kind, name = (type_name.split('/') + ['', ''])[:3]
+    return f'{package}/msg/{name}' if name and kind != 'msg' else type_name
+
+
 class CdrCodec:
     """Serializes zros messages to CDR and back, for any type zros knows.
 
@@ -55,14 +65,14 @@ class CdrCodec:
             InterfaceNotFoundError: zros does not know the type.
             BagError: rosbags cannot parse its definition.
         """
-        if type_name in self._store.fielddefs:
+        if _store_name(type_name) in self._store.fielddefs:
             return
         from rosbags.typesys import get_types_from_msg
         from rosbags.typesys.base import TypesysError
 
         from zros.bag.definition import message_definition
         try:
-            types = get_types_from_msg(message_definition(type_name), type_name)
+            types = get_types_from_msg(message_definition(type_name), _store_name(type_name))
             self._store.register({k: v for k, v in types.items() if k not in self._store.fielddefs})
         except TypesysError as exc:
             raise BagError(f'cannot build a CDR codec for {type_name}: {exc}') from None
@@ -70,7 +80,7 @@ class CdrCodec:
     def rihs01(self, type_name: str) -> str:
         """ROS 2's type hash of `type_name` ('RIHS01_<64 hex>'), from zros's definition."""
         self.register(type_name)
-        return self._store.hash_rihs01(type_name)
+        return self._store.hash_rihs01(_store_name(type_name))
 
     def definition(self, type_name: str) -> str:
         """The concatenated ros2msg definition rosbag2 stores with a topic."""
@@ -82,7 +92,8 @@ class CdrCodec:
         """CDR bytes (little-endian, with the 4-byte encapsulation header) of a zros message."""
         type_name = msg._TYPE
         self.register(type_name)
-        return bytes(self._store.serialize_cdr(self._to_store(msg, type_name), type_name, little_endian=True))
+        key = _store_name(type_name)
+        return bytes(self._store.serialize_cdr(self._to_store(msg, key), key, little_endian=True))
 
     def _to_store(self, msg: Any, type_name: str) -> Any:
         _, fields = self._store.fielddefs[type_name]
@@ -119,7 +130,7 @@ class CdrCodec:
         type_name = msg_type._TYPE
         self.register(type_name)
         try:
-            stored = self._store.deserialize_cdr(data, type_name)
+            stored = self._store.deserialize_cdr(data, _store_name(type_name))
         except (SerdeError, ValueError, IndexError) as exc:
             raise BagError(f'not a valid CDR {type_name}: {exc}') from None
         return self._from_store(stored, msg_type)
@@ -127,7 +138,7 @@ class CdrCodec:
     def _from_store(self, stored: Any, msg_type: type) -> Any:
         from zros.typesupport import get_message
         msg = msg_type()
-        _, fields = self._store.fielddefs[msg_type._TYPE]
+        _, fields = self._store.fielddefs[_store_name(msg_type._TYPE)]
         for name, (kind, detail) in fields:
             value = getattr(stored, name)
             if kind == _NAME:

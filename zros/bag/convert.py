@@ -19,8 +19,9 @@ __all__ = ['convert', 'open_writer', 'FORMATS']
 FORMATS = (MESSAGE_ENCODING, CDR_ENCODING)
 
 
-def open_writer(output: str | os.PathLike[str], *, format: str = MESSAGE_ENCODING, storage: str = 'mcap') -> Any:
-    """The writer for a new bag directory of `format` ('msgpack' or 'cdr') in `storage`.
+def open_writer(output: str | os.PathLike[str], *, format: str = CDR_ENCODING, storage: str = 'mcap') -> Any:
+    """The writer for a new bag directory of `format` ('cdr', what ROS tools read, by default; or
+    'msgpack') in `storage`.
 
     Raises:
         BagError: unknown format or storage, or the directory cannot be made.

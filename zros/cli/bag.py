@@ -17,12 +17,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     p.add_argument('-a', '--all', action='store_true', help='Record all topics, including ones that appear later')
     p.add_argument('--include-hidden-topics', action='store_true', help='With -a, record hidden topics too')
     p.add_argument('-o', '--output', help='Bag directory to create (default: rosbag2_YYYY_MM_DD-HH_MM_SS)')
-    p.add_argument('-f', '--format', '--serialization-format', dest='format', default='msgpack',
-                   choices=('msgpack', 'cdr'),
-                   help="Message encoding: 'msgpack' (zros's own, payloads byte for byte; default) or 'cdr' "
-                        '(a rosbag2 bag that ros2 bag, Foxglove, rosbags and mcap_ros2 read)')
+    p.add_argument('-f', '--format', '--serialization-format', dest='format', default='cdr',
+                   choices=('cdr', 'msgpack'),
+                   help="Message encoding: 'cdr' (default: a rosbag2 bag that ros2 bag, Foxglove, PlotJuggler, "
+                        "rosbags and mcap_ros2 read) or 'msgpack' (zros's own, payloads byte for byte, faster)")
     p.add_argument('-s', '--storage', default='mcap', choices=('mcap', 'sqlite3'),
-                   help='Storage: mcap (default) or sqlite3 (.db3; with --format cdr only)')
+                   help='Storage: mcap (default) or sqlite3 (.db3; not with --format msgpack)')
     p.add_argument('--max-duration', type=float, metavar='S', help='Stop recording after S seconds')
     p.set_defaults(handler=_one_line_errors(cmd_record))
 
