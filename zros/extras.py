@@ -21,6 +21,7 @@ EXTRA_OF = {
     'viser': 'view',
     'websockets': 'view',     # the view's server; rosbridge's too (its 'bridge' extra has it)
     'cbor2': 'bridge',        # rosbridge's CBOR frames
+    'foxglove': 'bridge',     # foxglove_bridge's server (foxglove-sdk)
     'mcap': 'bag',
     'mcap_ros2': 'bag',
     'rosbags': 'bag',
