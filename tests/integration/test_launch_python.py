@@ -20,11 +20,11 @@ from pathlib import Path
 import pytest
 
 from conftest import assert_clean_failure, run_cli
-from test_launch_parse import write  # noqa: F401 - the fixture
+from unit.test_launch_parse import write  # noqa: F401 - the fixture
 from zros.launch import LaunchError, resolve
 from zros.launch.plan import EventHandlerEffect, GeneratedParams, LogMessage, ProcessSpec, ShutdownEffect, TimerEffect
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 
 REPORT_NODE = '''
 import json
