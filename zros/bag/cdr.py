@@ -26,6 +26,11 @@ CDR_ENCODING = 'cdr'
 # rosbags' node kinds in a field description (rosbags.typesys.base.Nodetype values).
 _BASE, _NAME, _ARRAY, _SEQUENCE = 1, 2, 3, 4
 
+# The uint8 member rosidl (and so rosbags) gives a message without fields (std_msgs/Empty,
+# rcl_interfaces/ParameterType: constants only), as a C struct cannot be empty; it is always 0
+# and zros's messages do not have it.
+_EMPTY_STRUCT_MEMBER = 'structure_needs_at_least_one_member'
+
 # numpy dtypes of the numeric primitives, by the names rosbags' field lists use.
 _DTYPES = {
     'bool': np.dtype('?'), 'byte': np.dtype('u1'), 'char': np.dtype('u1'), 'octet': np.dtype('u1'),
@@ -88,12 +93,18 @@ class CdrCodec:
         _, fields = self._store.fielddefs[type_name]
         values = {}
         for name, (kind, detail) in fields:
+            if name == _EMPTY_STRUCT_MEMBER:
+                values[name] = 0
+                continue
             values[name] = self._value_to_store(getattr(msg, name), kind, detail)
         return self._store.types[type_name](**values)
 
     def _value_to_store(self, value: Any, kind: int, detail: Any) -> Any:
         if kind == _BASE:
-            return value[0] if isinstance(value, bytes) else value  # a `byte` is a 1-byte bytes in zros
+            if isinstance(value, bytes):
+                # a `byte` is a 1-byte bytes in zros, and a signed int8 in rosbags (the same octet)
+                return int.from_bytes(value, 'little', signed=True)
+            return value
         if kind == _NAME:
             return self._to_store(value, detail)
         (element_kind, element), _ = detail
@@ -129,9 +140,13 @@ class CdrCodec:
         msg = msg_type()
         _, fields = self._store.fielddefs[msg_type._TYPE]
         for name, (kind, detail) in fields:
+            if name == _EMPTY_STRUCT_MEMBER:
+                continue
             value = getattr(stored, name)
             if kind == _NAME:
                 value = self._from_store(value, get_message(detail))
+            elif kind == _BASE and detail[0] == 'byte':
+                value = (value & 0xFF).to_bytes(1, 'little')   # rosbags' int8 back to the octet
             elif kind in (_ARRAY, _SEQUENCE):
                 (element_kind, element), _ = detail
                 if element_kind == _NAME:
