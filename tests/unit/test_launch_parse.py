@@ -18,7 +18,7 @@ from zros.launch.entity import Entity, Scalar, load_launch_entities, load_yaml
 from zros.ament_index_python.packages import get_package_share_path
 from zros.launch.packages import configs_directory, find_launch_file
 from zros.launch.plan import GeneratedParams, LogMessage, ParamsFile, ProcessSpec, ShutdownEffect, TimerEffect
-from zros.launch.template import Call, SUBSTITUTIONS, SubstitutionError, evaluate_expression, parse, perform
+from zros.launch.template import Call, SUBSTITUTIONS, SubstitutionError, describe, evaluate_expression, parse, perform
 
 REPO = Path(__file__).resolve().parents[2]
 PY = sys.executable
@@ -155,6 +155,13 @@ def test_grammar_text_calls_quotes_nesting_and_escapes():
     assert parse(r"$(var 'it\'s')") == (Call('var', (("it's",),)),)
     assert parse('$(dirname)/x') == (Call('dirname', ()), '/x')
 
+
+def test_a_call_with_a_quote_inside_a_quoted_argument_is_written_back_as_it_parses():
+    """describe() escapes the quote only in an argument's literal text: the call inside is read
+    by its own rules, so escaping its quotes changed what it meant (`--print`, `--show-args`)."""
+    template = (Call('var', ((Call('var', (("'",),)), ' x'),)),)
+    assert describe(template) == """$(var '$(var "'") x')"""
+    assert parse(describe(template)) == template
 
 
 @pytest.mark.parametrize('text, fragment', [
