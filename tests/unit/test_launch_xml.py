@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from unit.test_launch_parse import assert_located, error_of, only_process, plan_maker, processes, write  # noqa: F401 - fixture
-from integration.test_launch_python import normalized_plan
+from unit.test_launch_python_plans import normalized_plan
 from zros.launch import resolve
 from zros.launch.entity import Entity
 from zros.launch.errors import LaunchFileError
