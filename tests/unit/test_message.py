@@ -164,6 +164,20 @@ def test_float_arrays_are_checked_like_float_scalars():
         LaserScan(ranges=[True, False])
 
 
+def test_64_bit_arrays_take_every_int_of_their_range():
+    """numpy turns [0, 2**63] into float64 (no one int type holds both), which lost precision or
+    refused a valid uint64[] (found by tests/unit/test_round_trips.py)."""
+    from interfaces.std_msgs.msg import Int64MultiArray, UInt64MultiArray
+    assert list(UInt64MultiArray(data=[0, 2**63, 2**64 - 1]).data) == [0, 2**63, 2**64 - 1]
+    assert list(Int64MultiArray(data=(-2**63, 2**62 + 1)).data) == [-2**63, 2**62 + 1]
+    with pytest.raises(MessageTypeError, match=r'UInt64MultiArray\.data has values out of range for uint64'):
+        UInt64MultiArray(data=[0, 2**64])
+    with pytest.raises(MessageTypeError, match=r'UInt64MultiArray\.data has values out of range for uint64'):
+        UInt64MultiArray(data=[-1, 2**63])
+    with pytest.raises(MessageTypeError, match=r'Int64MultiArray\.data has values out of range for int64'):
+        Int64MultiArray(data=[-1, 2**63])
+
+
 # -- arrays as rclpy has them -------------------------------------------------------------------
 def test_numeric_sequences_are_array_array():
     scan = LaserScan(ranges=[1.0, 2.5, 3.0])
