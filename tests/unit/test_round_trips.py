@@ -3,7 +3,7 @@ back unchanged, for any value and not only the examples the other tests chose.
 
 - the MessagePack codec (zros.message) over message types generated field by field (every
   primitive, bounded strings, fixed / bounded / unbounded arrays, nested messages);
-- CDR (zros.bag.cdr) over the shipped message types, filled with generated values;
+- CDR (zros.bag.cdr) over the shipped message types (but wstring ones), filled with generated values;
 - transforms (zros.tf_transformations): Euler angles <-> quaternion <-> matrix, for every axes
   convention, and composition with the inverse;
 - map files (zros.map_io): save_map -> load_map of generated grids;
@@ -24,6 +24,7 @@ from unit.test_launch_parse import Ctx
 from zros import tf_transformations as tft
 from zros import typesupport
 from zros.bag.cdr import CdrCodec
+from zros.bag.definition import message_definition
 from zros.idl import FieldType, parse_message
 from zros.launch.template import Call, describe, parse
 from zros.map_io import OccupancyMap, load_map, save_map
@@ -120,7 +121,9 @@ def test_codec_bytes_survive_a_round_trip_even_with_nan(typed):
 
 
 # -- CDR, over the shipped message types --------------------------------------------------------------
-_SHIPPED_MESSAGES = sorted(name for name in typesupport.list_interfaces() if '/msg/' in name)
+#: Every shipped message type but those with a wstring, which CDR refuses (tests/unit/test_cdr.py).
+_CDR_MESSAGES = sorted(name for name in typesupport.list_interfaces()
+                       if '/msg/' in name and 'wstring' not in message_definition(name))
 
 
 @pytest.fixture(scope='module')
@@ -129,7 +132,7 @@ def cdr() -> CdrCodec:
 
 
 @ROUND_TRIP
-@given(data=st.data(), name=st.sampled_from(_SHIPPED_MESSAGES))
+@given(data=st.data(), name=st.sampled_from(_CDR_MESSAGES))
 def test_cdr_decodes_what_it_encodes(cdr, data, name):
     cls = typesupport.get_message(name)
     msg = data.draw(messages(cls), label=name)

@@ -12,6 +12,7 @@ type's field list: numeric arrays become numpy arrays of the field's dtype whate
 """
 from __future__ import annotations
 
+import re
 from typing import Any
 
 import numpy as np
@@ -30,6 +31,10 @@ _BASE, _NAME, _ARRAY, _SEQUENCE = 1, 2, 3, 4
 # rcl_interfaces/ParameterType: constants only), as a C struct cannot be empty; it is always 0
 # and zros's messages do not have it.
 _EMPTY_STRUCT_MEMBER = 'structure_needs_at_least_one_member'
+
+# A `wstring` field in a ros2msg definition (rosbags' msg grammar has no wstring: it would take
+# it for a message type named `wstring` and fail later with a KeyError).
+_WSTRING_FIELD = re.compile(r'^\s*wstring(<=[0-9]+)?(\[[^\]]*\])?\s', re.MULTILINE)
 
 # numpy dtypes of the numeric primitives, by the names rosbags' field lists use.
 _DTYPES = {
@@ -66,8 +71,12 @@ class CdrCodec:
         from rosbags.typesys.base import TypesysError
 
         from zros.bag.definition import message_definition
+        definition = message_definition(type_name)
+        if _WSTRING_FIELD.search(definition):
+            raise BagError(f'cannot build a CDR codec for {type_name}: rosbags (which zros uses for CDR) '
+                           f'has no wstring, and a field of it is one; the default format (msgpack) keeps it')
         try:
-            types = get_types_from_msg(message_definition(type_name), type_name)
+            types = get_types_from_msg(definition, type_name)
             self._store.register({k: v for k, v in types.items() if k not in self._store.fielddefs})
         except TypesysError as exc:
             raise BagError(f'cannot build a CDR codec for {type_name}: {exc}') from None
