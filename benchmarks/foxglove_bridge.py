@@ -17,7 +17,7 @@ throughput case (PointStamped published as fast as one Python process can) where
 each receiver got per second of the window. The bridge's queue drops the oldest messages of a
 client that falls behind (message_backlog_size), so its losses are counted, not waited for.
 
-Needs node and npm, and the npm packages that tests/test_foxglove_bridge.py installs into
+Needs node and npm, and the npm packages that tests/integration/test_foxglove_bridge.py installs into
 ~/.cache/zros-test-npm. Everything stays on loopback, in a free domain.
 """
 from __future__ import annotations
@@ -129,7 +129,7 @@ def main(quick: bool) -> int:
     import zros
     from zros.testing import ProcessGroup
     if not (NODE_MODULES / '@foxglove' / 'rosmsg2-serialization').is_dir():
-        print(f'no npm packages in {NODE_MODULES}: run tests/test_foxglove_bridge.py once', file=sys.stderr)
+        print(f'no npm packages in {NODE_MODULES}: run tests/integration/test_foxglove_bridge.py once', file=sys.stderr)
         return 1
     domain = pick_domain()
     os.environ.update(worker_env(domain))

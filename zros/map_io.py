@@ -29,6 +29,7 @@ with zros.image_io (Pillow).
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -108,6 +109,10 @@ class OccupancyMap:
 
 
 # -- reading ------------------------------------------------------------------------------------
+#: Numbers in exponent form that YAML 1.1 (PyYAML) reads as strings for want of a dot or an
+#: exponent sign (`1e-05`, `5E3`), and yaml-cpp (nav2) and YAML 1.2 as numbers.
+_EXPONENT_FORM = re.compile(r'[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)[eE][-+]?[0-9]+')
+
 def read_map_yaml(path: str | Path) -> MapYaml:
     """Parse and check a map YAML file.
 
@@ -139,6 +144,8 @@ def read_map_yaml(path: str | Path) -> MapYaml:
         return doc[key]
 
     def number(key: str, value: Any) -> float:
+        if isinstance(value, str) and _EXPONENT_FORM.fullmatch(value.strip()):
+            value = float(value)
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
             raise fail(key, f'must be a number, got {value!r}')
         return float(value)

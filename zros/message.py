@@ -278,9 +278,15 @@ def _numbers(msg_type: str, name: str, ftype: FieldType, value: Any) -> np.ndarr
         return np.zeros(0, dtype)
     kind = probe.dtype.kind
     if dtype.kind in 'iu':
+        info = np.iinfo(dtype)
+        if kind in 'fO' and isinstance(value, (list, tuple)) and all(
+                isinstance(v, (int, np.integer)) and not isinstance(v, (bool, np.bool_)) for v in value):
+            # Python ints that no one numpy int type holds together ([0, 2**63]) became floats or objects
+            if min(value) < info.min or max(value) > info.max:
+                raise MessageTypeError(f'{msg_type}.{name} has values out of range for {base}')
+            return np.array(value, dtype=dtype)
         if kind not in 'iu':
             raise _type_error(msg_type, name, f'{expected} (ints)', value)
-        info = np.iinfo(dtype)
         if probe.min() < info.min or probe.max() > info.max:
             raise MessageTypeError(f'{msg_type}.{name} has values out of range for {base}')
     else:

@@ -12,6 +12,7 @@ type's field list: numeric arrays become numpy arrays of the field's dtype whate
 """
 from __future__ import annotations
 
+import re
 from functools import lru_cache
 from typing import Any
 
@@ -26,6 +27,15 @@ CDR_ENCODING = 'cdr'
 
 # rosbags' node kinds in a field description (rosbags.typesys.base.Nodetype values).
 _BASE, _NAME, _ARRAY, _SEQUENCE = 1, 2, 3, 4
+
+# The uint8 member rosidl (and so rosbags) gives a message without fields (std_msgs/Empty,
+# rcl_interfaces/ParameterType: constants only), as a C struct cannot be empty; it is always 0
+# and zros's messages do not have it.
+_EMPTY_STRUCT_MEMBER = 'structure_needs_at_least_one_member'
+
+# A `wstring` field in a ros2msg definition (rosbags' msg grammar has no wstring: it would take
+# it for a message type named `wstring` and fail later with a KeyError).
+_WSTRING_FIELD = re.compile(r'^\s*wstring(<=[0-9]+)?(\[[^\]]*\])?\s', re.MULTILINE)
 
 # numpy dtypes of the numeric primitives, by the names rosbags' field lists use.
 _DTYPES = {
@@ -71,8 +81,12 @@ class CdrCodec:
         from rosbags.typesys.base import TypesysError
 
         from zros.bag.definition import message_definition
+        definition = message_definition(type_name)
+        if _WSTRING_FIELD.search(definition):
+            raise BagError(f'cannot build a CDR codec for {type_name}: rosbags (which zros uses for CDR) '
+                           f'has no wstring, and a field of it is one; record it with --format msgpack')
         try:
-            types = get_types_from_msg(message_definition(type_name), _store_name(type_name))
+            types = get_types_from_msg(definition, _store_name(type_name))
             self._store.register({k: v for k, v in types.items() if k not in self._store.fielddefs})
         except TypesysError as exc:
             raise BagError(f'cannot build a CDR codec for {type_name}: {exc}') from None
@@ -99,12 +113,18 @@ class CdrCodec:
         _, fields = self._store.fielddefs[type_name]
         values = {}
         for name, (kind, detail) in fields:
+            if name == _EMPTY_STRUCT_MEMBER:
+                values[name] = 0
+                continue
             values[name] = self._value_to_store(getattr(msg, name), kind, detail)
         return self._store.types[type_name](**values)
 
     def _value_to_store(self, value: Any, kind: int, detail: Any) -> Any:
         if kind == _BASE:
-            return value[0] if isinstance(value, bytes) else value  # a `byte` is a 1-byte bytes in zros
+            if isinstance(value, bytes):
+                # a `byte` is a 1-byte bytes in zros, and a signed int8 in rosbags (the same octet)
+                return int.from_bytes(value, 'little', signed=True)
+            return value
         if kind == _NAME:
             return self._to_store(value, detail)
         (element_kind, element), _ = detail
@@ -140,9 +160,13 @@ class CdrCodec:
         msg = msg_type()
         _, fields = self._store.fielddefs[_store_name(msg_type._TYPE)]
         for name, (kind, detail) in fields:
+            if name == _EMPTY_STRUCT_MEMBER:
+                continue
             value = getattr(stored, name)
             if kind == _NAME:
                 value = self._from_store(value, get_message(detail))
+            elif kind == _BASE and detail[0] == 'byte':
+                value = (value & 0xFF).to_bytes(1, 'little')   # rosbags' int8 back to the octet
             elif kind in (_ARRAY, _SEQUENCE):
                 (element_kind, element), _ = detail
                 if element_kind == _NAME:

@@ -181,7 +181,7 @@ def describe(template: Template) -> str:
     out = []
     for part in template:
         if isinstance(part, str):
-            out.append(part.replace('\\', '\\\\').replace('$(', '\\$('))
+            out.append(_describe_literal(part))
         elif isinstance(part, Substitution):
             out.append(part.describe())
         else:
@@ -190,12 +190,20 @@ def describe(template: Template) -> str:
     return ''.join(out)
 
 
+def _describe_literal(text: str) -> str:
+    return text.replace('\\', '\\\\').replace('$(', '\\$(')
+
+
 def _describe_arg(arg: Template) -> str:
+    """One argument of a call, quoted when it must be. Only its literal parts are escaped for
+    the quote: a call inside is parsed by its own rules, so its text is written as it is."""
     text = describe(arg)
     if text and not any(c in text for c in ' \t()\'"'):
         return text
-    quote = "'" if "'" not in text else '"'
-    return quote + text.replace(quote, '\\' + quote) + quote
+    literals = ''.join(part for part in arg if isinstance(part, str))
+    quote = "'" if "'" not in literals else '"'
+    return quote + ''.join(_describe_literal(part).replace(quote, '\\' + quote) if isinstance(part, str)
+                           else describe((part,)) for part in arg) + quote
 
 
 def perform(template: Template, context: SubstitutionContext) -> str:

@@ -2,7 +2,7 @@
 (turtlesim, the parameter demo's param_talker): the plotted value moves when the turtle moves
 and a wrong field says so, the CSV export downloads, the topic monitor shows the last message,
 a service call from the form spawns a turtle, a slider change is what `zros param get` reads,
-and a refused change shows the node's reason. (Console and graph: tests/test_view_browser.py.)
+and a refused change shows the node's reason. (Console and graph: tests/integration/test_view_browser.py.)
 
 One view for the module, opened on the Plot page as `zros run rqt_plot rqt_plot /turtle1/pose/x`
 opens it.

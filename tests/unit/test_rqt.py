@@ -1,10 +1,8 @@
 """rqt's tools without a browser: plot paths and their errors, the plot's decimation and CSV,
-request forms and their type checks, the rqt commands' arguments, and `zros run rqt_plot
-rqt_plot` serving the page. The pages in a real browser: tests/test_rqt_browser.py."""
+request forms and their type checks and the rqt commands' arguments. `zros run rqt_plot rqt_plot`
+serving the page: tests/integration/test_rqt_commands.py; the pages in a real browser:
+tests/integration/test_rqt_browser.py."""
 from __future__ import annotations
-
-import sys
-import urllib.request
 
 import numpy as np
 import pytest
@@ -114,12 +112,3 @@ def test_rqt_commands_arguments():
         '/turtle1/pose/x', '/turtle1/pose/y', '/odom/twist/twist/linear/x']
     assert parse_rqt_args('rqt_plot', ['/turtle1/pose/x', '--port', '0']).fields == ['/turtle1/pose/x']
     assert RQT_PAGES['rqt_graph'] == 'Graph' and RQT_PAGES['rqt_reconfigure'] == 'Parameters'
-
-
-@pytest.mark.parametrize('command', [('run', 'rqt_plot', 'rqt_plot', '/turtle1/pose/x:y'), ('rqt', '--page', 'graph')])
-def test_rqt_commands_serve_the_page(spawn, command):
-    child = spawn(sys.executable, '-m', 'zros.cli.main', *command, '--port', '0', name='rqt')
-    text = child.wait_for_output('http://127.0.0.1:', 30)
-    url = 'http://127.0.0.1:' + text.split('http://127.0.0.1:', 1)[1].split()[0].rstrip('/') + '/'
-    with urllib.request.urlopen(url, timeout=10) as response:
-        assert response.status == 200 and b'<html' in response.read().lower()

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 
 # After zros.init, copy 1 MiB blocks as a large message's path does (two live at a time, then
 # both freed) and count the page faults per round.

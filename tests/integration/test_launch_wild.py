@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 
 from conftest import assert_clean_failure, run_cli
-from test_launch_parse import error_of, only_process, plan_of, processes, ros_part, write  # noqa: F401 - fixtures
-from test_launch_python import REPORT_NODE, probe, reports  # noqa: F401 - fixture
+from unit.test_launch_parse import error_of, only_process, plan_of, processes, ros_part, write  # noqa: F401 - fixtures
+from integration.test_launch_python import REPORT_NODE, probe, reports  # noqa: F401 - fixture
 from zros.launch.plan import LogMessage
 from zros.parameter import ParameterFileError, load_parameter_file
 

@@ -1,8 +1,9 @@
 """XML launch files (`*.launch.xml`): the entity reader, launch_xml's value typing, one-line errors
-with file and line, includes across the three front ends (checked through `resolve()`), and one
-real `zros launch` of a talker and a listener from XML in a private domain.
+with file and line, includes across the three front ends (checked through `resolve()`). XML files run by `zros
+launch`: tests/integration/test_launch_xml_run.py.
 
-The shipped examples' XML twins are checked against YAML and Python in test_launch_python.py.
+The shipped examples' XML twins are checked against YAML and Python in
+tests/integration/test_launch_python.py.
 """
 from __future__ import annotations
 
@@ -12,10 +13,8 @@ from pathlib import Path
 
 import pytest
 
-from conftest import assert_clean_failure, run_cli
-from test_launch_parse import assert_located, error_of, only_process, plan_maker, processes, write  # noqa: F401 - fixture
-from test_launch_python import normalized_plan
-from test_launch_run import Launch
+from unit.test_launch_parse import assert_located, error_of, only_process, plan_maker, processes, write  # noqa: F401 - fixture
+from unit.test_launch_python_plans import normalized_plan
 from zros.launch import resolve
 from zros.launch.entity import Entity
 from zros.launch.errors import LaunchFileError
@@ -173,12 +172,6 @@ def test_errors_name_file_line_tag_and_attribute(plan_of, text: str, line: int, 
     assert reason in message, message
 
 
-def test_bad_xml_through_the_cli_is_one_line(write):
-    path = write('bad.launch.xml', '<launch>\n  <node pkg="demo_nodes" exec="talker" colour="red"/>\n</launch>\n')
-    line = assert_clean_failure(run_cli('launch', str(path), '--print'), f"{path}:2: node: colour: unknown attribute")
-    assert line.startswith(f"{path}:2: node: colour: unknown attribute 'colour' (known: args, cwd,"), line
-
-
 # -- includes across front ends, and the ROS 2 guide's example -------------------------------------
 PY_INCLUDES_XML = '''
 import os
@@ -245,7 +238,7 @@ def test_xml_includes_python_yaml_and_xml(write, tmp_path: Path):
     assert 'yaml got yaml' in plan.describe()
 
 
-GUIDE = Path(__file__).resolve().parent / 'launch_guide'
+GUIDE = Path(__file__).resolve().parents[1] / 'launch_guide'
 
 
 def guide_plan(plan) -> str:
@@ -278,21 +271,3 @@ def test_the_ros2_guide_example_gives_one_plan_in_xml_yaml_and_python(tmp_path: 
 
 
 # -- a real run ----------------------------------------------------------------------------------
-def test_talker_and_listener_from_xml_talk(tmp_path: Path, domain: int):
-    path = tmp_path / 'chat.launch.xml'
-    path.write_text('<launch>\n'
-                    '  <arg name="topic" default="xml_chatter"/>\n'
-                    '  <node pkg="demo_nodes" exec="talker" output="screen">\n'
-                    '    <remap from="chatter" to="$(var topic)"/>\n'
-                    '  </node>\n'
-                    '  <node pkg="demo_nodes" exec="listener" name="ears" output="screen">\n'
-                    '    <remap from="chatter" to="$(var topic)"/>\n'
-                    '  </node>\n'
-                    '</launch>\n')
-    run = Launch(path, [], tmp_path)
-    try:
-        out = run.wait_for("[ears]: I heard: [Hello World:", timeout=30)
-        assert re.search(r"\[talker-1\] \[INFO\] \[[\d.]+\] \[talker\]: Publishing: 'Hello World: \d+'", out), out
-        assert re.search(r"\[listener-2\] \[INFO\] \[[\d.]+\] \[ears\]: I heard: \[Hello World: \d+\]", out), out
-    finally:
-        run.kill()

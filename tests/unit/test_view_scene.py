@@ -20,7 +20,7 @@ from zros.view.scene.graph_svg import layout, to_svg
 #: `zros graph --json --include-hidden --include-debug` of turtlebot3_world + navigation2.launch.py,
 #: plus the Nav2 nodes zros does not start (velocity_smoother, smoother_server, collision_monitor)
 #: and rviz2 with its usual topics: a Nav2-sized graph (17 nodes, 61 topics, 165 edges).
-NAV2_GRAPH = Path(__file__).parent / 'data' / 'nav2_graph.json'
+NAV2_GRAPH = Path(__file__).parents[1] / 'data' / 'nav2_graph.json'
 
 
 # -- geometry ---------------------------------------------------------------------------------

@@ -1,8 +1,6 @@
 """zros.qos: profiles, presets, the token form used in the graph, and compatibility."""
 from __future__ import annotations
 
-import dataclasses
-
 import pytest
 
 from zros.qos import (KEEP_ALL_DEPTH, DurabilityPolicy, HistoryPolicy, LivelinessPolicy, QoSCompatibility,
@@ -34,22 +32,6 @@ def test_presets():
     assert QoSPresetProfiles.get_from_short_key('SYSTEM_DEFAULT') == qos_profile_system_default
     with pytest.raises(KeyError):
         QoSPresetProfiles.get_from_short_key('nope')
-
-
-def test_profiles_are_mutable_as_rclpys_and_entities_keep_a_copy(context):
-    from interfaces.std_msgs.msg import String
-    from zros.node import Node
-    profile = QoSProfile(depth=3)
-    assert profile == QoSProfile(depth=3) and dataclasses.replace(profile, depth=4).depth == 4
-    publisher = Node('qos_copy', context=context).create_publisher(String, 'qos_copy', profile)
-    profile.reliability = 2          # plain ints, as rclpy takes them
-    profile.durability = DurabilityPolicy.SYSTEM_DEFAULT
-    assert profile.reliability is BEST_EFFORT and profile.durability == DurabilityPolicy.VOLATILE
-    assert publisher.qos_profile.reliability == ReliabilityPolicy.RELIABLE, 'made before the change'
-    with pytest.raises(ValueError, match='depth'):
-        profile.depth = -1
-    with pytest.raises(TypeError):
-        hash(profile)
 
 
 def test_plain_ints_and_system_default_are_normalised():
@@ -128,22 +110,3 @@ def test_reliability_reason_names_the_policies():
     assert 'Best effort publisher and reliable subscription' in reason
     _, reason = qos_check_compatible(QoSProfile(), QoSProfile(durability=TRANSIENT_LOCAL))
     assert 'Volatile publisher and transient local subscription' in reason
-
-
-def test_profiles_reach_the_graph(context):
-    """The QoS a publisher asked for is what the graph (and `topic info -v`) shows."""
-    from zros.graph import EntityKind
-    from zros.node import Node
-    from interfaces.std_msgs.msg import String
-    node = Node('qos_node', context=context)
-    node.create_publisher(String, '/q', QoSProfile(depth=3, reliability=BEST_EFFORT, durability=TRANSIENT_LOCAL))
-    node.create_subscription(String, '/q', lambda m: None, QoSProfile(history=HistoryPolicy.KEEP_ALL, depth=0))
-    # (the graph learns about this process's own entities asynchronously: see test_pubsub's
-    # test_own_entities_are_in_the_graph_at_once)
-    assert context.graph.wait_for(lambda es: sum(e.name == '/q' for e in es) == 2, 5.0)
-    pubs = node.get_publishers_info_by_topic('/q')
-    subs = node.get_subscriptions_info_by_topic('/q')
-    assert [QoSProfile.from_token(e.qos) for e in pubs] == \
-        [QoSProfile(depth=3, reliability=BEST_EFFORT, durability=TRANSIENT_LOCAL)]
-    assert [e.qos for e in subs] == ['R:V:A']
-    assert pubs[0].kind == EntityKind.PUBLISHER

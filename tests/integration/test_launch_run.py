@@ -17,7 +17,7 @@ import pytest
 from zros.config import hub_port_free
 from zros.testing import wait_until
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 PY = sys.executable
 
 

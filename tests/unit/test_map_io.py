@@ -57,6 +57,19 @@ def test_a_map_written_by_ros_rules_loads_as_nav2_loads_it(tmp_path):
     assert raw.tolist() == [[0, 55, 100, -1, -1]]
 
 
+def test_numbers_in_exponent_form_read_as_yaml_cpp_reads_them(tmp_path):
+    """`1e-05` and `5E-2` are numbers to nav2 (yaml-cpp) but strings to YAML 1.1; save_map writes
+    a tiny origin that way (found by tests/unit/test_round_trips.py)."""
+    write_ros_map(tmp_path, np.array([[254]], dtype=np.uint8))
+    text = (tmp_path / 'ros.yaml').read_text()
+    (tmp_path / 'ros.yaml').write_text(text.replace('resolution: 0.050000', 'resolution: 5E-2')
+                                       .replace('[-1.000000, -2.500000, 0.000000]', '[1e-05, -2.5e1, 0]'))
+    grid = load_map(tmp_path / 'ros.yaml')
+    assert grid.resolution == 0.05 and grid.origin == (1e-05, -25.0, 0.0)
+    tiny = OccupancyMap(np.zeros((1, 1), dtype=np.int8), 1.0, (0.0, 0.0, 1e-300))
+    assert load_map(save_map(tiny, tmp_path / 'tiny')[0]).origin == (0.0, 0.0, 1e-300)
+
+
 def test_scale_mode_png_transparency_is_unknown(tmp_path):
     rgba = np.zeros((1, 3, 4), dtype=np.uint8)
     rgba[0, :, :3] = [[255, 255, 255], [0, 0, 0], [128, 128, 128]]

@@ -1,7 +1,8 @@
 """Options before or among the positionals, as ros2cli accepts them and the courses print them
 (`ros2 action send_goal /navigate_to_pose nav2_msgs/NavigateToPose --feedback "{pose: ...}"`):
-every verb's parser, then the course's send_goal against a real action server (more real
-commands with options first: tests/test_cli_formats.py)."""
+every verb's parser. The course's send_goal against a real action server:
+tests/integration/test_cli_option_order_live.py (more real commands with options first:
+tests/integration/test_cli_formats.py)."""
 from __future__ import annotations
 
 import argparse
@@ -28,7 +29,7 @@ def _placeable_options(parser: argparse.ArgumentParser) -> list[argparse.Action]
 def _every_verb():
     """Every command with a positional and an option to place before it. `zros run`, `python`
     and `launch` are left out: what follows their positionals goes to the program or the
-    launch file (launch reads its own options after the file; tests/test_launch_run.py)."""
+    launch file (launch reads its own options after the file; tests/integration/test_launch_run.py)."""
     for verb in VERBS:
         for words, parser in _leaf_parsers(build_parser(verb)):
             positionals = [a for a in parser._actions if not a.option_strings]
@@ -68,22 +69,3 @@ def test_option_values_before_positionals_and_negative_values():
     assert once.once and once.values == '{data: hi}'
     param = build_parser('param').parse_args(['param', 'set', '--timeout', '2', '/n', 'p', '-5'])
     assert (param.timeout, param.node_name, param.parameter_name, param.value) == (2.0, '/n', 'p', '-5')
-
-
-@pytest.fixture(autouse=True)
-def _isolated(module_domain):
-    """Every CLI call of this module runs in the module's test domain."""
-
-
-def test_action_send_goal_with_feedback_before_the_goal(module_spawn, zros_cli):
-    """The course's order: `send_goal NAME TYPE --feedback GOAL`."""
-    module_spawn.node('demo_nodes', 'fibonacci_action_server', '--ros-args', '-p', 'step_period:=0.02')
-    sent = zros_cli('action', 'send_goal', '/fibonacci', 'action_tutorials_interfaces/action/Fibonacci',
-                    '--feedback', '{order: 3}', timeout=30)
-    assert sent.returncode == 0, sent
-    assert '     order: 3' in sent.stdout.splitlines(), sent
-    assert 'Feedback:' in sent.stdout and sent.stdout.rstrip().endswith('Goal finished with status: SUCCEEDED'), sent
-    first = zros_cli('action', 'send_goal', '-f', '--timeout', '20', '/fibonacci',
-                     'action_tutorials_interfaces/action/Fibonacci', '{order: 2}', timeout=30)
-    assert first.returncode == 0 and 'Feedback:' in first.stdout, first
-    assert '- 0\n- 1\n- 1\n' in first.stdout, first

@@ -22,7 +22,7 @@ from zros.idl import (
 )
 
 SOURCE = '/x/Foo.msg'
-INTERFACES = Path(__file__).parents[1] / 'interfaces'
+INTERFACES = Path(__file__).parents[2] / 'interfaces'
 
 
 def msg(text: str, package: str = 'pkg') -> MessageSpec:

@@ -218,19 +218,3 @@ def test_bad_ros_args(argv, fragment):
 
 
 # -- names through a node ------------------------------------------------------------------------
-def test_node_resolves_names_with_remapping(context):
-    from zros.node import Node
-    node = Node('talker', context=context, namespace='robot',
-                cli_args=['--ros-args', '-r', 'chatter:=news', '-r', 'talker:~/x:=/abs', '-r', 'listener:a:=b'])
-    assert node.get_namespace() == '/robot'
-    assert node.get_fully_qualified_name() == '/robot/talker'
-    assert node.resolve_topic_name('chatter') == '/robot/news'
-    assert node.resolve_topic_name('chatter', only_expand=True) == '/robot/chatter'
-    assert node.resolve_topic_name('~/x') == '/abs'
-    assert node.resolve_topic_name('a') == '/robot/a'
-    with pytest.raises(InvalidNameError):
-        node.create_publisher(__import__('interfaces.std_msgs.msg', fromlist=['String']).String, 'a*b', 10)
-    renamed = Node('talker', context=context, cli_args=['--ros-args', '-r', '__node:=x', '-r', '__ns:=/ns'])
-    assert renamed.get_fully_qualified_name() == '/ns/x'
-    with pytest.raises(InvalidNameError):
-        Node('1bad', context=context)

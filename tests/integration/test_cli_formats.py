@@ -11,7 +11,7 @@ import re
 import pytest
 
 from conftest import assert_clean_failure, wait_until
-from test_introspection import CLI, run_until
+from integration.test_introspection import CLI, run_until
 
 STRING_RIHS01 = 'RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18'
 
@@ -63,7 +63,7 @@ def test_service_call_prints_repr_like_ros2(source, zros_cli):
 
 
 def test_options_before_the_positionals(source, zros_cli):
-    """ros2cli's order-free options (tests/test_cli_option_order.py checks every verb's parser)."""
+    """ros2cli's order-free options (tests/unit/test_cli_option_order.py checks every verb's parser)."""
     call = zros_cli('service', 'call', '--json', '/fmt_add', 'example_interfaces/srv/AddTwoInts', '{a: 2, b: 40}')
     assert call.returncode == 0 and json.loads(call.stdout) == {'sum': 42}, call
     echo = zros_cli('topic', 'echo', '--once', '--field', 'data', '/fmt_slow', 'std_msgs/msg/String')

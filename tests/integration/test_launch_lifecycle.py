@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from conftest import assert_clean_failure, run_cli, wait_until
-from test_launch_parse import write  # noqa: F401 - the fixture
+from unit.test_launch_parse import write  # noqa: F401 - the fixture
 from zros.launch import resolve
 from zros.launch.plan import ChangeStateEffect, EventHandlerEffect, LogMessage, ProcessSpec
 

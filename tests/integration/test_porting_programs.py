@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-PROGRAMS = Path(__file__).parent / 'porting_programs'
+PROGRAMS = Path(__file__).parents[1] / 'porting_programs'
 
 
 @pytest.fixture

@@ -13,7 +13,7 @@ from rosbags.rosbag2 import Reader, StoragePlugin, Writer
 from rosbags.typesys import Stores, get_typestore
 
 from conftest import assert_clean_failure
-from test_bag import PUBLISHER, echo_child, wait_lines, write_bag
+from integration.test_bag import PUBLISHER, echo_child, wait_lines, write_bag
 from zros.node import Node
 
 # ROS 2's own hash of std_msgs/msg/String (ros2cli's test_cli.py expects the same).

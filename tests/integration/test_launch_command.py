@@ -1,0 +1,24 @@
+"""`$(command ...)`: the one substitution that runs a program (the other substitutions:
+tests/unit/test_launch_parse.py)."""
+from __future__ import annotations
+
+import pytest
+
+from unit.test_launch_parse import PY, Ctx
+from zros.launch.template import SubstitutionError
+
+
+def test_command(tmp_path):
+    ctx = Ctx()
+    assert ctx("$(command 'echo hello world')") == 'hello world'
+    script = tmp_path / 'warns.py'
+    script.write_text("import sys\nsys.stderr.write('warned')\nprint('out')\n")
+    code = f'{PY} {script}'
+    with pytest.raises(SubstitutionError, match='wrote to stderr'):
+        ctx(f"$(command '{code}')")
+    assert ctx(f"$(command '{code}' ignore)") == 'out'
+    assert ctx(f"$(command '{code}' capture)") == 'out\nwarned'
+    with pytest.raises(SubstitutionError, match='failed with exit code 3'):
+        ctx(f"$(command '{PY} -c \"raise SystemExit(3)\"')")
+    with pytest.raises(SubstitutionError, match="'no-such-program-zz' not found"):
+        ctx("$(command no-such-program-zz)")
