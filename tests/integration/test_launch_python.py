@@ -246,7 +246,7 @@ def test_package_launch_file_on_the_node_path(probe: Path, tmp_path: Path):
 @pytest.mark.parametrize('body, fragments', [
     ('from zros.launch.actions import ExecuteLocal\n',
      [':1: zros.launch.actions has no ExecuteLocal; supported: AppendEnvironmentVariable,', 'TimerAction']),
-    ('import launch\nfrom tf2_py import BufferCore\n', [":2: no module named 'tf2_py' (a ROS library zros does not provide: no zros.tf2_py)"]),
+    ('import launch\nfrom rosbag2_py import SequentialReader\n', [":2: no module named 'rosbag2_py' (a ROS library zros does not provide: no zros.rosbag2_py)"]),
     ('from my_missing_msgs.msg import Thing\n', [":1: no module named 'my_missing_msgs' (no interface package 'my_missing_msgs' here"]),
     ('import my_missing_helpers\n', [":1: no module named 'my_missing_helpers' (not installed in this Python environment)"]),
     ('import zros.launch_ros.actions\n\ndef generate_launch_description():\n'
