@@ -17,6 +17,11 @@ class CallbackGroup:
     def` callback leaves the group.
     """
 
+    def has_entity(self, entity: object) -> bool:
+        """Whether `entity` (a timer, subscription, service, client ...) runs in this group: the
+        group its node gave it when it was created."""
+        return getattr(entity, 'callback_group', None) is self
+
     def try_enter(self, entity: object = None) -> bool:
         """Take the group for `entity`'s callback if it may run now; the executor calls this.
 

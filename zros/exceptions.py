@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from zros.errors import (InvalidNamespaceException, InvalidNodeNameException, InvalidServiceNameException,
-                         InvalidTopicNameException, ZrosError)
+                         InvalidTopicNameException, NotInitializedError, ZrosError)
 
 __all__ = ['ParameterException', 'ParameterNotDeclaredException', 'ParameterAlreadyDeclaredException',
            'InvalidParameterException', 'InvalidParameterValueException', 'InvalidParameterTypeException',
@@ -12,11 +12,8 @@ __all__ = ['ParameterException', 'ParameterNotDeclaredException', 'ParameterAlre
 
 
 
-class NotInitializedException(ZrosError):
-    """An operation needs `zros.init()` (rclpy.init()) first."""
-
-    def __init__(self, cause: str = '') -> None:
-        super().__init__(f'zros.init() has not been called{": " + cause if cause else ""}')
+# rclpy's name for what zros raises when an operation needs `zros.init()` first.
+NotInitializedException = NotInitializedError
 
 
 class InvalidHandle(ZrosError):

@@ -31,6 +31,7 @@ from zros.service import Service
 from zros.subscription import Subscription, SubscriptionCallback
 from zros.guard_condition import GuardCondition
 from zros.timer import Rate, Timer, timer_lists_changed
+from zros.time_source import USE_SIM_TIME_NAME
 
 if TYPE_CHECKING:
     from zros.qos_monitor import QoSMonitor
@@ -127,9 +128,9 @@ class Node:
                       events_qos, self._default_callback_group))
         from zros.time_source import TimeSource
         self._time_source = TimeSource(self)
-        self.declare_parameter('use_sim_time', False)
+        self.declare_parameter(USE_SIM_TIME_NAME, False)
         self.add_post_set_parameters_callback(self._on_use_sim_time)
-        self._apply_use_sim_time(self.get_parameter('use_sim_time').value)
+        self._apply_use_sim_time(self.get_parameter(USE_SIM_TIME_NAME).value)
         if automatically_declare_parameters_from_overrides:
             for name, value in self._parameters.overrides.items():
                 if not self.has_parameter(name):
@@ -879,7 +880,7 @@ class Node:
     # -- simulated time --------------------------------------------------------------------
     def _on_use_sim_time(self, parameters: list[Parameter]) -> None:
         for param in parameters:
-            if param.name == 'use_sim_time':
+            if param.name == USE_SIM_TIME_NAME:
                 self._apply_use_sim_time(bool(param.value))
 
     def _apply_use_sim_time(self, enabled: bool) -> None:

@@ -12,7 +12,7 @@ import re
 from typing import Any
 
 __all__ = ['Parameter', 'parameter_value_to_python', 'load_parameter_file', 'parameter_dict_from_yaml_file',
-           'parse_parameter_value', 'ParameterFileError']
+           'parse_parameter_value', 'get_parameter_value', 'ParameterFileError']
 
 from zros.errors import ZrosError
 
@@ -184,6 +184,21 @@ def parameter_value_to_python(msg) -> Any:
     if kind == T.DOUBLE_ARRAY:
         return [float(v) for v in msg.double_array_value]
     return list(msg.string_array_value)
+
+
+def get_parameter_value(string_value: str) -> Any:
+    """rclpy's: the ParameterValue message a `-p name:=value` text stands for, typed by YAML
+    (`'42'` an integer, `'[1.0, 2.0]'` a double array; what YAML cannot type, or a list of
+    mixed types, is a string).
+
+    :param string_value: the text.
+    :return: an rcl_interfaces/msg/ParameterValue.
+    """
+    value = parse_parameter_value(string_value)
+    try:
+        return Parameter('', value=value).get_parameter_value()
+    except Exception:  # noqa: BLE001 - a list of mixed types: rclpy keeps the text
+        return Parameter('', value=string_value).get_parameter_value()
 
 
 def parse_parameter_value(text: str) -> Any:

@@ -25,7 +25,7 @@ from zros.duration import Duration
 __all__ = [
     'HistoryPolicy', 'ReliabilityPolicy', 'DurabilityPolicy', 'LivelinessPolicy', 'QoSPolicyKind',
     'qos_policy_name_from_kind', 'qos_incompatibilities',
-    'QoSProfile', 'QoSPresetProfiles', 'Duration',
+    'QoSProfile', 'QoSPresetProfiles', 'Duration', 'InvalidQoSProfileException',
     'qos_profile_default', 'qos_profile_sensor_data', 'qos_profile_services_default',
     'qos_profile_parameters', 'qos_profile_parameter_events', 'qos_profile_system_default',
     'qos_profile_action_status_default', 'qos_profile_best_available',
@@ -115,6 +115,10 @@ def qos_policy_name_from_kind(policy_kind: 'QoSPolicyKind | int') -> str:
 KEEP_ALL_DEPTH = 100_000
 
 
+class InvalidQoSProfileException(ValueError):
+    """A QoS profile whose settings contradict each other (KEEP_LAST with a depth of 0)."""
+
+
 @dataclass
 class QoSProfile:
     """A ROS 2 QoS profile. `QoSProfile(depth=10)` is the ROS default profile. The durations
@@ -145,7 +149,7 @@ class QoSProfile:
 
     def __post_init__(self) -> None:
         if self.history == HistoryPolicy.KEEP_LAST and self.depth == 0:
-            raise ValueError('QoS depth must be > 0 with KEEP_LAST history')
+            raise InvalidQoSProfileException('QoS depth must be > 0 with KEEP_LAST history')
 
     @property
     def queue_depth(self) -> int:

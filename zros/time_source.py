@@ -19,9 +19,11 @@ from zros.wire import read_header, type_tail
 if TYPE_CHECKING:
     from zros.node import Node
 
-__all__ = ['TimeSource', 'CLOCK_TOPIC']
+__all__ = ['TimeSource', 'CLOCK_TOPIC', 'USE_SIM_TIME_NAME']
 
 CLOCK_TOPIC = '/clock'
+#: The parameter every node declares to choose simulated time (rclpy's name for the name).
+USE_SIM_TIME_NAME = 'use_sim_time'
 _CLOCK_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT)
 
 
