@@ -231,13 +231,13 @@ class ROSClock(Clock):
             was_active = self._sim_time_ns is not None
             before = self.now().nanoseconds
             after = override_ns if active else _time.time_ns()
+            change: ClockChange | None = None
             if active != was_active:
                 change = ClockChange.ROS_TIME_ACTIVATED if active else ClockChange.ROS_TIME_DEACTIVATED
-            else:
-                change = ClockChange.ROS_TIME_NO_CHANGE if active else None
+            elif active and override_ns != self._override_ns:
+                change = ClockChange.ROS_TIME_NO_CHANGE
             delta = after - before
-            fired = [h for h in self._jump_handles if change is not None and h.threshold._fires(change, delta)] \
-                if change != ClockChange.ROS_TIME_NO_CHANGE or override_ns != self._override_ns else []
+            fired = [] if change is None else [h for h in self._jump_handles if h.threshold._fires(change, delta)]
         for handle in fired:
             if handle.pre_callback is not None:
                 handle.pre_callback()
@@ -251,5 +251,5 @@ class ROSClock(Clock):
         for listener in listeners:
             listener()
         for handle in fired:
-            if handle.post_callback is not None:
+            if handle.post_callback is not None and change is not None:
                 handle.post_callback(TimeJump(change, Duration(nanoseconds=delta)))
