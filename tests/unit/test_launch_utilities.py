@@ -1,0 +1,119 @@
+"""zros.launch.utilities (launch.utilities): argument checks, substitution lists and the typed
+values launch actions coerce, in the cases launch code relies on."""
+from __future__ import annotations
+
+from typing import List
+
+import pytest
+
+from zros.launch.context import LaunchContext
+from zros.launch.substitutions import LaunchConfiguration, TextSubstitution
+from zros.launch.template import Substitution
+from zros.launch.utilities import (ensure_argument_type, is_a, is_a_subclass, normalize_to_list_of_substitutions,
+                                   perform_substitutions)
+from zros.launch.utilities.type_utils import (coerce_list, coerce_to_type, extract_type, get_typed_value,
+                                              is_instance_of, is_substitution, normalize_typed_substitution,
+                                              perform_typed_substitution)
+
+
+# -- argument checks ----------------------------------------------------------------------------
+def test_a_wrong_argument_type_names_the_argument_and_the_caller():
+    ensure_argument_type(True, [str, int], 'flag')  # a bool is an int
+    with pytest.raises(TypeError, match=r"'MyAction': expected 'period' to be one of \[float, int\]"):
+        ensure_argument_type('1', (float, int), 'period', 'MyAction')
+    with pytest.raises(TypeError):
+        ensure_argument_type(1, None, 'x')  # types must be a class or classes
+
+
+def test_is_a_subclass_takes_instances_and_classes():
+    class Base:
+        pass
+
+    class Derived(Base):
+        pass
+
+    assert is_a(Derived(), Base) and not is_a(Derived, Base)
+    assert is_a_subclass(Derived, Base) and is_a_subclass(Derived(), Base)
+    assert not is_a_subclass(Base, Derived) and not is_a_subclass('text', Base)
+    with pytest.raises(RuntimeError):
+        is_a(1, 'int')
+
+
+# -- substitution lists -------------------------------------------------------------------------
+def test_strings_become_text_substitutions_and_numbers_are_refused():
+    subs = normalize_to_list_of_substitutions(['a', LaunchConfiguration('x'), ''])
+    assert [type(s) for s in subs] == [TextSubstitution, LaunchConfiguration, TextSubstitution]
+    assert normalize_to_list_of_substitutions(()) == []
+    for bad in (None, 2, ['a', ['b']], [1.5]):
+        with pytest.raises(TypeError):
+            normalize_to_list_of_substitutions(bad)
+
+
+def test_perform_substitutions_concatenates_in_the_launch_context():
+    context = LaunchContext(launch_arguments={'robot': 'r1'})
+    subs = normalize_to_list_of_substitutions(['/', LaunchConfiguration('robot'), '/scan'])
+    assert perform_substitutions(context, subs) == '/r1/scan'
+    with pytest.raises(AttributeError):
+        perform_substitutions(context, ['plain text is not a substitution'])
+    with pytest.raises(NotImplementedError):
+        perform_substitutions(context, [Substitution()])
+
+
+# -- typed values -------------------------------------------------------------------------------
+@pytest.mark.parametrize('text, data_type, expected', [
+    ('3', None, 3), ('3.', None, 3.0), ('yes', None, True), ("'3'", None, '3'), ('', None, ''),
+    ('[1, 2]', None, [1, 2]), ('3', float, 3.0), ('3', str, '3'), ('on', bool, True), ('0', bool, False),
+    ('[a, b]', List[str], ['a', 'b']), ('x', int, ValueError), ('3.5', int, ValueError), ('', bool, ValueError),
+    ('[1, 2.5]', None, ValueError), ('{a: 1}', None, ValueError), ('[1]', int, ValueError),
+])
+def test_text_coerces_by_yaml_and_the_requested_type(text, data_type, expected):
+    if expected is ValueError:
+        with pytest.raises(ValueError):
+            coerce_to_type(text, data_type)
+    else:
+        result = coerce_to_type(text, data_type)
+        assert result == expected and type(result) is type(expected)
+
+
+def test_can_be_str_keeps_what_does_not_coerce():
+    assert coerce_to_type('$(var x)', int, can_be_str=True) == '$(var x)'
+    assert coerce_list(['a', '2'], int, can_be_str=True) == ['a', 2]
+    with pytest.raises(ValueError):
+        coerce_list(['a', '2'], int)
+
+
+def test_get_typed_value_refuses_a_list_for_a_scalar_type():
+    assert get_typed_value(['1', '2'], List[int]) == [1, 2]
+    with pytest.raises(TypeError):
+        get_typed_value(['1', '2'], int)
+    with pytest.raises(TypeError):
+        coerce_to_type(3, int)
+
+
+def test_type_checks_know_only_launchs_types():
+    assert extract_type(List[bool]) == (bool, True)
+    assert is_instance_of(['1', 2], List[int], can_be_str=True)
+    assert not is_instance_of(1, float) and not is_instance_of([1], int)
+    for bad in (bytes, list, List, dict):
+        with pytest.raises(ValueError):
+            extract_type(bad)
+
+
+def test_a_list_of_strings_and_substitutions_is_one_substitution():
+    assert is_substitution(['/ns/', TextSubstitution(text='x')])
+    assert not is_substitution(['a', 'b']) and not is_substitution('a') and not is_substitution([])
+    joined = normalize_typed_substitution(['1', TextSubstitution(text='0')], int)
+    assert perform_typed_substitution(LaunchContext(), joined, int) == 10
+
+
+def test_a_list_value_holds_values_and_substitution_items():
+    context = LaunchContext(launch_arguments={'b': '2'})
+    value = normalize_typed_substitution([1, [LaunchConfiguration('b')], 3.5], List[float])
+    assert value[0] == 1.0 and type(value[0]) is float
+    assert perform_typed_substitution(context, value, List[float]) == [1.0, 2.0, 3.5]
+    with pytest.raises(TypeError):
+        normalize_typed_substitution([1, 'a'], List[int])   # mixed plain items
+    with pytest.raises(TypeError):
+        normalize_typed_substitution([1, 2], int)           # a list for a scalar
+    with pytest.raises(ValueError):
+        perform_typed_substitution(context, [[TextSubstitution(text='x')]], List[int])
