@@ -117,3 +117,18 @@ def test_a_list_value_holds_values_and_substitution_items():
         normalize_typed_substitution([1, 2], int)           # a list for a scalar
     with pytest.raises(ValueError):
         perform_typed_substitution(context, [[TextSubstitution(text='x')]], List[int])
+
+
+def test_zros_launch_types_attributes_by_the_same_rules():
+    """A typed attribute (respawn, respawn_delay ...) converts its text through coerce_to_type,
+    so a launch file gets launch's YAML spellings and launch's errors alike."""
+    from zros.launch.errors import LaunchFileError, Origin
+    from zros.launch.template import Typed
+    origin = Origin('f.launch.py', 3, 'Node', 'respawn')
+    context = LaunchContext(launch_arguments={'delay': '2'})
+    assert Typed.of('on', bool, origin).perform(context) is True
+    assert Typed.of(' 1 ', bool, origin).perform(context) is True
+    assert Typed.of(LaunchConfiguration('delay'), float, origin).perform(context) == 2.0
+    assert Typed.of(3, float, origin).perform(context) == 3.0
+    with pytest.raises(LaunchFileError, match=r"^f\.launch\.py:3: Node: respawn: expected an int, got string '1\.'$"):
+        Typed.of('1.', int, origin)

@@ -359,31 +359,25 @@ class Typed:
         return cls(data_type, text, origin)
 
     def convert(self, value: Any) -> Any:
+        """`value` as `data_type`: text by launch's coercion rules
+        (zros.launch.utilities.type_utils: 'on' is a bool, '1.' a float but no int), a value
+        of the type as is (an int is also a float).
+
+        Raises:
+            LaunchFileError: it is not one, naming the expected type and what was given.
+        """
         name = {bool: 'a bool (true or false)', int: 'an int', float: 'a number'}[self.data_type]
-        if self.data_type is bool:
+        if isinstance(value, str):
+            from zros.launch.utilities.type_utils import coerce_to_type
+            try:
+                return coerce_to_type(value.strip(), self.data_type)
+            except ValueError:
+                pass
+        elif self.data_type is bool:
             if isinstance(value, bool):
                 return value
-            if isinstance(value, str):
-                try:
-                    return to_bool(value)
-                except SubstitutionError:
-                    pass
-        elif self.data_type is int:
-            if isinstance(value, int) and not isinstance(value, bool):
-                return value
-            if isinstance(value, str):
-                try:
-                    return int(value.strip())
-                except ValueError:
-                    pass
-        elif self.data_type is float:
-            if isinstance(value, (int, float)) and not isinstance(value, bool):
-                return float(value)
-            if isinstance(value, str):
-                try:
-                    return float(value.strip())
-                except ValueError:
-                    pass
+        elif isinstance(value, int if self.data_type is int else (int, float)) and not isinstance(value, bool):
+            return self.data_type(value)
         shown = f' {value!r}' if not isinstance(value, (list, dict)) else ''
         kind = type(value).__name__ if not isinstance(value, str) else 'string'
         raise LaunchFileError(self.origin, f'expected {name}, got {kind}{shown}')
