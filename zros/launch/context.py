@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import copy
 import os
+from collections import Counter
 from collections.abc import Iterator, MutableMapping
 from dataclasses import dataclass, field
 from typing import Any, NamedTuple
@@ -71,6 +72,9 @@ class LaunchContext:
         self._captures: list[list] = [[]]
         self._anon: dict[str, str] = {}
         self.read_configurations: set[str] = set()   # names substitutions looked up
+        # nodes started per fully qualified name (launch_ros.utilities.track_node_names), shared
+        # with snapshots: a duplicate name anywhere in the launch is one to warn about
+        self.node_names: Counter[str] = Counter()
 
     # -- what Python launch code sees (launch.LaunchContext) -----------------------------------
     @property

@@ -23,7 +23,7 @@ from zros.launch.actions.group import join_namespace
 from zros.launch.entity import Entity, Scalar
 from zros.launch.errors import LaunchFileError, Origin
 from zros.launch.parameters import ParamEntry, param_entries, yaml_param_entries
-from zros.launch.plan import OUTPUT_MODES, GeneratedParams, NodeInfo, ParamsFile, ProcessSpec
+from zros.launch.plan import OUTPUT_MODES, GeneratedParams, LogMessage, NodeInfo, ParamsFile, ProcessSpec
 from zros.launch.template import Text, Typed, is_static, parse, perform
 
 __all__ = ['ExecuteProcess', 'Node', 'CommandLine', 'DEFAULT_SIGTERM_TIMEOUT', 'DEFAULT_SIGKILL_TIMEOUT']
@@ -419,7 +419,17 @@ class Node(ExecuteProcess):
         except InvalidNameError as exc:
             origin = self.namespace.origin if self.namespace is not None else self.origin
             raise LaunchFileError(origin, str(exc)) from None
+        if name is not None:
+            self._count_node_name(context, f"{'' if namespace == '/' else namespace}/{name}")
         return name, namespace
+
+    def _count_node_name(self, context: Any, fqn: str) -> None:
+        """launch_ros's duplicate-name warning: two nodes of one name confuse the ROS graph."""
+        context.node_names[fqn] += 1
+        count = context.node_names[fqn]
+        if count > 1:
+            context.emit(LogMessage('WARNING', f'there are now at least {count} nodes with the name {fqn} '
+                                               'created within this launch context', self.origin))
 
     def ros_arguments_for(self, context: Any, name: str | None, namespace: str) -> list[str]:
         """`-r __node:=`, `-r __ns:=`, then the scope's and this node's remappings."""
