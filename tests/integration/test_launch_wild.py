@@ -59,7 +59,7 @@ def test_parameter_values_follow_launch_ros(plan_of):
 
 
 @pytest.mark.parametrize('param, fragment', [
-    ("{name: p, value: [1, 'a']}", 'a list parameter must hold one type'),
+    ("{name: p, value: [1, 'a']}", 'Expected a non-empty sequence with items of one type'),
     ("{name: p, value: ['x'], type: list_of_int}", "expected an int, got string 'x'"),
     ("{name: p, value: 3, type: list_of_str}", 'expected a list for type list_of_str'),
     ("{name: p, value: 1, type: list_of_nothing}", 'expected one of str, int, float, bool, list_of_str'),

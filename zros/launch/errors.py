@@ -10,7 +10,7 @@ from typing import NamedTuple
 
 from zros.errors import ZrosError
 
-__all__ = ['LaunchError', 'LaunchFileError', 'SubstitutionError', 'Origin']
+__all__ = ['LaunchError', 'LaunchFileError', 'ParameterTypeError', 'SubstitutionError', 'Origin']
 
 
 class LaunchError(ZrosError):
@@ -47,3 +47,8 @@ class LaunchFileError(LaunchError):
         self.origin = origin
         self.reason = ' '.join(str(reason).split()) if '\n' in str(reason) else str(reason)
         super().__init__(f'{origin}: {self.reason}' if origin is not None else self.reason)
+
+
+class ParameterTypeError(LaunchFileError, TypeError):
+    """A node parameter's value cannot be a ROS parameter (a mixed or nested list); also a
+    TypeError, which is what launch_ros raises for it."""

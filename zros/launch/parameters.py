@@ -12,7 +12,7 @@ import typing
 from pathlib import Path
 from typing import Any, NamedTuple
 
-from zros.launch.errors import LaunchFileError, Origin
+from zros.launch.errors import LaunchFileError, Origin, ParameterTypeError
 from zros.launch.template import Substitution, Text, Typed, is_static
 
 __all__ = ['ParamValue', 'TextValue', 'ParamEntry', 'PARAM_TYPES', 'ParameterValue', 'ParameterFile', 'Parameter',
@@ -125,13 +125,7 @@ class ParamValue(NamedTuple):
         if self.type is not None and self.type.startswith('list_of_'):
             return self._as_list(context, _SCALARS[self.type[len('list_of_'):]])
         if isinstance(self.value, list):
-            values = [self._item(item, context, None) for item in self.value]
-            kinds = {type(v) for v in values}
-            if kinds == {int, float}:
-                return [float(v) for v in values]
-            if len(kinds) > 1:
-                raise LaunchFileError(self.origin, f'a list parameter must hold one type, got {values!r}')
-            return values
+            return self._uniform([self._item(item, context, None) for item in self.value], allow_empty=True)
         if self.type in _SCALARS:
             return self._coerce(self._raw(context), _SCALARS[self.type])
         return self._item(self.value, context, None)
@@ -145,9 +139,28 @@ class ParamValue(NamedTuple):
             text = item.text.perform(context)
             if data_type is not None:
                 return self._coerce(text, data_type)
-            # launch_ros: plain text stays text; what substitutions produced is typed by YAML.
-            return parse_parameter_value(text) if item.yaml and text else text
+            # launch_ros: plain text stays text; what substitutions produced is typed by YAML
+            # (zros keeps text YAML cannot type, a URDF say, as a string: launch_ros refuses it).
+            if not (item.yaml and text):
+                return text
+            value = parse_parameter_value(text)
+            return self._uniform(value, allow_empty=False) if isinstance(value, list) else value
         return self._coerce(item, data_type) if data_type is not None else item
+
+    def _uniform(self, values: list, *, allow_empty: bool) -> list:
+        """`values` as a ROS array parameter: items of one type (ints among floats become
+        floats); an empty list only if written so (one a substitution gives has no type).
+
+        Raises:
+            ParameterTypeError: mixed, nested or (from a substitution) empty.
+        """
+        kinds = {type(v) for v in values}
+        if kinds == {int, float}:
+            return [float(v) for v in values]
+        if (len(kinds) == 1 and kinds <= {bool, int, float, str}) or (allow_empty and not values):
+            return values
+        raise ParameterTypeError(self.origin, 'Expected a non-empty sequence with items of one type (bool, int, '
+                                              f'float or str) for a list parameter, got {values!r}')
 
     def _as_list(self, context: Any, data_type: type) -> list:
         from zros.parameter import parse_parameter_value
