@@ -170,12 +170,22 @@ def get_typed_value(value: str | list[str], data_type: Any, *, can_be_str: bool 
     """
     if not isinstance(value, list):
         return coerce_to_type(value, data_type, can_be_str=can_be_str)
-    scalar = None
-    if data_type is not None:
-        scalar, is_list = extract_type(data_type)
-        if not is_list:
-            raise TypeError(f'cannot convert the list {value!r} to the scalar type {_type_name(data_type)}')
-    return coerce_list(value, scalar, can_be_str=can_be_str)
+    return coerce_list(value, _list_item_type_for(value, data_type, TypeError), can_be_str=can_be_str)
+
+
+def _list_item_type_for(value: list, data_type: Any, error: type[Exception]) -> type | None:
+    """The item type `data_type` asks of the list `value` (None: any allowed type).
+
+    Raises:
+        error: `data_type` is a scalar type (launch raises TypeError or ValueError by caller).
+        ValueError: `data_type` is not an allowed type.
+    """
+    if data_type is None:
+        return None
+    scalar, is_list = extract_type(data_type)
+    if not is_list:
+        raise error(f'{value!r} is a list, but {_type_name(data_type)} is a scalar type')
+    return scalar
 
 
 def is_substitution(value: Any) -> bool:
@@ -230,11 +240,7 @@ def normalize_typed_substitution(value: Any, data_type: Any) -> Any:
             seen.add(type(item))
         elif not is_substitution(item):
             raise TypeError(f'a list item must be a value, a substitution or a list of substitutions, got {item!r}')
-    scalar = None
-    if data_type is not None:
-        scalar, is_list = extract_type(data_type)
-        if not is_list:
-            raise TypeError(f'{items!r} is a list, but {_type_name(data_type)} is a scalar type')
+    scalar = _list_item_type_for(items, data_type, TypeError)
     item_type = _list_item_type(seen, items)
     if scalar is not None and item_type is not None and scalar is not item_type:
         raise TypeError(f'{items!r} is a list of {item_type.__name__}, expected a list of {scalar.__name__}')
@@ -274,11 +280,7 @@ def perform_typed_substitution(context: Any, value: Any, data_type: Any) -> Any:
         return coerce_to_type(perform_substitutions(context, value), data_type)
     if not isinstance(value, list):
         raise TypeError(f'{value!r} is not a normalized typed substitution')
-    scalar = None
-    if data_type is not None:
-        scalar, is_list = extract_type(data_type)
-        if not is_list:
-            raise ValueError(f'{value!r} is a list, cannot convert it to the scalar type {scalar.__name__}')
+    scalar = _list_item_type_for(value, data_type, ValueError)
     result = [coerce_to_type(perform_substitutions(context, item), scalar)
               if is_normalized_substitution(item) else item for item in value]
     if not is_instance_of(result, data_type):
