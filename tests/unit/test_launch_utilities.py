@@ -132,3 +132,45 @@ def test_zros_launch_types_attributes_by_the_same_rules():
     assert Typed.of(3, float, origin).perform(context) == 3.0
     with pytest.raises(LaunchFileError, match=r"^f\.launch\.py:3: Node: respawn: expected an int, got string '1\.'$"):
         Typed.of('1.', int, origin)
+
+
+# -- signals --------------------------------------------------------------------------------------
+@pytest.fixture
+def quiet_sigusr():
+    """SIGUSR1/2 with a no-op Python handler (their default ends the process), restored after."""
+    import signal
+    previous = {s: signal.signal(s, lambda *_: None) for s in (signal.SIGUSR1, signal.SIGUSR2)}
+    yield
+    for s, handler in previous.items():
+        signal.signal(s, handler)
+
+
+def test_signals_reach_the_loop_only_inside_the_managers_context(quiet_sigusr):
+    import asyncio
+    import signal
+
+    from zros.launch.utilities import AsyncSafeSignalManager
+    loop = asyncio.new_event_loop()
+    try:
+        outer, inner = AsyncSafeSignalManager(loop), AsyncSafeSignalManager(loop)
+        seen: list[tuple[str, int]] = []
+        outer.handle(signal.SIGUSR1, lambda s: seen.append(('outer', s)))
+        inner.handle(signal.SIGUSR1, lambda s: seen.append(('inner', s)))
+
+        def deliver(signum):
+            loop.call_soon(signal.raise_signal, signum)
+            loop.run_until_complete(asyncio.sleep(0.2))
+
+        with outer:
+            with inner:      # nested: the inner one passes the signal on to the outer one
+                deliver(signal.SIGUSR1)
+            assert seen == [('inner', signal.SIGUSR1), ('outer', signal.SIGUSR1)]
+            assert outer.handle(signal.SIGUSR1, None) is not None
+            deliver(signal.SIGUSR1)
+            assert len(seen) == 2
+        outer.handle(signal.SIGUSR2, lambda s: seen.append(('late', s)))
+        deliver(signal.SIGUSR2)              # outside the context: not handled
+        assert len(seen) == 2
+        assert signal.set_wakeup_fd is AsyncSafeSignalManager._set_wakeup_fd   # restored
+    finally:
+        loop.close()
