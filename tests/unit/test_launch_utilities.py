@@ -174,3 +174,35 @@ def test_signals_reach_the_loop_only_inside_the_managers_context(quiet_sigusr):
         assert signal.set_wakeup_fd is AsyncSafeSignalManager._set_wakeup_fd   # restored
     finally:
         loop.close()
+
+
+# -- entity walks ---------------------------------------------------------------------------------
+def test_entities_are_visited_depth_first_collecting_their_futures():
+    import asyncio
+
+    from zros.launch import LaunchDescription
+    from zros.launch.actions import LogInfo
+    from zros.launch.utilities import normalize_to_list_of_entities, visit_all_entities_and_collect_futures
+    loop = asyncio.new_event_loop()
+
+    class Waiting:
+        """An entity that waits on a future and has `children` sub-entities."""
+
+        def __init__(self, name, children=()):
+            self.name, self.children, self.future = name, list(children), loop.create_future()
+
+        def visit(self, context):
+            return self.children or None
+
+        def get_asyncio_future(self):
+            return self.future
+
+    try:
+        tree = Waiting('a', [Waiting('b', [Waiting('c')]), LogInfo(msg='no future'), Waiting('d')])
+        found = visit_all_entities_and_collect_futures(tree, LaunchContext())
+        assert [entity.name for entity, _ in found] == ['a', 'b', 'c', 'd']
+        assert all(future is entity.future for entity, future in found)
+        log = LogInfo(msg='x')
+        assert normalize_to_list_of_entities([log, [tree], LaunchDescription([])])[:2] == [log, tree]
+    finally:
+        loop.close()
