@@ -106,3 +106,10 @@ def test_text_yaml_cannot_type_stays_a_string():
     for text in ("{'a': 3}", 'a : b : c', '<robot name="r"><link name="a: b"/></robot>'):
         assert evaluate_parameters(LaunchContext(), normalize_parameters([{'p': TextSubstitution(text=text)}])) \
             == ({'p': text},)
+
+
+def test_a_parameter_description_evaluates_to_its_name_and_value():
+    from zros.launch.parameters import Parameter, ParameterFile
+    from zros.launch_ros.utilities import evaluate_parameters, normalize_parameters
+    normalized = normalize_parameters([Parameter('rate', LaunchConfiguration('r')), ParameterFile('/p.yaml')])
+    assert evaluate_parameters(LaunchContext(launch_arguments={'r': '5'}), normalized)[0] == {'rate': 5}

@@ -43,7 +43,8 @@ def normalize_parameters(parameters: Sequence[Any]) -> tuple[Any, ...]:
 
 def evaluate_parameters(context: Any, parameters: Sequence[Any]) -> tuple[Any, ...]:
     """What `normalize_parameters` gave, evaluated in `context`: a Path per file, a dict of
-    dotted names to values per dict (a list value as a tuple).
+    dotted names to values per dict (a list value as a tuple), and a one-entry dict per
+    `Parameter(name, value)` (launch_ros returns the description itself).
 
     Raises:
         TypeError: a value cannot be a ROS parameter (a mixed, nested or empty list).
@@ -51,17 +52,19 @@ def evaluate_parameters(context: Any, parameters: Sequence[Any]) -> tuple[Any, .
     """
     evaluated: list[Any] = []
     for item in parameters:
-        if isinstance(item, ParamEntry):
+        if isinstance(item, ParamEntry) and item.path is not None:
             evaluated.append(Path(item.path.perform(context)))
-        else:
-            values: dict[str, Any] = {}
-            for entry in item:
-                _flatten(entry, '', context, values)
-            evaluated.append(values)
+            continue
+        # a dict's entries; a Parameter(name, value) description gives a one-entry dict
+        values: dict[str, Any] = {}
+        for entry in (item,) if isinstance(item, ParamEntry) else item:
+            _flatten(entry, '', context, values)
+        evaluated.append(values)
     return tuple(evaluated)
 
 
 def _flatten(entry: ParamEntry, prefix: str, context: Any, out: dict[str, Any]) -> None:
+    assert entry.name is not None, 'a named entry (dict key or Parameter)'
     name = prefix + entry.name.perform(context)
     if entry.value is None:
         for nested in entry.nested:
