@@ -125,10 +125,13 @@ class RosModuleFinder(importlib.abc.MetaPathFinder):
             if finder is self or not hasattr(finder, 'find_spec'):
                 continue
             try:
-                if finder.find_spec(top, None) is not None:
-                    return True
+                spec = finder.find_spec(top, None)
             except (ImportError, ValueError):
                 continue
+            # a directory without __init__.py (a test tree's `launch/` folder) is a namespace
+            # package, no install of the library: it must not hide zros's
+            if spec is not None and spec.origin is not None:
+                return True
         return False
 
 
