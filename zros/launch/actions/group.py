@@ -5,8 +5,10 @@ from __future__ import annotations
 from typing import Any, Iterable
 
 from zros.errors import InvalidNameError
-from zros.launch.action import Action, ActionKwargs, Parser, PopScope, PushScope, launch_tag
-from zros.launch.actions.arg import configuration_pairs, parse_keep
+from zros.launch.action import Action, ActionKwargs, Parser, launch_tag
+from zros.launch.actions.arg import (ResetLaunchConfigurations, SetLaunchConfiguration, configuration_pairs,
+                                     parse_keep)
+from zros.launch.actions.scope import ResetEnvironment, scoped
 from zros.launch.entity import Entity
 from zros.launch.errors import LaunchFileError, Origin
 from zros.launch.template import Text, Typed
@@ -48,7 +50,8 @@ class GroupAction(Action):
 
     Scoped (the default): configuration, environment, namespace, `SetParameter` and `SetRemap`
     changes made inside end with the group. `launch_configurations` are set for the group;
-    with `forwarding=False` the group starts with those only.
+    with `forwarding=False` the group starts with those only, in the starting environment.
+    `execute` returns the children between the stack actions (zros.launch.actions.scope).
     """
 
     def __init__(self, actions: Iterable[Action], *, scoped: Any = None, forwarding: Any = None,
@@ -73,15 +76,17 @@ class GroupAction(Action):
         return self.actions
 
     def execute(self, context: Any) -> list[Action]:
-        scoped = self.scoped.perform(context) if self.scoped is not None else True
+        is_scoped = self.scoped.perform(context) if self.scoped is not None else True
         forwarding = self.forwarding.perform(context) if self.forwarding is not None else True
-        if not scoped:
-            from zros.launch.actions.arg import SetLaunchConfiguration
-            sets = [SetLaunchConfiguration(name, value, origin=self.origin)
-                    for name, value in self.launch_configurations]
+        sets: list[Action] = [SetLaunchConfiguration(name, value, origin=self.origin)
+                              for name, value in self.launch_configurations]
+        if not is_scoped:
             return [*sets, *self.actions]
-        return [PushScope(origin=self.origin, forwarding=forwarding, configurations=self.launch_configurations),
-                *self.actions, PopScope(origin=self.origin)]
+        if forwarding:
+            return scoped(self.actions, self.origin, first=sets)
+        resets = [ResetEnvironment(origin=self.origin),
+                  ResetLaunchConfigurations(self.launch_configurations, origin=self.origin)]
+        return scoped(self.actions, self.origin, first=resets)
 
 
 def join_namespace(base: str, namespace: str) -> str:
