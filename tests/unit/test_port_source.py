@@ -78,3 +78,19 @@ def test_port_source_binds_the_names_the_code_uses():
     assert 'import numpy as np\nimport logging\nx = "import rclpy"  # rclpy in strings' in ported
     assert any("no 'my_robot_interfaces' interfaces" in n.text and n.line == 6 for n in notes), notes
     assert module_target('logging') == 'zros.logging' and module_target('logging', lambda top: True) is None
+
+
+def test_a_folder_without_init_does_not_count_as_an_installed_library(tmp_path, monkeypatch):
+    """A test tree's `launch/` folder on sys.path is a namespace package, not launch itself:
+    the hook must still map `launch` to zros.launch; a real package (with __init__.py) wins."""
+    import importlib
+
+    from zros.import_hook import RosModuleFinder
+    (tmp_path / 'ns_only_lib').mkdir()
+    (tmp_path / 'real_lib').mkdir()
+    (tmp_path / 'real_lib' / '__init__.py').write_text('')
+    monkeypatch.syspath_prepend(str(tmp_path))
+    importlib.invalidate_caches()
+    finder = RosModuleFinder()
+    assert not finder._installed('ns_only_lib')
+    assert finder._installed('real_lib')
