@@ -142,3 +142,18 @@ def test_each_action_has_launchs_module_too(module: str, name: str):
     actions = importlib.import_module('zros.launch.actions')
     assert getattr(importlib.import_module(f'zros.launch.actions.{module}'), name) is getattr(actions, name)
     assert importlib.import_module('zros.launch.launch_context').LaunchContext is LaunchContext
+
+
+def test_reset_env_is_a_tag_in_yaml_and_xml(tmp_path):
+    from zros.launch import resolve
+    yaml_file = tmp_path / 'reset.launch.yaml'
+    yaml_file.write_text('launch:\n- set_env: {name: RESET_PROBE, value: "1"}\n'
+                         '- group:\n  - reset_env:\n  - log: {message: "in=$(env RESET_PROBE none)"}\n'
+                         '- log: {message: "out=$(env RESET_PROBE none)"}\n')
+    xml_file = tmp_path / 'reset.launch.xml'
+    xml_file.write_text('<launch><set_env name="RESET_PROBE" value="1"/>'
+                        '<group><reset_env/><log message="in=$(env RESET_PROBE none)"/></group>'
+                        '<log message="out=$(env RESET_PROBE none)"/></launch>')
+    for path in (yaml_file, xml_file):
+        plan = resolve(str(path), environment={}, log_dir=str(tmp_path / 'log'))
+        assert [effect.message for effect in plan.effects] == ['in=none', 'out=1']

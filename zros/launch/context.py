@@ -13,8 +13,8 @@ from collections.abc import Iterable, Iterator, MutableMapping
 from dataclasses import dataclass, field
 from typing import Any, NamedTuple
 
-from zros.launch.errors import LaunchError, LaunchFileError, Origin
-from zros.launch.locals import LaunchLocals
+from zros.launch.errors import LaunchFileError, Origin
+from zros.launch.locals import LaunchLocals, pop_saved
 from zros.launch.template import make_anon_name
 
 __all__ = ['LaunchContext', 'RosScope', 'DeclaredArgument']
@@ -136,17 +136,14 @@ class LaunchContext:
         self._saved_configurations.append(_SavedConfigurations(dict(self.configurations), copy.deepcopy(self.ros)))
 
     def pop_launch_configurations(self) -> None:
-        if not self._saved_configurations:
-            raise LaunchError('PopLaunchConfigurations without a PushLaunchConfigurations before it')
-        self.configurations, self.ros = self._saved_configurations.pop()
+        saved = pop_saved(self._saved_configurations, 'PopLaunchConfigurations', 'PushLaunchConfigurations')
+        self.configurations, self.ros = saved
 
     def push_environment(self) -> None:
         self._saved_environments.append(dict(self.environment))
 
     def pop_environment(self) -> None:
-        if not self._saved_environments:
-            raise LaunchError('PopEnvironment without a PushEnvironment before it')
-        self.environment = self._saved_environments.pop()
+        self.environment = pop_saved(self._saved_environments, 'PopEnvironment', 'PushEnvironment')
 
     def reset_environment(self) -> None:
         """Back to the environment the launch started from."""

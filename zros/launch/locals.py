@@ -10,7 +10,14 @@ from typing import Any
 
 from zros.launch.errors import LaunchError
 
-__all__ = ['LaunchLocals', 'LocalsView']
+__all__ = ['LaunchLocals', 'LocalsView', 'pop_saved']
+
+
+def pop_saved(stack: list, pop: str, push: str) -> Any:
+    """The last state saved on `stack`; a `pop` without its `push` is the launch file's error."""
+    if not stack:
+        raise LaunchError(f'{pop} without a {push} before it')
+    return stack.pop()
 
 
 class LocalsView:
@@ -49,9 +56,7 @@ class LaunchLocals:
         self._stack.append(dict(self._locals))
 
     def pop(self) -> None:
-        if not self._stack:
-            raise LaunchError('launch locals popped without a push before')
-        self._locals = self._stack.pop()
+        self._locals = pop_saved(self._stack, 'a pop of the launch locals', 'push')
 
     def as_dict(self) -> dict[str, Any]:
         return {**self._globals, **self._locals}

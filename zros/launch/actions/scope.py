@@ -9,6 +9,7 @@ configurations, so it is saved and restored with them.
 """
 from __future__ import annotations
 
+import re
 from typing import Any
 
 from zros.launch.action import Action, launch_tag
@@ -18,45 +19,37 @@ __all__ = ['PushLaunchConfigurations', 'PopLaunchConfigurations', 'PushEnvironme
            'ResetEnvironment', 'scoped']
 
 
-class PushLaunchConfigurations(Action):
-    """Save the launch configurations (and the ROS scope) for a later `PopLaunchConfigurations`."""
+class _ContextStep(Action):
+    """An action that is one call of the `LaunchContext` method named like its class
+    (`PushEnvironment` -> `push_environment`): the context owns the stacks."""
 
     def execute(self, context: Any) -> None:
-        context.push_launch_configurations()
+        getattr(context, re.sub(r'(?<!^)(?=[A-Z])', '_', type(self).__name__).lower())()
 
 
-class PopLaunchConfigurations(Action):
-    """Restore the launch configurations saved by the matching `PushLaunchConfigurations`."""
-
-    def execute(self, context: Any) -> None:
-        context.pop_launch_configurations()
+class PushLaunchConfigurations(_ContextStep):
+    """Save the launch configurations for a later `PopLaunchConfigurations`. The ROS scope
+    (pushed namespace, `SetParameter`, `SetRemap`) is saved with them."""
 
 
-class PushEnvironment(Action):
-    """Save the environment for a later `PopEnvironment`."""
-
-    def execute(self, context: Any) -> None:
-        context.push_environment()
+class PopLaunchConfigurations(_ContextStep):
+    """Restore what the matching `PushLaunchConfigurations` saved; configurations set since
+    then are gone. Without a push before it, the launch fails."""
 
 
-class PopEnvironment(Action):
-    """Restore the environment saved by the matching `PushEnvironment`."""
+class PushEnvironment(_ContextStep):
+    """Save the environment that later processes get, for a later `PopEnvironment`."""
 
-    def execute(self, context: Any) -> None:
-        context.pop_environment()
+
+class PopEnvironment(_ContextStep):
+    """Restore the environment the matching `PushEnvironment` saved: variables set, changed
+    or unset since then are as they were. Without a push before it, the launch fails."""
 
 
 @launch_tag('reset_env')
-class ResetEnvironment(Action):
+class ResetEnvironment(_ContextStep):
     """`ResetEnvironment()`; YAML `reset_env: {}`: back to the environment the launch started
     with (what `group` with `forwarding: false` does first). Not scoped by itself."""
-
-
-def _reset_environment(self: ResetEnvironment, context: Any) -> None:
-    context.reset_environment()
-
-
-ResetEnvironment.execute = _reset_environment  # type: ignore[method-assign]
 
 
 def scoped(actions: list[Action], origin: Origin, *, first: list[Action] | None = None) -> list[Action]:
