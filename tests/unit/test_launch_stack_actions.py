@@ -123,12 +123,22 @@ def test_context_locals_are_read_only_attributes_with_globals_underneath():
         context.locals.missing
     with pytest.raises(AttributeError, match='read-only'):
         context.locals.event = 'x'
+    context._push_locals()
+    context.extend_locals({'event': 'inner', 'only_inner': 2})
+    assert context.locals.event == 'inner'
+    context._pop_locals()
+    assert context.get_locals_as_dict() == {'shared': 1, 'event': 'local'}
+    with pytest.raises(RuntimeError):
+        context._pop_locals()
 
 
 def test_actions_and_descriptions_are_launch_description_entities():
     assert isinstance(LogInfo(msg='m'), LaunchDescriptionEntity)
     assert isinstance(LaunchDescription([]), LaunchDescriptionEntity)
     assert LaunchDescriptionEntity().visit(fresh()) is None
+    with pytest.raises(NotImplementedError):
+        LaunchDescriptionEntity().describe()
+    assert 'LaunchDescription' in LaunchDescription([]).describe()
 
 
 @pytest.mark.parametrize('module, name', [

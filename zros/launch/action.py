@@ -76,6 +76,9 @@ class Action(LaunchDescriptionEntity):
     def __repr__(self) -> str:
         return f'<{type(self).__name__} {self.origin}>'
 
+    def describe(self) -> str:
+        return repr(self)
+
     # -- Python values -> deferred values, located at this action's key ------------------------
     def _text(self, value: Any, key: str) -> Text:
         return Text.of(value, self.origin.with_key(key))

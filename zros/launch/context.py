@@ -154,6 +154,13 @@ class LaunchContext:
         self.configurations = dict(keep)
         self.ros = RosScope()
 
+    # launch's names for the same steps (its LaunchService and tests call these)
+    _push_launch_configurations = push_launch_configurations
+    _pop_launch_configurations = pop_launch_configurations
+    _push_environment = push_environment
+    _pop_environment = pop_environment
+    _reset_environment = reset_environment
+
     # -- locals: the names an event handler's actions see (`context.locals.event`) --------------
     @property
     def locals(self) -> Any:  # noqa: A003 - launch's name
@@ -168,6 +175,12 @@ class LaunchContext:
 
     def get_locals_as_dict(self) -> dict[str, Any]:
         return self._locals.as_dict()
+
+    def _push_locals(self) -> None:
+        self._locals.push()
+
+    def _pop_locals(self) -> None:
+        self._locals.pop()
 
     # -- effects -------------------------------------------------------------------------------
     def emit(self, effect: Any) -> None:

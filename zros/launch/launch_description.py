@@ -62,3 +62,6 @@ class LaunchDescription(LaunchDescriptionEntity):
 
     def __repr__(self) -> str:
         return f'<LaunchDescription of {len(self._entities)} entities>'
+
+    def describe(self) -> str:
+        return repr(self)

@@ -15,8 +15,8 @@ class LaunchDescriptionEntity:
     """Base of `Action` and `LaunchDescription`; a user's subclass overrides `visit`."""
 
     def describe(self) -> str:
-        """One line naming the entity."""
-        return repr(self)
+        """One line naming the entity; every concrete entity says what it is."""
+        raise NotImplementedError(f'{type(self).__name__} must define describe()')
 
     def describe_sub_entities(self) -> list[Any]:
         """The entities this one always returns, known without resolving anything."""
