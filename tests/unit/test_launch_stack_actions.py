@@ -167,3 +167,23 @@ def test_reset_env_is_a_tag_in_yaml_and_xml(tmp_path):
     for path in (yaml_file, xml_file):
         plan = resolve(str(path), environment={}, log_dir=str(tmp_path / 'log'))
         assert [effect.message for effect in plan.effects] == ['in=none', 'out=1']
+
+
+def test_a_description_holds_any_entity_and_finds_arguments_under_conditions():
+    """A user's LaunchDescriptionEntity is welcome in a description (and visits to nothing);
+    `get_launch_arguments` notes which arguments only exist under a condition, including an
+    entity's conditional sub-entities."""
+    from zros.launch.conditions import IfCondition
+
+    class WithConditional(LaunchDescriptionEntity):
+        def describe_conditional_sub_entities(self):
+            return [('when asked', [DeclareLaunchArgument('hidden')])]
+    plain = DeclareLaunchArgument('plain')
+    guarded = GroupAction([DeclareLaunchArgument('guarded')], condition=IfCondition('true'))
+    description = LaunchDescription([LaunchDescriptionEntity(), plain, guarded, WithConditional()])
+    found = {argument.name: argument._conditionally_included for argument in description.get_launch_arguments()}
+    assert found == {'plain': False, 'guarded': True, 'hidden': True}
+    context = LaunchContext(launch_arguments={'plain': 'x', 'guarded': 'y'}, environment={})
+    visit_all([description], context)   # the plain entity visits to nothing
+    assert context.configurations == {'plain': 'x', 'guarded': 'y'}
+    assert not LaunchDescription().deprecated and LaunchDescription(deprecated_reason='old').deprecated

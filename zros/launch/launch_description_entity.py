@@ -14,6 +14,9 @@ __all__ = ['LaunchDescriptionEntity']
 class LaunchDescriptionEntity:
     """Base of `Action` and `LaunchDescription`; a user's subclass overrides `visit`."""
 
+    #: only actions take a condition; resolution and `--show-args` read it on every entity
+    condition: Any = None
+
     def describe(self) -> str:
         """One line naming the entity; every concrete entity says what it is."""
         raise NotImplementedError(f'{type(self).__name__} must define describe()')
@@ -21,6 +24,10 @@ class LaunchDescriptionEntity:
     def describe_sub_entities(self) -> list[Any]:
         """The entities this one always returns, known without resolving anything."""
         return []
+
+    def sub_actions(self) -> list[Any]:
+        """zros's name for `describe_sub_entities` (what `--show-args` walks)."""
+        return self.describe_sub_entities()
 
     def describe_conditional_sub_entities(self) -> list[tuple[str, list[Any]]]:
         """Entities returned only in some cases, as `(when, entities)` pairs (none here: zros

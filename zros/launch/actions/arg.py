@@ -36,6 +36,7 @@ class DeclareLaunchArgument(Action):
             raise LaunchFileError(self.origin.with_key('name'),
                                   'an argument name must be plain text, without substitutions')
         self.name = name
+        self._conditionally_included = False   # set by LaunchDescription.get_launch_arguments
         self.default = self._optional_text(default_value, 'default_value')
         self.written_description = description or ''
         self.choices = None if choices is None else [str(choice) for choice in choices]

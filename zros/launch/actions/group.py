@@ -11,6 +11,7 @@ from zros.launch.actions.arg import (ResetLaunchConfigurations, SetLaunchConfigu
 from zros.launch.actions.scope import ResetEnvironment, scoped
 from zros.launch.entity import Entity
 from zros.launch.errors import LaunchFileError, Origin
+from zros.launch.launch_description_entity import LaunchDescriptionEntity
 from zros.launch.template import Text, Typed
 from zros.names import validate_namespace
 
@@ -18,19 +19,18 @@ __all__ = ['GroupAction', 'PushRosNamespace', 'join_namespace', 'check_actions']
 
 
 def check_actions(actions: Any, origin: Origin) -> list[Action]:
-    """A list of actions given to a group, timer, event handler...: each must be an Action
-    (a LaunchDescription counts), so a stray value fails where it was written. None entries
+    """A list of actions given to a group, timer, event handler...: each must be a launch
+    entity (an Action, a LaunchDescription, a user's LaunchDescriptionEntity), so a stray value fails where it was written. None entries
     are skipped, as launch skips them (a handler lambda's list of `os.remove(...)` results)."""
-    from zros.launch.launch_description import LaunchDescription
     if actions is None:
         return []
-    if isinstance(actions, (Action, LaunchDescription)):
+    if isinstance(actions, LaunchDescriptionEntity):
         actions = [actions]
     checked = []
     for item in actions:
         if item is None:
             continue
-        if not isinstance(item, (Action, LaunchDescription)):
+        if not isinstance(item, LaunchDescriptionEntity):
             raise LaunchFileError(origin, f'expected launch actions, got {type(item).__name__}')
         checked.append(item)
     return checked
