@@ -18,7 +18,7 @@ from zros.names import validate_namespace
 __all__ = ['GroupAction', 'PushRosNamespace', 'join_namespace', 'check_actions']
 
 
-def check_actions(actions: Any, origin: Origin) -> list[Action]:
+def check_actions(actions: Any, origin: Origin) -> list[Any]:
     """A list of actions given to a group, timer, event handler...: each must be a launch
     entity (an Action, a LaunchDescription, a user's LaunchDescriptionEntity), so a stray value fails where it was written. None entries
     are skipped, as launch skips them (a handler lambda's list of `os.remove(...)` results)."""
