@@ -691,7 +691,7 @@ def test_error_missing_required_argument_lists_declared(plan_of):
     message = error_of(plan_of, 'launch:\n- arg: {name: robot}\n- arg: {name: rate, default: 1}\n'
                                 '- log: {message: $(var robot)}\n')
     assert_located(message, 'test.launch.yaml', 2, 'arg', 'name')
-    assert "required launch argument 'robot' was not given" in message
+    assert "Required launch argument 'robot' was not given" in message
     assert 'declared arguments: rate, robot' in message
 
 

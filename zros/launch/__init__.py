@@ -21,6 +21,7 @@ from zros.launch.description import declared_arguments, parse_launch_arguments, 
 from zros.launch.errors import LaunchError, LaunchFileError, Origin, SubstitutionError
 from zros.launch.files import module_getattr
 from zros.launch.launch_description import LaunchDescription
+from zros.launch.launch_description_entity import LaunchDescriptionEntity
 from zros.launch.launch_description_sources import LaunchDescriptionSource
 from zros.launch.plan import Plan, ProcessSpec
 from zros.launch.template import Substitution
@@ -30,7 +31,7 @@ from zros.launch import (actions, conditions, event_handlers, events,  # noqa: E
                          launch_description_sources, substitutions)
 
 __all__ = [
-    'LaunchDescription', 'LaunchContext', 'LaunchDescriptionSource', 'Action', 'Condition', 'Substitution',
+    'LaunchDescription', 'LaunchDescriptionEntity', 'LaunchContext', 'LaunchDescriptionSource', 'Action', 'Condition', 'Substitution',
     'SomeSubstitutionsType', 'resolve', 'declared_arguments', 'parse_launch_arguments', 'Plan', 'ProcessSpec',
     'LaunchError', 'LaunchFileError', 'SubstitutionError', 'Origin', 'actions', 'conditions', 'event_handlers',
     'events', 'launch_description_sources', 'substitutions',

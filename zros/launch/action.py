@@ -19,11 +19,12 @@ from typing import Any, ClassVar, TypedDict
 from zros.launch.conditions import Condition, IfCondition, UnlessCondition
 from zros.launch.entity import Entity, Scalar
 from zros.launch.errors import LaunchFileError, Origin
+from zros.launch.launch_description_entity import LaunchDescriptionEntity
 from zros.launch.origin import origin_here
 from zros.launch.template import Text, Typed
 
 __all__ = ['Action', 'ActionKwargs', 'Parser', 'launch_tag', 'registered_tags',
-           'PushScope', 'PopScope', 'EnterFile', 'LeaveFile', 'EndCapture']
+           'EnterFile', 'LeaveFile', 'EndCapture']
 
 _TAGS: dict[str, type['Action']] = {}
 
@@ -50,7 +51,7 @@ class ActionKwargs(TypedDict, total=False):
     condition: Condition | None
 
 
-class Action:
+class Action(LaunchDescriptionEntity):
     """Base of every launch action.
 
     Args:
@@ -74,6 +75,9 @@ class Action:
 
     def __repr__(self) -> str:
         return f'<{type(self).__name__} {self.origin}>'
+
+    def describe(self) -> str:
+        return repr(self)
 
     # -- Python values -> deferred values, located at this action's key ------------------------
     def _text(self, value: Any, key: str) -> Text:
@@ -101,11 +105,12 @@ class Action:
         return cls, kwargs
 
     # -- resolution ------------------------------------------------------------------------------
-    def visit(self, context: Any) -> list['Action']:
-        """Check the condition, then execute."""
+    def visit(self, context: Any) -> list['Action'] | None:
+        """Check the condition, then execute; None when there is nothing to visit next."""
         if self.condition is not None and not self.condition.evaluate(context):
-            return []
-        return list(self.execute(context) or [])
+            return None
+        result = self.execute(context)
+        return None if result is None else list(result)
 
     def execute(self, context: Any) -> list['Action'] | None:
         return None
@@ -158,30 +163,6 @@ class Parser:
 
 
 # -- markers that actions return around their children --------------------------------------
-class PushScope(Action):
-    """Start of a scoped group: save configurations, environment and the ROS scope, then set
-    the group's configurations (with `forwarding=False`, only those)."""
-
-    def __init__(self, *, origin: Origin, forwarding: bool = True,
-                 configurations: list[tuple[Text, Text]] | None = None) -> None:
-        super().__init__(origin=origin)
-        self.forwarding = forwarding
-        self.configurations = configurations or []
-
-    def execute(self, context: Any) -> None:
-        values = {name.perform(context): value.perform(context) for name, value in self.configurations}
-        context.push_scope()
-        if not self.forwarding:
-            context.reset_configurations(values)
-        else:
-            context.configurations.update(values)
-
-
-class PopScope(Action):
-    def execute(self, context: Any) -> None:
-        context.pop_scope()
-
-
 class EnterFile(Action):
     """Start of an included file: `$(dirname)` / `$(filename)` now refer to it."""
 

@@ -10,11 +10,12 @@ from __future__ import annotations
 import copy
 import os
 from collections import Counter
-from collections.abc import Iterator, MutableMapping
+from collections.abc import Iterable, Iterator, MutableMapping
 from dataclasses import dataclass, field
 from typing import Any, NamedTuple
 
 from zros.launch.errors import LaunchFileError, Origin
+from zros.launch.locals import LaunchLocals, pop_saved
 from zros.launch.template import make_anon_name
 
 __all__ = ['LaunchContext', 'RosScope', 'DeclaredArgument']
@@ -41,9 +42,11 @@ class DeclaredArgument(NamedTuple):
     conditional: bool = False      # inside an if/unless (may not be declared at all)
 
 
-class _Scope(NamedTuple):
+class _SavedConfigurations(NamedTuple):
+    """What `PushLaunchConfigurations` saves: launch_ros keeps its scope in launch
+    configurations, so the ROS scope is saved and restored with them."""
+
     configurations: dict[str, str]
-    environment: dict[str, str]
     ros: RosScope
 
 
@@ -51,14 +54,21 @@ class LaunchContext:
     """Mutable resolution state; one per `resolve()` call.
 
     Args:
+        argv: the command line's extra arguments, kept for the entities that read them.
+        noninteractive: True when no terminal is attached (launch's flag, kept for user code).
         launch_arguments: `name:=value` pairs from the command line (set as configurations
             before the file is read, as ros2 launch does).
         environment: the environment the launch starts from (default: os.environ).
         log_dir: this run's log directory (for `$(log_dir)` and generated parameter files).
     """
 
-    def __init__(self, *, launch_arguments: dict[str, str] | None = None,
+    def __init__(self, *, argv: Iterable[str] | None = None, noninteractive: bool = False,
+                 launch_arguments: dict[str, str] | None = None,
                  environment: dict[str, str] | None = None, log_dir: str = '') -> None:
+        self.argv = list(argv or [])
+        self.noninteractive = noninteractive
+        self.is_shutdown = False
+        self._locals = LaunchLocals()
         self.launch_arguments = dict(launch_arguments or {})
         self.configurations: dict[str, str] = dict(self.launch_arguments)
         self.base_environment = dict(os.environ if environment is None else environment)
@@ -67,7 +77,8 @@ class LaunchContext:
         self.log_dir = log_dir
         self.declared: dict[str, DeclaredArgument] = {}
         self.known_arguments: dict[str, DeclaredArgument] = {}   # from a static walk, for messages
-        self._scopes: list[_Scope] = []
+        self._saved_configurations: list[_SavedConfigurations] = []
+        self._saved_environments: list[dict[str, str]] = []
         self._files: list[tuple[str, Origin | None]] = []
         self._captures: list[list] = [[]]
         self._anon: dict[str, str] = {}
@@ -97,7 +108,9 @@ class LaunchContext:
         copied.configurations = dict(self.configurations)
         copied.environment = dict(self.environment)
         copied.ros = copy.deepcopy(self.ros)
-        copied._scopes = list(self._scopes)
+        copied._saved_configurations = list(self._saved_configurations)
+        copied._saved_environments = list(self._saved_environments)
+        copied._locals = self._locals.copy()
         copied._files = list(self._files)
         copied._captures = [[]]
         return copied
@@ -122,18 +135,56 @@ class LaunchContext:
     def leave_file(self) -> None:
         self._files.pop()
 
-    # -- scopes (group) ------------------------------------------------------------------------
-    def push_scope(self) -> None:
-        self._scopes.append(_Scope(dict(self.configurations), dict(self.environment), copy.deepcopy(self.ros)))
+    # -- scopes: the stacks that Push/Pop/Reset actions work on ------------------------------
+    def push_launch_configurations(self) -> None:
+        self._saved_configurations.append(_SavedConfigurations(dict(self.configurations), copy.deepcopy(self.ros)))
 
-    def pop_scope(self) -> None:
-        scope = self._scopes.pop()
-        self.configurations, self.environment, self.ros = scope.configurations, scope.environment, scope.ros
+    def pop_launch_configurations(self) -> None:
+        saved = pop_saved(self._saved_configurations, 'PopLaunchConfigurations', 'PushLaunchConfigurations')
+        self.configurations, self.ros = saved
+
+    def push_environment(self) -> None:
+        self._saved_environments.append(dict(self.environment))
+
+    def pop_environment(self) -> None:
+        self.environment = pop_saved(self._saved_environments, 'PopEnvironment', 'PushEnvironment')
+
+    def reset_environment(self) -> None:
+        """Back to the environment the launch started from."""
+        self.environment = dict(self.base_environment)
 
     def reset_configurations(self, keep: dict[str, str]) -> None:
-        """`forwarding: false`: the group starts with only `keep` (and a fresh ROS scope)."""
+        """`ResetLaunchConfigurations`: only `keep` remains (and a fresh ROS scope)."""
         self.configurations = dict(keep)
         self.ros = RosScope()
+
+    # launch's names for the same steps (its LaunchService and tests call these)
+    _push_launch_configurations = push_launch_configurations
+    _pop_launch_configurations = pop_launch_configurations
+    _push_environment = push_environment
+    _pop_environment = pop_environment
+    _reset_environment = reset_environment
+
+    # -- locals: the names an event handler's actions see (`context.locals.event`) --------------
+    @property
+    def locals(self) -> Any:  # noqa: A003 - launch's name
+        """The locals as read-only attributes (`context.locals.event`)."""
+        return self._locals.view()
+
+    def extend_locals(self, extensions: dict[str, Any]) -> None:
+        self._locals.extend(extensions)
+
+    def extend_globals(self, extensions: dict[str, Any]) -> None:
+        self._locals.extend_globals(extensions)
+
+    def get_locals_as_dict(self) -> dict[str, Any]:
+        return self._locals.as_dict()
+
+    def _push_locals(self) -> None:
+        self._locals.push()
+
+    def _pop_locals(self) -> None:
+        self._locals.pop()
 
     # -- effects -------------------------------------------------------------------------------
     def emit(self, effect: Any) -> None:

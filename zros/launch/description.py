@@ -38,7 +38,7 @@ def _walk(actions: list, context: Any) -> None:
     stack = list(reversed(actions))
     while stack:
         action = stack.pop()
-        stack.extend(reversed(action.visit(context)))
+        stack.extend(reversed(action.visit(context) or []))
 
 
 def resolve(path: str, *, launch_arguments: dict[str, str] | None = None,
@@ -105,9 +105,9 @@ def declared_arguments(path: str, launch_arguments: dict[str, str] | None = None
             cond = conditional or action.condition is not None
             if isinstance(action, DeclareLaunchArgument):
                 found.setdefault(action.name, action.declaration(conditional=cond))
-                if action.name not in context.configurations and action.default_value is not None:
+                if action.name not in context.configurations and action.default is not None:
                     try:
-                        context.configurations[action.name] = action.default_value.perform(context)
+                        context.configurations[action.name] = action.default.perform(context)
                     except LaunchError:
                         pass
             elif isinstance(action, IncludeLaunchDescription):

@@ -13,8 +13,10 @@ from zros.errors import ZrosError
 __all__ = ['LaunchError', 'LaunchFileError', 'ParameterTypeError', 'SubstitutionError', 'Origin']
 
 
-class LaunchError(ZrosError):
-    """A launch cannot go on: bad command line, bad file, or a process that cannot start."""
+class LaunchError(ZrosError, RuntimeError):
+    """A launch cannot go on: bad command line, bad file, or a process that cannot start.
+
+    Also a RuntimeError, because launch raises RuntimeError for these and user code catches it."""
 
 
 class SubstitutionError(LaunchError):

@@ -8,12 +8,13 @@ from __future__ import annotations
 from typing import Any, Iterable
 
 from zros.launch.errors import LaunchFileError
+from zros.launch.launch_description_entity import LaunchDescriptionEntity
 from zros.launch.origin import origin_here
 
 __all__ = ['LaunchDescription']
 
 
-class LaunchDescription:
+class LaunchDescription(LaunchDescriptionEntity):
     """`LaunchDescription([actions...])`, with `add_action` / `add_entity` as in launch."""
 
     condition = None
@@ -30,9 +31,13 @@ class LaunchDescription:
     def entities(self) -> list:
         return list(self._entities)
 
+    @property
+    def deprecated(self) -> bool:
+        """Whether the file that returns this description says it is deprecated."""
+        return self.deprecated_reason is not None
+
     def add_entity(self, entity: Any) -> None:
-        from zros.launch.action import Action
-        if not isinstance(entity, (Action, LaunchDescription)):
+        if not isinstance(entity, LaunchDescriptionEntity):
             raise LaunchFileError(origin_here('LaunchDescription'),
                                   f'expected a launch action, got {type(entity).__name__} {entity!r:.60}')
         self._entities.append(entity)
@@ -46,14 +51,21 @@ class LaunchDescription:
         return self.entities
 
     def get_launch_arguments(self) -> list:
-        """The DeclareLaunchArgument actions, found without resolving anything."""
+        """The DeclareLaunchArgument actions, found without resolving anything; each notes in
+        `_conditionally_included` whether a condition stands above it (launch's flag)."""
         from zros.launch.actions.arg import DeclareLaunchArgument
-        found, stack = [], list(reversed(self._entities))
+        found: list = []
+        stack = [(entity, False) for entity in reversed(self._entities)]
         while stack:
-            entity = stack.pop()
+            entity, conditional = stack.pop()
+            conditional = conditional or entity.condition is not None
             if isinstance(entity, DeclareLaunchArgument):
+                entity._conditionally_included = conditional
                 found.append(entity)
-            stack.extend(reversed(entity.sub_actions()))
+            children = [(child, conditional) for child in entity.sub_actions()]
+            children += [(child, True) for _, entities in entity.describe_conditional_sub_entities()
+                         for child in entities]
+            stack.extend(reversed(children))
         return found
 
     def visit(self, context: Any) -> list:
@@ -61,3 +73,6 @@ class LaunchDescription:
 
     def __repr__(self) -> str:
         return f'<LaunchDescription of {len(self._entities)} entities>'
+
+    def describe(self) -> str:
+        return repr(self)

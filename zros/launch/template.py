@@ -34,7 +34,7 @@ from zros.launch.errors import LaunchFileError, Origin, SubstitutionError
 
 __all__ = [
     'Call', 'Template', 'parse', 'perform', 'is_static', 'describe', 'Text', 'Typed',
-    'Substitution', 'to_template', 'SubstitutionContext', 'SUBSTITUTIONS', 'to_bool',
+    'Substitution', 'TemplateSubstitution', 'to_template', 'SubstitutionContext', 'SUBSTITUTIONS', 'to_bool',
     'evaluate_expression', 'COMMAND_TIMEOUT_S',
 ]
 
@@ -262,6 +262,17 @@ class Substitution:
         return f'<{type(self).__name__} {self.describe()}>'
 
 
+class TemplateSubstitution(Substitution):
+    """A template already built (a `Text`'s), handed to code that expects launch's list of
+    substitutions (`DeclareLaunchArgument.default_value`)."""
+
+    def __init__(self, template: Template) -> None:
+        self._template = template
+
+    def template(self) -> Template:
+        return self._template
+
+
 def to_template(value: Any) -> Template:
     """What launch calls SomeSubstitutionsType, as a template: a string (literal, never parsed
     for `$(...)`), a Substitution, or a list of them concatenated. Numbers and bools are
@@ -426,6 +437,9 @@ def substitution(*names: str, args: tuple[int, int], summary: str, frontend: boo
 
 
 _TRUE, _FALSE = ('true', '1'), ('false', '0')
+#: A typed attribute (`prepend`, `scoped`, ...) also reads YAML 1.1's words, as launch's
+#: typed substitutions do; conditions keep to `to_bool`'s four spellings.
+_YAML_BOOLS = {'yes': True, 'on': True, 'no': False, 'off': False}
 
 
 def to_bool(text: str) -> bool:

@@ -1,5 +1,5 @@
 """Launch configurations: `DeclareLaunchArgument` (`arg`), `SetLaunchConfiguration` (`let`),
-`ResetLaunchConfigurations` (`reset`)."""
+`UnsetLaunchConfiguration`, `ResetLaunchConfigurations` (`reset`)."""
 from __future__ import annotations
 
 from typing import Any, Iterable
@@ -8,9 +8,9 @@ from zros.launch.action import Action, ActionKwargs, Parser, launch_tag
 from zros.launch.context import DeclaredArgument
 from zros.launch.entity import Entity, Scalar
 from zros.launch.errors import LaunchFileError
-from zros.launch.template import Text, describe
+from zros.launch.template import Substitution, TemplateSubstitution, Text, describe
 
-__all__ = ['DeclareLaunchArgument', 'SetLaunchConfiguration', 'ResetLaunchConfigurations']
+__all__ = ['DeclareLaunchArgument', 'SetLaunchConfiguration', 'UnsetLaunchConfiguration', 'ResetLaunchConfigurations']
 
 
 class ArgKwargs(ActionKwargs, total=False):
@@ -36,20 +36,33 @@ class DeclareLaunchArgument(Action):
             raise LaunchFileError(self.origin.with_key('name'),
                                   'an argument name must be plain text, without substitutions')
         self.name = name
-        self.default_value = self._optional_text(default_value, 'default_value')
-        self.description = description or ''
-        self.choices = tuple(str(c) for c in choices) if choices is not None else ()
+        self._conditionally_included = False   # set by LaunchDescription.get_launch_arguments
+        self.default = self._optional_text(default_value, 'default_value')
+        self.written_description = description or ''
+        self.choices = None if choices is None else [str(choice) for choice in choices]
+        if self.choices is not None:
+            _check_choices(self, default_value, self.choices)
 
     @property
-    def default(self) -> Text | None:
-        return self.default_value
+    def default_value(self) -> list[Substitution] | None:
+        """launch's view of the default: a list of substitutions (None: required)."""
+        return None if self.default is None else [TemplateSubstitution(self.default.template)]
+
+    @property
+    def description(self) -> str:
+        """launch's description: the one given (or 'no description given') with the choices."""
+        if self.choices is None:
+            return self.written_description or 'no description given'
+        if not self.written_description:
+            return f'One of: {self.choices}'
+        return f"{self.written_description.rstrip('.')}. Valid choices are: {self.choices}"
 
     @classmethod
     def parse(cls, entity: Entity, parser: Parser) -> tuple[type[Action], ArgKwargs]:
         _, kwargs = super().parse(entity, parser)
         kwargs['name'] = entity.get_attr('name')
         kwargs['default_value'] = parser.text(entity, 'default', optional=True, data_type=Scalar)
-        kwargs['description'] = entity.get_attr('description', optional=True, data_type=Scalar) or ''
+        kwargs['description'] = entity.get_attr('description', optional=True, data_type=Scalar)
         choices = entity.get_attr('choice', data_type=list[Entity], optional=True)
         if choices is not None:
             values = []
@@ -60,22 +73,33 @@ class DeclareLaunchArgument(Action):
         return cls, kwargs
 
     def declaration(self, *, conditional: bool = False) -> DeclaredArgument:
-        default = describe(self.default_value.template) if self.default_value is not None else None
-        return DeclaredArgument(self.name, default, self.description, self.choices, self.origin, conditional)
+        default = describe(self.default.template) if self.default is not None else None
+        return DeclaredArgument(self.name, default, self.written_description, tuple(self.choices or ()),
+                                self.origin, conditional)
 
     def execute(self, context: Any) -> None:
         context.declared.setdefault(self.name, self.declaration())
         if self.name not in context.configurations:
-            if self.default_value is None:
+            if self.default is None:
                 given = ', '.join(f'{k}:={v}' for k, v in context.launch_arguments.items()) or 'none'
                 raise self.origin.with_key('name').error(
-                    f"required launch argument '{self.name}' was not given: pass {self.name}:=VALUE "
+                    f"Required launch argument '{self.name}' was not given: pass {self.name}:=VALUE "
                     f"(declared arguments: {', '.join(context.declared_names())}; given: {given})")
-            context.configurations[self.name] = self.default_value.perform(context)
+            context.configurations[self.name] = self.default.perform(context)
         value = context.configurations[self.name]
-        if self.choices and value not in self.choices:
+        if self.choices is not None and value not in self.choices:
             raise self.origin.with_key('choice').error(
                 f"launch argument '{self.name}' is '{value}', not one of: {', '.join(self.choices)}")
+
+
+def _check_choices(action: DeclareLaunchArgument, default_value: Any, choices: list[str]) -> None:
+    """At construction, as launch does: choices may not be empty, and a plain-text default
+    must be one of them (a substitution is checked when the launch reaches the argument)."""
+    if not choices:
+        raise LaunchFileError(action.origin.with_key('choices'), 'choices is empty: pass None for no choice list')
+    if isinstance(default_value, str) and default_value not in choices:
+        raise LaunchFileError(action.origin.with_key('default_value'),
+                              f"default value '{default_value}' is not in provided choices: {', '.join(choices)}")
 
 
 class LetKwargs(ActionKwargs, total=False):
@@ -102,6 +126,18 @@ class SetLaunchConfiguration(Action):
 
     def execute(self, context: Any) -> None:
         context.configurations[self.name.perform(context)] = self.value.perform(context)
+
+
+class UnsetLaunchConfiguration(Action):
+    """`UnsetLaunchConfiguration(name)`: forget a launch configuration (nothing if it is not
+    set); later `LaunchConfiguration(name)` reads fail or take their default."""
+
+    def __init__(self, name: Any, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self.name = self._text(name, 'name')
+
+    def execute(self, context: Any) -> None:
+        context.configurations.pop(self.name.perform(context), None)
 
 
 def parse_keep(entity: Entity, parser: Parser) -> list[tuple[Text, Text]] | None:

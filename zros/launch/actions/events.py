@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from zros.launch.action import Action, EndCapture, PopScope, PushScope
+from zros.launch.action import Action, EndCapture
+from zros.launch.actions.scope import scoped
 from zros.launch.errors import LaunchFileError
 from zros.launch.event_handlers import OnProcessExit, OnProcessStart, OnShutdown
 from zros.launch.plan import EventHandlerEffect
@@ -46,5 +47,5 @@ class RegisterEventHandler(Action):
 
         def wrap(effects: list) -> EventHandlerEffect:
             return EventHandlerEffect(handler.event, handler.target_action, effects, None, handler.origin, transition)
-        return [PushScope(origin=self.origin), *handler.actions, PopScope(origin=self.origin),
+        return [*scoped(handler.actions, self.origin),
                 EndCapture(origin=self.origin, wrap=wrap)]

@@ -5,30 +5,32 @@ from __future__ import annotations
 from typing import Any, Iterable
 
 from zros.errors import InvalidNameError
-from zros.launch.action import Action, ActionKwargs, Parser, PopScope, PushScope, launch_tag
-from zros.launch.actions.arg import configuration_pairs, parse_keep
+from zros.launch.action import Action, ActionKwargs, Parser, launch_tag
+from zros.launch.actions.arg import (ResetLaunchConfigurations, SetLaunchConfiguration, configuration_pairs,
+                                     parse_keep)
+from zros.launch.actions.scope import ResetEnvironment, scoped
 from zros.launch.entity import Entity
 from zros.launch.errors import LaunchFileError, Origin
+from zros.launch.launch_description_entity import LaunchDescriptionEntity
 from zros.launch.template import Text, Typed
 from zros.names import validate_namespace
 
 __all__ = ['GroupAction', 'PushRosNamespace', 'join_namespace', 'check_actions']
 
 
-def check_actions(actions: Any, origin: Origin) -> list[Action]:
-    """A list of actions given to a group, timer, event handler...: each must be an Action
-    (a LaunchDescription counts), so a stray value fails where it was written. None entries
+def check_actions(actions: Any, origin: Origin) -> list[Any]:
+    """A list of actions given to a group, timer, event handler...: each must be a launch
+    entity (an Action, a LaunchDescription, a user's LaunchDescriptionEntity), so a stray value fails where it was written. None entries
     are skipped, as launch skips them (a handler lambda's list of `os.remove(...)` results)."""
-    from zros.launch.launch_description import LaunchDescription
     if actions is None:
         return []
-    if isinstance(actions, (Action, LaunchDescription)):
+    if isinstance(actions, LaunchDescriptionEntity):
         actions = [actions]
     checked = []
     for item in actions:
         if item is None:
             continue
-        if not isinstance(item, (Action, LaunchDescription)):
+        if not isinstance(item, LaunchDescriptionEntity):
             raise LaunchFileError(origin, f'expected launch actions, got {type(item).__name__}')
         checked.append(item)
     return checked
@@ -48,7 +50,8 @@ class GroupAction(Action):
 
     Scoped (the default): configuration, environment, namespace, `SetParameter` and `SetRemap`
     changes made inside end with the group. `launch_configurations` are set for the group;
-    with `forwarding=False` the group starts with those only.
+    with `forwarding=False` the group starts with those only, in the starting environment.
+    `execute` returns the children between the stack actions (zros.launch.actions.scope).
     """
 
     def __init__(self, actions: Iterable[Action], *, scoped: Any = None, forwarding: Any = None,
@@ -73,15 +76,17 @@ class GroupAction(Action):
         return self.actions
 
     def execute(self, context: Any) -> list[Action]:
-        scoped = self.scoped.perform(context) if self.scoped is not None else True
+        is_scoped = self.scoped.perform(context) if self.scoped is not None else True
         forwarding = self.forwarding.perform(context) if self.forwarding is not None else True
-        if not scoped:
-            from zros.launch.actions.arg import SetLaunchConfiguration
-            sets = [SetLaunchConfiguration(name, value, origin=self.origin)
-                    for name, value in self.launch_configurations]
+        sets: list[Action] = [SetLaunchConfiguration(name, value, origin=self.origin)
+                              for name, value in self.launch_configurations]
+        if not is_scoped:
             return [*sets, *self.actions]
-        return [PushScope(origin=self.origin, forwarding=forwarding, configurations=self.launch_configurations),
-                *self.actions, PopScope(origin=self.origin)]
+        if forwarding:
+            return scoped(self.actions, self.origin, first=sets)
+        resets = [ResetEnvironment(origin=self.origin),
+                  ResetLaunchConfigurations(self.launch_configurations, origin=self.origin)]
+        return scoped(self.actions, self.origin, first=resets)
 
 
 def join_namespace(base: str, namespace: str) -> str:

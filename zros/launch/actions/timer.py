@@ -3,7 +3,8 @@ from __future__ import annotations
 
 from typing import Any, Iterable
 
-from zros.launch.action import Action, ActionKwargs, EndCapture, Parser, PopScope, PushScope, launch_tag
+from zros.launch.action import Action, ActionKwargs, EndCapture, Parser, launch_tag
+from zros.launch.actions.scope import scoped
 from zros.launch.actions.group import check_actions
 from zros.launch.entity import Entity
 from zros.launch.errors import LaunchFileError
@@ -52,6 +53,6 @@ class TimerAction(Action):
         if period < 0:
             raise LaunchFileError(self.period.origin, f'expected a non-negative period, got {period:g}')
         context.begin_capture()
-        return [PushScope(origin=self.origin), *self.actions, PopScope(origin=self.origin),
+        return [*scoped(self.actions, self.origin),
                 EndCapture(origin=self.origin, wrap=lambda effects: TimerEffect(period, effects, self.origin))]
 
