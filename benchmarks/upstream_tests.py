@@ -13,7 +13,8 @@ benchmarks/upstream_interfaces: `test_msgs`, in rcl_interfaces's shape); it goes
 ZROS_INTERFACE_PATH. Each suite's folder goes on PYTHONPATH, as colcon's
 pytest has it (launch's tests import their `temporary_environment` helper so), beside an empty
 `test_rclpy` module: rclpy's test package imports that compiled test extension, which tests
-rclpy's C internals and has no part in the API.
+rclpy's C internals and has no part in the API. launch's tests import osrf_pycommon, which the
+`bench` extra installs (`pip install -e ".[bench]"`).
 
 Each test file runs in a pytest process of its own (a file that hangs or crashes costs only
 itself), under a timeout. A test counts once: the tests a file defines are counted from its
