@@ -140,7 +140,7 @@ def test_entity_unknown_key_names_known_ones(write):
     entity.get_attr('other', optional=True)
     with pytest.raises(LaunchFileError) as info:
         entity.assert_complete()
-    assert str(info.value).endswith("x.yaml:2: t: bad: unknown key 'bad' (known keys: good, other)")
+    assert str(info.value).endswith("x.yaml:2: t: bad: unknown key 'bad' of `t` (known keys: good, other)")
 
 
 # -- substitution grammar -----------------------------------------------------------------------
@@ -630,7 +630,7 @@ def test_error_unknown_tag(plan_of):
 def test_error_unknown_key(plan_of):
     message = error_of(plan_of, 'launch:\n- node:\n    pkg: demo_nodes\n    exec: talker\n    colour: red\n')
     assert_located(message, 'test.launch.yaml', 5, 'node', 'colour')
-    assert "unknown key 'colour' (known keys: args, " in message
+    assert "unknown key 'colour' of `node` (known keys: args, " in message
     nested = error_of(plan_of, 'launch:\n- node:\n    pkg: demo_nodes\n    exec: talker\n    remap:\n'
                                '    - {from: a, to: b, via: c}\n')
     assert_located(nested, 'test.launch.yaml', 6, 'remap', 'via')
