@@ -125,10 +125,13 @@ class RosModuleFinder(importlib.abc.MetaPathFinder):
             if finder is self or not hasattr(finder, 'find_spec'):
                 continue
             try:
-                if finder.find_spec(top, None) is not None:
-                    return True
+                spec = finder.find_spec(top, None)
             except (ImportError, ValueError):
                 continue
+            # a bare directory of that name (a namespace package: no __init__.py, no origin)
+            # is no install either: launch's own test folder `launch/` must not hide zros.launch
+            if spec is not None and spec.origin is not None:
+                return True
         return False
 
 

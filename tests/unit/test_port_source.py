@@ -2,6 +2,8 @@
 (`zros port` and `zros python` as commands: tests/integration/test_porting.py)."""
 from __future__ import annotations
 
+import importlib
+import sys
 import textwrap
 
 from zros.import_hook import module_target
@@ -78,3 +80,17 @@ def test_port_source_binds_the_names_the_code_uses():
     assert 'import numpy as np\nimport logging\nx = "import rclpy"  # rclpy in strings' in ported
     assert any("no 'my_robot_interfaces' interfaces" in n.text and n.line == 6 for n in notes), notes
     assert module_target('logging') == 'zros.logging' and module_target('logging', lambda top: True) is None
+
+
+def test_a_bare_folder_named_like_a_ros_library_does_not_hide_zros(tmp_path, monkeypatch):
+    """launch's own test folder holds a `launch/` directory with no __init__.py; on sys.path it
+    is a namespace package, not an installed launch, so `launch` still means zros.launch."""
+    from zros.import_hook import RosModuleFinder
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.delitem(sys.modules, 'launch_xml', raising=False)
+    (tmp_path / 'launch_xml').mkdir()
+    spec = RosModuleFinder().find_spec('launch_xml')
+    assert spec is not None and spec.loader._target == 'zros.launch_xml'
+    (tmp_path / 'launch_xml' / '__init__.py').write_text('')  # a real package is left alone
+    importlib.invalidate_caches()
+    assert RosModuleFinder().find_spec('launch_xml') is None
