@@ -103,7 +103,7 @@ class _Parser:
         _flush(parts, buf)
         return tuple(parts)
 
-    def call(self) -> Call:
+    def call(self) -> Call | Substitution:
         start = self.i
         self.i += 2
         match = _IDENT.match(self.s, self.i)
@@ -126,12 +126,24 @@ class _Parser:
                 raise self.fail(f"expected a space or ')' after '$({name}'")
             args.append(self.argument())
         spec = SUBSTITUTIONS.get(name)
+        if (spec is None or not spec.frontend) and name in _exposed():
+            return self.exposed(name, args, start)
         if spec is None or not spec.frontend:
-            known = ', '.join(sorted(n for n, s in SUBSTITUTIONS.items() if s.frontend))
+            known = ', '.join(sorted({*(n for n, s in SUBSTITUTIONS.items() if s.frontend), *_exposed()}))
             raise self.fail(f"unknown substitution '{name}' (known: {known})", start)
         if not spec.min_args <= len(args) <= (spec.max_args if spec.max_args >= 0 else len(args)):
             raise self.fail(f"'$({name})' takes {spec.arity_text()}, got {len(args)}", start)
         return Call(name, tuple(args))
+
+    def exposed(self, name: str, args: list[Template], start: int) -> Substitution:
+        """A substitution an extension exposed (`expose_substitution`), built by its parse
+        method from launch's form of the arguments: one list of substitutions per argument."""
+        from zros.launch.frontend.expose import instantiate_substitution
+        from zros.launch.substitutions import substitutions_of
+        try:
+            return instantiate_substitution(name, [substitutions_of(arg) for arg in args])
+        except Exception as exc:  # noqa: BLE001 - whatever an extension raises is the file's error
+            raise self.fail(f"'$({name})': {str(exc) or type(exc).__name__}", start) from None
 
     def argument(self) -> Template:
         parts: list = []
@@ -157,6 +169,12 @@ class _Parser:
                 return
             self.take(parts, buf)
         raise self.fail(f'unterminated {quote} quote', start)
+
+
+def _exposed() -> dict[str, Any]:
+    """The substitutions extensions exposed (launch.frontend imports this module, hence late)."""
+    from zros.launch.frontend.expose import substitution_parse_methods
+    return substitution_parse_methods
 
 
 def _flush(parts: list, buf: list[str]) -> None:

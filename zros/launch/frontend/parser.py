@@ -22,7 +22,9 @@ from zros.launch.entity import Entity
 from zros.launch.errors import LaunchFileError
 from zros.launch.files import read_text
 from zros.launch.frontend.expose import action_parse_methods
-from zros.launch.template import Text, Typed
+from zros.launch.frontend.parse_substitution import (parse_if_substitutions, parse_substitution,
+                                                    replace_escaped_characters)
+from zros.launch.template import Substitution, Text, Typed
 
 if TYPE_CHECKING:
     from zros.launch.action import Action
@@ -193,6 +195,17 @@ class Parser:
 
     def parse_actions(self, entities: list[Entity]) -> list['Action']:
         return [self.parse_action(entity) for entity in entities]
+
+    # -- text, as launch's actions' parse methods read it --------------------------------------
+    def parse_substitution(self, value: str) -> list[Substitution]:
+        """`value` as a list of substitutions (see zros.launch.frontend.parse_substitution)."""
+        return parse_substitution(value)
+
+    def parse_if_substitutions(self, value: Any) -> Any:
+        return parse_if_substitutions(value)
+
+    def escape_characters(self, value: str) -> str:
+        return replace_escaped_characters(value)
 
     # -- typed attribute helpers for actions' parse methods ---------------------------------------
     @staticmethod
