@@ -173,3 +173,19 @@ def test_zros_launch_reads_markup_through_the_parser(tmp_path, registries):
     path.write_text('<launch>\n  <shout word="loud"/>\n</launch>\n')
     (action,) = load_launch_file(str(path))
     assert isinstance(action, Shout) and action.origin.line == 2
+
+
+# -- parsed actions read as launch's ---------------------------------------------------------------
+def test_a_text_attribute_reads_as_a_list_of_substitutions():
+    root, parser = Parser.load(io.StringIO('<launch><log message="a $(env HOME) b"/>'
+                                           '<append_env name="V" value="x" prepend="false"/></launch>'))
+    log, append = parser.parse_description(root).entities
+    assert [type(s) for s in log.msg] == [TextSubstitution, EnvironmentVariable, TextSubstitution]
+    assert len(log.msg) == 3 and log.msg[0].perform(None) == 'a '
+    assert not append.prepend   # a constant bool attribute is as true as its value
+
+
+def test_an_empty_text_is_one_empty_substitution_and_still_written():
+    root, parser = Parser.load(io.StringIO('<launch><log message=""/></launch>'))
+    (log,) = parser.parse_description(root).entities
+    assert [s.perform(None) for s in log.msg] == [''] and log.msg

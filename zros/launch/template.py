@@ -343,6 +343,24 @@ class Text:
     def __str__(self) -> str:
         return describe(self.template)
 
+    # -- launch's view: an action's text attribute is a list of substitutions ----------------
+    def substitutions(self) -> list[Substitution]:
+        """The template as launch keeps such a value (`action.msg[0].perform(context)`)."""
+        from zros.launch.substitutions import substitutions_of
+        return substitutions_of(self.template) or substitutions_of(('',))
+
+    def __iter__(self) -> Any:
+        return iter(self.substitutions())
+
+    def __len__(self) -> int:
+        return len(self.substitutions())
+
+    def __getitem__(self, index: Any) -> Any:
+        return self.substitutions()[index]
+
+    def __bool__(self) -> bool:
+        return True   # a value that was written, even if empty (not a container's emptiness)
+
 
 @dataclass(frozen=True)
 class Typed:
@@ -413,6 +431,11 @@ class Typed:
 
     def __str__(self) -> str:
         return str(self.value).lower() if isinstance(self.value, bool) else str(self.value)
+
+    def __bool__(self) -> bool:
+        """launch's view of such an attribute: the constant's truth (`if action.prepend:`), and
+        true for one a substitution gives, as launch's non-empty list of substitutions is."""
+        return True if isinstance(self.value, Text) else bool(self.value)
 
 
 # -- the substitutions ------------------------------------------------------------------------
