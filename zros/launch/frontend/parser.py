@@ -85,9 +85,11 @@ class Parser:
         if Parser.extensions_loaded:
             return
         importlib.import_module('zros.launch.actions')
-        from zros.import_hook import install
-        install()   # an extension is written against `launch`, which is zros.launch
-        for entry_point in _entry_points('launch.frontend.launch_extension'):
+        extensions = _entry_points('launch.frontend.launch_extension')
+        if extensions:
+            from zros.import_hook import install
+            install()   # an extension is written against `launch`, which is zros.launch
+        for entry_point in extensions:
             try:
                 entry_point.load()
             except Exception:   # a broken extension must not stop the launch files that do not use it
