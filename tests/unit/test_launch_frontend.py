@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import io
+import os
 import warnings
 from typing import List
 
@@ -183,6 +184,7 @@ def test_a_text_attribute_reads_as_a_list_of_substitutions():
     assert [type(s) for s in log.msg] == [TextSubstitution, EnvironmentVariable, TextSubstitution]
     assert len(log.msg) == 3 and log.msg[0].perform(None) == 'a '
     assert not append.prepend   # a constant bool attribute is as true as its value
+    assert [s.perform(None) for s in append.separator] == [os.pathsep]   # the default, as launch shows it
 
 
 def test_an_empty_text_is_one_empty_substitution_and_still_written():
