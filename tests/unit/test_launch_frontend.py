@@ -191,3 +191,8 @@ def test_an_empty_text_is_one_empty_substitution_and_still_written():
     root, parser = Parser.load(io.StringIO('<launch><log message=""/></launch>'))
     (log,) = parser.parse_description(root).entities
     assert [s.perform(None) for s in log.msg] == [''] and log.msg
+
+
+def test_launch_frontend_module_names_are_the_same_objects():
+    from zros.launch.frontend import entity as entity_module
+    assert entity_module.Entity is Entity and issubclass(XmlEntity, entity_module.Entity)

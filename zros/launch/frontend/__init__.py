@@ -8,7 +8,7 @@ and for `zros launch`; a package makes its module load first by declaring it und
 """
 from __future__ import annotations
 
-from zros.launch.entity import Entity
+from zros.launch.frontend.entity import Entity
 from zros.launch.frontend import type_utils
 from zros.launch.frontend.expose import expose_action, expose_substitution
 from zros.launch.frontend.parser import InvalidFrontendLaunchFileError, Parser
