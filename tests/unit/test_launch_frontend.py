@@ -196,3 +196,14 @@ def test_an_empty_text_is_one_empty_substitution_and_still_written():
 def test_launch_frontend_module_names_are_the_same_objects():
     from zros.launch.frontend import entity as entity_module
     assert entity_module.Entity is Entity and issubclass(XmlEntity, entity_module.Entity)
+
+
+def test_can_be_str_lets_text_stand_for_a_typed_value():
+    root, _ = Parser.load(io.StringIO('launch:\n- t: {n: "$(var n)", m: 2}\n'))
+    (tag,) = root.children
+    assert tag.get_attr('n', data_type=int, can_be_str=True) == '$(var n)'
+    assert tag.get_attr('m', data_type=None) == 2
+    with pytest.raises(LaunchFileError, match="expected an int, got a string"):
+        tag.get_attr('n', data_type=int)
+    root, _ = Parser.load(io.StringIO('<launch><t n="$(var n)"/></launch>'))
+    assert root.children[0].get_attr('n', data_type=float, can_be_str=True) == '$(var n)'

@@ -119,6 +119,8 @@ def _wrong(origin: Origin, value: Any, expected: str) -> LaunchFileError:
 def normalized_type(data_type: Any) -> Any:
     """`data_type` as `get_attr` compares it: launch writes `typing.List[str]` where zros writes
     `list[str]`, and a list of entities of a format's own class is `list[Entity]`."""
+    if data_type is None:
+        return Any   # launch's "whatever the file wrote"
     if typing.get_origin(data_type) is list:
         (item,) = typing.get_args(data_type) or (str,)
         if isinstance(item, type) and issubclass(item, Entity):
@@ -232,7 +234,7 @@ class Entity:
         return []
 
     def get_attr(self, name: str, *, data_type: Any = str, optional: bool = False,
-                 tags: bool = False) -> Any:
+                 tags: bool = False, can_be_str: bool = False) -> Any:
         """The value of attribute `name`, checked against `data_type`.
 
         Args:
@@ -243,6 +245,8 @@ class Entity:
             optional: return None when the key is absent instead of raising.
             tags: with `list[Entity]`, items are one-key tag mappings (`children`) instead of
                 attribute mappings (`remap: [{from: a, to: b}]`).
+            can_be_str: a string is accepted whatever `data_type` asks for (launch's
+                option, on by default there; off here, where a wrong type is an error).
         Raises:
             LaunchFileError: missing required key, or a value of the wrong type, naming the key.
         """
@@ -272,6 +276,8 @@ class Entity:
             lines = getattr(value, 'item_lines', [origin.line] * len(value))
             return [Entity(name, item, path=self.path, line=getattr(item, 'line', 0) or lines[i], parent=self)
                     for i, item in enumerate(value)]
+        if can_be_str and isinstance(value, str):
+            return value   # launch's option: text (with substitutions) stands for any type
         return checked_value(value, data_type, origin)
 
     def raw(self, name: str) -> Any:

@@ -121,11 +121,12 @@ class XmlEntity(Entity):
         return [XmlEntity(c, path=self.path, parent=self) for c in found]
 
     def get_attr(self, name: str, *, data_type: Any = str, optional: bool = False,
-                 tags: bool = False) -> Any:
+                 tags: bool = False, can_be_str: bool = False) -> Any:
         """Attribute `name` as `data_type`; with `list[Entity]`, the child elements `<name>`.
 
         `str` and `Scalar` give the text as written; `bool`, `int`, `float`, `list[str]` and
-        `Any` give it typed by YAML rules, split at `NAME-sep` first when there is one.
+        `Any` give it typed by YAML rules, split at `NAME-sep` first when there is one. With
+        `can_be_str`, text that is not of `data_type` is returned as text instead of refused.
 
         Raises:
             LaunchFileError: missing required attribute or child, or a value of the wrong type.
@@ -162,6 +163,8 @@ class XmlEntity(Entity):
             value = [item if data_type == list[str] else _yaml_typed(item) for item in items]
         else:
             value = _yaml_typed(text)
+        if can_be_str and isinstance(value, str):
+            return value   # launch's option: text (with substitutions) stands for any type
         return checked_value(value, data_type, origin)
 
     def raw(self, name: str) -> Any:
