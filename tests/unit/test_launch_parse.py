@@ -157,11 +157,18 @@ def test_grammar_text_calls_quotes_nesting_and_escapes():
 
 
 def test_a_call_with_a_quote_inside_a_quoted_argument_is_written_back_as_it_parses():
-    """describe() escapes the quote only in an argument's literal text: the call inside is read
-    by its own rules, so escaping its quotes changed what it meant (`--print`, `--show-args`)."""
+    """Inside quoted text the other quote is plain text (launch's grammar), so describe() quotes
+    a nested call's argument with the enclosing quote, escaped (`--print`, `--show-args`)."""
     template = (Call('var', ((Call('var', (("'",),)), ' x'),)),)
-    assert describe(template) == """$(var '$(var "'") x')"""
+    assert describe(template) == """$(var '$(var '\\'') x')"""
     assert parse(describe(template)) == template
+
+
+def test_inside_quotes_the_other_quote_is_text_also_in_a_nested_call():
+    """launch's grammar: `$(env "a_$(var 'b')")` gives var the name `'b'`, quotes and all."""
+    assert parse("""$(env "a_$(var 'b')")""") == (Call('env', (('a_', Call('var', (("'b'",),))),)),)
+    assert parse("""$(env 'a_$(var "b")')""") == (Call('env', (('a_', Call('var', (('"b"',),))),)),)
+    assert parse("""$(env "$(var "b c")")""") == (Call('env', ((Call('var', (('b c',),)),),)),)
 
 
 @pytest.mark.parametrize('text, fragment', [

@@ -75,6 +75,7 @@ _IDENT = re.compile(r'[A-Za-z][A-Za-z0-9_-]*')
 class _Parser:
     def __init__(self, text: str) -> None:
         self.s, self.i, self.n = text, 0, len(text)
+        self.quote = ''   # the quote around the text being read: the other quote is text there
 
     def fail(self, reason: str, at: int | None = None) -> SubstitutionError:
         col = (self.i if at is None else at) + 1
@@ -152,7 +153,7 @@ class _Parser:
             char = self.s[self.i]
             if char in ' \t)':
                 break
-            if char in '\'"':
+            if char in '\'"' and char != _OTHER_QUOTE.get(self.quote):
                 self.quoted(char, parts, buf)
             else:
                 self.take(parts, buf)
@@ -160,15 +161,22 @@ class _Parser:
         return tuple(parts)
 
     def quoted(self, quote: str, parts: list, buf: list[str]) -> None:
-        start = self.i
+        start, outer = self.i, self.quote
         self.i += 1
+        self.quote = quote
         while self.i < self.n:
             char = self.s[self.i]
             if char == quote:
                 self.i += 1
+                self.quote = outer
                 return
             self.take(parts, buf)
         raise self.fail(f'unterminated {quote} quote', start)
+
+
+#: launch's grammar: inside text quoted with one quote, the other one is an ordinary character,
+#: also in the arguments of a substitution there (`$(env "a_$(var 'b')")` passes `'b'` to var).
+_OTHER_QUOTE = {'"': "'", "'": '"'}
 
 
 def _exposed() -> dict[str, Any]:
@@ -194,8 +202,9 @@ def is_static(template: Template) -> bool:
     return all(isinstance(part, str) for part in template)
 
 
-def describe(template: Template) -> str:
-    """The template written back as text (for --show-args defaults and --print)."""
+def describe(template: Template, quote: str = '') -> str:
+    """The template written back as text (for --show-args defaults and --print); `quote` is
+    the quote the text will stand in, which its substitutions' arguments must then use."""
     out = []
     for part in template:
         if isinstance(part, str):
@@ -203,7 +212,7 @@ def describe(template: Template) -> str:
         elif isinstance(part, Substitution):
             out.append(part.describe())
         else:
-            args = ''.join(' ' + _describe_arg(arg) for arg in part.args)
+            args = ''.join(' ' + _describe_arg(arg, quote) for arg in part.args)
             out.append(f'$({part.name}{args})')
     return ''.join(out)
 
@@ -212,16 +221,17 @@ def _describe_literal(text: str) -> str:
     return text.replace('\\', '\\\\').replace('$(', '\\$(')
 
 
-def _describe_arg(arg: Template) -> str:
-    """One argument of a call, quoted when it must be. Only its literal parts are escaped for
-    the quote: a call inside is parsed by its own rules, so its text is written as it is."""
-    text = describe(arg)
+def _describe_arg(arg: Template, outer: str = '') -> str:
+    """One argument of a call, quoted when it must be: with the enclosing quote inside a quoted
+    text (the other one is plain text there), else with `'` unless its text holds one. Only its
+    literal parts are escaped for the quote; a call inside is written by the same rules."""
+    text = describe(arg, outer)
     if text and not any(c in text for c in ' \t()\'"'):
         return text
     literals = ''.join(part for part in arg if isinstance(part, str))
-    quote = "'" if "'" not in literals else '"'
+    quote = outer or ("'" if "'" not in literals else '"')
     return quote + ''.join(_describe_literal(part).replace(quote, '\\' + quote) if isinstance(part, str)
-                           else describe((part,)) for part in arg) + quote
+                           else describe((part,), quote) for part in arg) + quote
 
 
 def perform(template: Template, context: SubstitutionContext) -> str:
