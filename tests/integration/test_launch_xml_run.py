@@ -12,7 +12,7 @@ from integration.test_launch_run import Launch
 def test_bad_xml_through_the_cli_is_one_line(write):
     path = write('bad.launch.xml', '<launch>\n  <node pkg="demo_nodes" exec="talker" colour="red"/>\n</launch>\n')
     line = assert_clean_failure(run_cli('launch', str(path), '--print'), f"{path}:2: node: colour: unknown attribute")
-    assert line.startswith(f"{path}:2: node: colour: unknown attribute 'colour' (known: args, cwd,"), line
+    assert line.startswith(f"{path}:2: node: colour: unknown attribute 'colour' of `node` (known: args, cwd,"), line
 
 
 def test_talker_and_listener_from_xml_talk(tmp_path: Path, domain: int):

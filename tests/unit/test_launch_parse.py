@@ -140,7 +140,7 @@ def test_entity_unknown_key_names_known_ones(write):
     entity.get_attr('other', optional=True)
     with pytest.raises(LaunchFileError) as info:
         entity.assert_complete()
-    assert str(info.value).endswith("x.yaml:2: t: bad: unknown key 'bad' (known keys: good, other)")
+    assert str(info.value).endswith("x.yaml:2: t: bad: unknown key 'bad' of `t` (known keys: good, other)")
 
 
 # -- substitution grammar -----------------------------------------------------------------------
@@ -157,11 +157,18 @@ def test_grammar_text_calls_quotes_nesting_and_escapes():
 
 
 def test_a_call_with_a_quote_inside_a_quoted_argument_is_written_back_as_it_parses():
-    """describe() escapes the quote only in an argument's literal text: the call inside is read
-    by its own rules, so escaping its quotes changed what it meant (`--print`, `--show-args`)."""
+    """Inside quoted text the other quote is plain text (launch's grammar), so describe() quotes
+    a nested call's argument with the enclosing quote, escaped (`--print`, `--show-args`)."""
     template = (Call('var', ((Call('var', (("'",),)), ' x'),)),)
-    assert describe(template) == """$(var '$(var "'") x')"""
+    assert describe(template) == """$(var '$(var '\\'') x')"""
     assert parse(describe(template)) == template
+
+
+def test_inside_quotes_the_other_quote_is_text_also_in_a_nested_call():
+    """launch's grammar: `$(env "a_$(var 'b')")` gives var the name `'b'`, quotes and all."""
+    assert parse("""$(env "a_$(var 'b')")""") == (Call('env', (('a_', Call('var', (("'b'",),))),)),)
+    assert parse("""$(env 'a_$(var "b")')""") == (Call('env', (('a_', Call('var', (('"b"',),))),)),)
+    assert parse("""$(env "$(var "b c")")""") == (Call('env', ((Call('var', (('b c',),)),),)),)
 
 
 @pytest.mark.parametrize('text, fragment', [
@@ -630,7 +637,7 @@ def test_error_unknown_tag(plan_of):
 def test_error_unknown_key(plan_of):
     message = error_of(plan_of, 'launch:\n- node:\n    pkg: demo_nodes\n    exec: talker\n    colour: red\n')
     assert_located(message, 'test.launch.yaml', 5, 'node', 'colour')
-    assert "unknown key 'colour' (known keys: args, " in message
+    assert "unknown key 'colour' of `node` (known keys: args, " in message
     nested = error_of(plan_of, 'launch:\n- node:\n    pkg: demo_nodes\n    exec: talker\n    remap:\n'
                                '    - {from: a, to: b, via: c}\n')
     assert_located(nested, 'test.launch.yaml', 6, 'remap', 'via')

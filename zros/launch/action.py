@@ -7,18 +7,22 @@ that validates the tag's attributes and returns `(cls, kwargs)` (the parser then
 unknown key is left). Constructors turn whatever they are given (strings, Substitutions, YAML
 `Text`) into `Text` / `Typed` values that remember where they were written.
 
+The tags and the parser are launch.frontend's (zros.launch.frontend): `launch_tag` exposes a
+class as `expose_action` does, and `Parser` is the one parser of XML and YAML files.
+
 `execute(context)` runs during resolution and returns the sub-actions to visit next (a group
 returns its children between scope markers), so no action recurses itself. Every action takes a
 `condition` (`if:` / `unless:` in YAML).
 """
 from __future__ import annotations
 
-import importlib
-from typing import Any, ClassVar, TypedDict
+from typing import Any, Callable, ClassVar, TypedDict
 
 from zros.launch.conditions import Condition, IfCondition, UnlessCondition
 from zros.launch.entity import Entity, Scalar
 from zros.launch.errors import LaunchFileError, Origin
+from zros.launch.frontend.expose import action_parse_methods, expose_action
+from zros.launch.frontend.parser import Parser
 from zros.launch.launch_description_entity import LaunchDescriptionEntity
 from zros.launch.origin import origin_here
 from zros.launch.template import Text, Typed
@@ -26,24 +30,22 @@ from zros.launch.template import Text, Typed
 __all__ = ['Action', 'ActionKwargs', 'Parser', 'launch_tag', 'registered_tags',
            'EnterFile', 'LeaveFile', 'EndCapture']
 
-_TAGS: dict[str, type['Action']] = {}
 
-
-def launch_tag(*names: str):
-    """Class decorator: `@launch_tag('push_ros_namespace', 'push-ros-namespace')`."""
+def launch_tag(*names: str) -> Callable[[type['Action']], type['Action']]:
+    """Class decorator: `@launch_tag('push_ros_namespace', 'push-ros-namespace')`, launch's
+    `expose_action` for each spelling, plus the class's `tag` (its first name)."""
     def register(cls: type['Action']) -> type['Action']:
         cls.tag = names[0]
         for name in names:
-            if name in _TAGS and _TAGS[name] is not cls:
-                raise RuntimeError(f"launch tag '{name}' registered twice")
-            _TAGS[name] = cls
+            expose_action(name)(cls)
         return cls
     return register
 
 
-def registered_tags() -> dict[str, type['Action']]:
-    importlib.import_module('zros.launch.actions')  # its modules register the tags
-    return dict(_TAGS)
+def registered_tags() -> dict[str, Callable[..., Any]]:
+    """Every tag a launch file may use, with its parse method (zros's and extensions')."""
+    Parser.load_launch_extensions()
+    return dict(action_parse_methods)
 
 
 class ActionKwargs(TypedDict, total=False):
@@ -122,44 +124,6 @@ class Action(LaunchDescriptionEntity):
     def describe_sub_entities(self) -> list['Action']:
         """launch's name for `sub_actions()`."""
         return self.sub_actions()
-
-
-class Parser:
-    """Turns YAML entities into actions; carries the file being parsed."""
-
-    def __init__(self, path: str) -> None:
-        self.path = path
-
-    def parse_action(self, entity: Entity) -> Action:
-        tags = registered_tags()
-        cls = tags.get(entity.type_name)
-        if cls is None:
-            known = ', '.join(sorted(tags))
-            raise entity.error(None, f"unknown tag (known tags: {known})")
-        action_cls, kwargs = cls.parse(entity, self)
-        entity.assert_complete()
-        return action_cls(**kwargs)
-
-    def parse_actions(self, entities: list[Entity]) -> list[Action]:
-        return [self.parse_action(entity) for entity in entities]
-
-    # -- typed attribute helpers ---------------------------------------------------------------
-    @staticmethod
-    def text(entity: Entity, key: str, *, optional: bool = False, data_type: Any = str) -> Text | None:
-        """A string attribute with substitutions, parsed (syntax errors name the key)."""
-        value = entity.get_attr(key, data_type=data_type, optional=optional)
-        if value is None:
-            return None
-        origin = entity.origin_of(key)
-        return Text.parse(value, origin)
-
-    @staticmethod
-    def typed(entity: Entity, key: str, data_type: type, *, optional: bool = True) -> Typed | None:
-        """A bool/int/float attribute, given as a YAML value or a string with substitutions."""
-        value = entity.get_attr(key, data_type=Any, optional=optional)
-        if value is None:
-            return None
-        return Typed.from_yaml(value, data_type, entity.origin_of(key))
 
 
 # -- markers that actions return around their children --------------------------------------

@@ -8,6 +8,7 @@ parser asked for, the way launch_yaml rejects "Unexpected key(s)".
 """
 from __future__ import annotations
 
+import typing
 from pathlib import Path
 from typing import Any
 
@@ -15,7 +16,8 @@ import yaml
 
 from zros.launch.errors import LaunchFileError, Origin
 
-__all__ = ['Entity', 'YamlMap', 'YamlList', 'load_yaml', 'load_launch_entities', 'Scalar', 'checked_value']
+__all__ = ['Entity', 'YamlMap', 'YamlList', 'load_yaml', 'load_launch_entities', 'load_launch_root', 'Scalar',
+           'checked_value', 'normalized_type']
 
 
 class YamlMap(dict):
@@ -114,8 +116,22 @@ def _wrong(origin: Origin, value: Any, expected: str) -> LaunchFileError:
                            + (f' {value!r}' if not isinstance(value, (list, dict)) else ''))
 
 
+def normalized_type(data_type: Any) -> Any:
+    """`data_type` as `get_attr` compares it: launch writes `typing.List[str]` where zros writes
+    `list[str]`, and a list of entities of a format's own class is `list[Entity]`."""
+    if data_type is None:
+        return Any   # launch's "whatever the file wrote"
+    if typing.get_origin(data_type) is list:
+        (item,) = typing.get_args(data_type) or (str,)
+        if isinstance(item, type) and issubclass(item, Entity):
+            return list[Entity]
+        return list[item]
+    return data_type
+
+
 def checked_value(value: Any, data_type: Any, origin: Origin) -> Any:
-    """`value` as `data_type` (`str`, `Scalar`, `bool`, `int`, `float`, `list[str]`, `Any`), the
+    """`value` as `data_type` (`str`, `Scalar`, `bool`, `int`, `float`, `list[str]`, a list of
+    bool / int / float, `Any`), the
     check both front ends' `get_attr` make once they have the value.
 
     Raises:
@@ -149,6 +165,10 @@ def checked_value(value: Any, data_type: Any, origin: Origin) -> Any:
         if not isinstance(value, list) or not all(isinstance(v, (str, int, float)) for v in value):
             raise _wrong(origin, value, 'a list of strings')
         return [str(v) for v in value]
+    if typing.get_origin(data_type) is list and typing.get_args(data_type)[0] in (bool, int, float):
+        if not isinstance(value, list):
+            raise _wrong(origin, value, 'a list')
+        return [checked_value(item, typing.get_args(data_type)[0], origin) for item in value]
     raise TypeError(f'unsupported data_type {data_type!r}')  # a bug in a parser, not the file
 
 
@@ -214,19 +234,23 @@ class Entity:
         return []
 
     def get_attr(self, name: str, *, data_type: Any = str, optional: bool = False,
-                 tags: bool = False) -> Any:
+                 tags: bool = False, can_be_str: bool = False) -> Any:
         """The value of attribute `name`, checked against `data_type`.
 
         Args:
             name: the YAML key.
             data_type: `str`, `int`, `float`, `bool`, `Scalar` (any scalar, as a string),
-                `list[str]`, `list[Entity]` (a list of mappings), `Any` (unchecked).
+                `list[str]`, `list[int]` / `list[float]` / `list[bool]`, `list[Entity]` (a list of
+                mappings), `Any` (unchecked); launch's `typing.List[...]` spellings are the same.
             optional: return None when the key is absent instead of raising.
             tags: with `list[Entity]`, items are one-key tag mappings (`children`) instead of
                 attribute mappings (`remap: [{from: a, to: b}]`).
+            can_be_str: a string is accepted whatever `data_type` asks for (launch's
+                option, on by default there; off here, where a wrong type is an error).
         Raises:
             LaunchFileError: missing required key, or a value of the wrong type, naming the key.
         """
+        data_type = normalized_type(data_type)
         self._asked.add(name)
         if not isinstance(self._body, dict):
             if optional:
@@ -252,6 +276,8 @@ class Entity:
             lines = getattr(value, 'item_lines', [origin.line] * len(value))
             return [Entity(name, item, path=self.path, line=getattr(item, 'line', 0) or lines[i], parent=self)
                     for i, item in enumerate(value)]
+        if can_be_str and isinstance(value, str):
+            return value   # launch's option: text (with substitutions) stands for any type
         return checked_value(value, data_type, origin)
 
     def raw(self, name: str) -> Any:
@@ -262,6 +288,10 @@ class Entity:
             return self._body[name]
         return None
 
+    def assert_entity_completely_parsed(self) -> None:
+        """launch's name for `assert_complete()`, which `expose_action` calls after `parse`."""
+        self.assert_complete()
+
     def assert_complete(self) -> None:
         """Raise for the first key that no parser read (an unknown or misspelled attribute)."""
         if not isinstance(self._body, dict):
@@ -271,7 +301,7 @@ class Entity:
             key = unread[0]
             known = sorted(self._asked)
             hint = f" (known keys: {', '.join(known)})" if known else ''
-            raise LaunchFileError(self.origin_of(str(key)), f"unknown key '{key}'{hint}")
+            raise LaunchFileError(self.origin_of(str(key)), f"unknown key '{key}' of `{self.type_name}`{hint}")
 
 
 def _entities_from_list(items: list, path: str, *, parent: Entity | None) -> list[Entity]:
@@ -298,6 +328,11 @@ def _entities_from_list(items: list, path: str, *, parent: Entity | None) -> lis
 
 def load_launch_entities(path: str | Path, text: str | None = None) -> list[Entity]:
     """The top-level tags of a launch file (`launch: [...]`)."""
+    return load_launch_root(path, text).children
+
+
+def load_launch_root(path: str | Path, text: str | None = None) -> Entity:
+    """The `launch` entity of a YAML launch file, whose children are its top-level tags."""
     path = str(path)
     document = load_yaml(path, text)
     if not isinstance(document, dict) or 'launch' not in document:
@@ -308,9 +343,9 @@ def load_launch_entities(path: str | Path, text: str | None = None) -> list[Enti
         line = document.key_lines.get(extra[0], 1) if isinstance(document, YamlMap) else 1
         raise LaunchFileError(None, f"{path}:{line}: unknown top-level key '{extra[0]}' (only 'launch:')")
     body = document['launch']
+    line = document.value_lines.get('launch', 1) if isinstance(document, YamlMap) else 1
     if body is None:
-        return []
+        body = YamlList()
     if not isinstance(body, list):
-        line = document.value_lines.get('launch', 1) if isinstance(document, YamlMap) else 1
         raise LaunchFileError(None, f"{path}:{line}: 'launch:' must be a list of tags, got {_type_name(body)}")
-    return _entities_from_list(body, path, parent=None)
+    return Entity('launch', body, path=path, line=line)

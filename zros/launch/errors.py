@@ -42,8 +42,11 @@ class Origin(NamedTuple):
         return LaunchFileError(self, reason)
 
 
-class LaunchFileError(LaunchError):
-    """A launch file is wrong; str() is `file:line: <tag>: <key>: reason` on one line."""
+class LaunchFileError(LaunchError, ValueError):
+    """A launch file is wrong; str() is `file:line: <tag>: <key>: reason` on one line.
+
+    Also a ValueError, which is what launch's front ends raise for a wrong attribute or child.
+    """
 
     def __init__(self, origin: Origin | None, reason: str) -> None:
         self.origin = origin

@@ -54,15 +54,11 @@ def read_text(path: str, what: str = 'launch file') -> str:
 def load_launch_file(path: str, kind: str | None = None) -> list:
     """The actions of a launch file (nothing is resolved or started)."""
     kind = kind or launch_file_kind(path)
-    text = read_text(path)
     if kind == 'python':
-        return _load_python(path, text).entities
-    from zros.launch.action import Parser
-    if kind == 'xml':
-        from zros.launch.xml_entity import load_xml_entities
-        return Parser(path).parse_actions(load_xml_entities(path, text))
-    from zros.launch.entity import load_launch_entities
-    return Parser(path).parse_actions(load_launch_entities(path, text))
+        return _load_python(path, read_text(path)).entities
+    from zros.launch.frontend.formats import XmlParser, YamlParser
+    root, parser = (XmlParser if kind == 'xml' else YamlParser).load(path)
+    return parser.parse_description(root).entities
 
 
 # -- Python launch files ------------------------------------------------------------------------

@@ -8,7 +8,7 @@ them concatenated.
 """
 from __future__ import annotations
 
-from typing import Any, Iterable
+from typing import Any, ClassVar, Iterable
 
 from zros.launch.errors import SubstitutionError
 from zros.launch.files import module_getattr
@@ -19,7 +19,7 @@ __all__ = [
     'PathJoinSubstitution', 'PythonExpression', 'Command', 'FindExecutable', 'ThisLaunchFile',
     'ThisLaunchFileDir', 'AnonName', 'NotSubstitution', 'AndSubstitution', 'OrSubstitution', 'AllSubstitution',
     'AnySubstitution', 'EqualsSubstitution', 'NotEqualsSubstitution', 'IfElseSubstitution', 'LaunchLogDir',
-    'FileContent',
+    'FileContent', 'substitution_of_call', 'substitutions_of',
 ]
 
 __getattr__ = module_getattr(__name__)
@@ -32,12 +32,36 @@ class _CallSubstitution(Substitution):
     """A substitution that is one call of a registered template function."""
 
     _name = ''
+    _by_name: ClassVar[dict[str, type['_CallSubstitution']]] = {}   # `$(name)` -> its class
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        if cls._name:
+            _CallSubstitution._by_name.setdefault(cls._name, cls)
 
     def __init__(self, *args: Any) -> None:
         self._args: tuple[Template, ...] = tuple(to_template(arg) for arg in args)
 
     def template(self) -> Template:
         return (Call(self._name, self._args),)
+
+
+def substitutions_of(template: Template) -> list[Substitution]:
+    """launch's form of a template: one substitution per part, literal text as TextSubstitution."""
+    return [TextSubstitution(text=part) if isinstance(part, str)
+            else part if isinstance(part, Substitution)
+            else substitution_of_call(part) for part in template]
+
+
+def substitution_of_call(call: Call) -> Substitution:
+    """The Python substitution a parsed `$(name args...)` is: an instance of its class when
+    zros has one (`$(env X)` is an EnvironmentVariable), built from the parsed arguments
+    without going through the class's keyword arguments."""
+    cls = _CallSubstitution._by_name.get(call.name, _CallSubstitution)
+    substitution = cls.__new__(cls)
+    substitution._name = call.name
+    substitution._args = call.args
+    return substitution
 
 
 class TextSubstitution(Substitution):
@@ -68,6 +92,15 @@ class EnvironmentVariable(_CallSubstitution):
 
     def __init__(self, name: Any, *, default_value: Any = None) -> None:
         super().__init__(name, *(() if default_value is None else (default_value,)))
+
+    @property
+    def name(self) -> list[Substitution]:
+        """The variable's name, as launch keeps it: a list of substitutions."""
+        return substitutions_of(self._args[0])
+
+    @property
+    def default_value(self) -> list[Substitution] | None:
+        return substitutions_of(self._args[1]) if len(self._args) > 1 else None
 
 
 class PathJoinSubstitution(_CallSubstitution):

@@ -75,6 +75,7 @@ _IDENT = re.compile(r'[A-Za-z][A-Za-z0-9_-]*')
 class _Parser:
     def __init__(self, text: str) -> None:
         self.s, self.i, self.n = text, 0, len(text)
+        self.quote = ''   # the quote around the text being read: the other quote is text there
 
     def fail(self, reason: str, at: int | None = None) -> SubstitutionError:
         col = (self.i if at is None else at) + 1
@@ -103,7 +104,7 @@ class _Parser:
         _flush(parts, buf)
         return tuple(parts)
 
-    def call(self) -> Call:
+    def call(self) -> Call | Substitution:
         start = self.i
         self.i += 2
         match = _IDENT.match(self.s, self.i)
@@ -126,12 +127,24 @@ class _Parser:
                 raise self.fail(f"expected a space or ')' after '$({name}'")
             args.append(self.argument())
         spec = SUBSTITUTIONS.get(name)
+        if (spec is None or not spec.frontend) and name in _exposed():
+            return self.exposed(name, args, start)
         if spec is None or not spec.frontend:
-            known = ', '.join(sorted(n for n, s in SUBSTITUTIONS.items() if s.frontend))
+            known = ', '.join(sorted({*(n for n, s in SUBSTITUTIONS.items() if s.frontend), *_exposed()}))
             raise self.fail(f"unknown substitution '{name}' (known: {known})", start)
         if not spec.min_args <= len(args) <= (spec.max_args if spec.max_args >= 0 else len(args)):
             raise self.fail(f"'$({name})' takes {spec.arity_text()}, got {len(args)}", start)
         return Call(name, tuple(args))
+
+    def exposed(self, name: str, args: list[Template], start: int) -> Substitution:
+        """A substitution an extension exposed (`expose_substitution`), built by its parse
+        method from launch's form of the arguments: one list of substitutions per argument."""
+        from zros.launch.frontend.expose import instantiate_substitution
+        from zros.launch.substitutions import substitutions_of
+        try:
+            return instantiate_substitution(name, [substitutions_of(arg) for arg in args])
+        except Exception as exc:  # noqa: BLE001 - whatever an extension raises is the file's error
+            raise self.fail(f"'$({name})': {str(exc) or type(exc).__name__}", start) from None
 
     def argument(self) -> Template:
         parts: list = []
@@ -140,7 +153,7 @@ class _Parser:
             char = self.s[self.i]
             if char in ' \t)':
                 break
-            if char in '\'"':
+            if char in '\'"' and char != _OTHER_QUOTE.get(self.quote):
                 self.quoted(char, parts, buf)
             else:
                 self.take(parts, buf)
@@ -148,15 +161,28 @@ class _Parser:
         return tuple(parts)
 
     def quoted(self, quote: str, parts: list, buf: list[str]) -> None:
-        start = self.i
+        start, outer = self.i, self.quote
         self.i += 1
+        self.quote = quote
         while self.i < self.n:
             char = self.s[self.i]
             if char == quote:
                 self.i += 1
+                self.quote = outer
                 return
             self.take(parts, buf)
         raise self.fail(f'unterminated {quote} quote', start)
+
+
+#: launch's grammar: inside text quoted with one quote, the other one is an ordinary character,
+#: also in the arguments of a substitution there (`$(env "a_$(var 'b')")` passes `'b'` to var).
+_OTHER_QUOTE = {'"': "'", "'": '"'}
+
+
+def _exposed() -> dict[str, Any]:
+    """The substitutions extensions exposed (launch.frontend imports this module, hence late)."""
+    from zros.launch.frontend.expose import substitution_parse_methods
+    return substitution_parse_methods
 
 
 def _flush(parts: list, buf: list[str]) -> None:
@@ -176,8 +202,9 @@ def is_static(template: Template) -> bool:
     return all(isinstance(part, str) for part in template)
 
 
-def describe(template: Template) -> str:
-    """The template written back as text (for --show-args defaults and --print)."""
+def describe(template: Template, quote: str = '') -> str:
+    """The template written back as text (for --show-args defaults and --print); `quote` is
+    the quote the text will stand in, which its substitutions' arguments must then use."""
     out = []
     for part in template:
         if isinstance(part, str):
@@ -185,7 +212,7 @@ def describe(template: Template) -> str:
         elif isinstance(part, Substitution):
             out.append(part.describe())
         else:
-            args = ''.join(' ' + _describe_arg(arg) for arg in part.args)
+            args = ''.join(' ' + _describe_arg(arg, quote) for arg in part.args)
             out.append(f'$({part.name}{args})')
     return ''.join(out)
 
@@ -194,16 +221,17 @@ def _describe_literal(text: str) -> str:
     return text.replace('\\', '\\\\').replace('$(', '\\$(')
 
 
-def _describe_arg(arg: Template) -> str:
-    """One argument of a call, quoted when it must be. Only its literal parts are escaped for
-    the quote: a call inside is parsed by its own rules, so its text is written as it is."""
-    text = describe(arg)
+def _describe_arg(arg: Template, outer: str = '') -> str:
+    """One argument of a call, quoted when it must be: with the enclosing quote inside a quoted
+    text (the other one is plain text there), else with `'` unless its text holds one. Only its
+    literal parts are escaped for the quote; a call inside is written by the same rules."""
+    text = describe(arg, outer)
     if text and not any(c in text for c in ' \t()\'"'):
         return text
     literals = ''.join(part for part in arg if isinstance(part, str))
-    quote = "'" if "'" not in literals else '"'
+    quote = outer or ("'" if "'" not in literals else '"')
     return quote + ''.join(_describe_literal(part).replace(quote, '\\' + quote) if isinstance(part, str)
-                           else describe((part,)) for part in arg) + quote
+                           else describe((part,), quote) for part in arg) + quote
 
 
 def perform(template: Template, context: SubstitutionContext) -> str:
@@ -336,6 +364,24 @@ class Text:
     def __str__(self) -> str:
         return describe(self.template)
 
+    # -- launch's view: an action's text attribute is a list of substitutions ----------------
+    def substitutions(self) -> list[Substitution]:
+        """The template as launch keeps such a value (`action.msg[0].perform(context)`)."""
+        from zros.launch.substitutions import substitutions_of
+        return substitutions_of(self.template) or substitutions_of(('',))
+
+    def __iter__(self) -> Any:
+        return iter(self.substitutions())
+
+    def __len__(self) -> int:
+        return len(self.substitutions())
+
+    def __getitem__(self, index: Any) -> Any:
+        return self.substitutions()[index]
+
+    def __bool__(self) -> bool:
+        return True   # a value that was written, even if empty (not a container's emptiness)
+
 
 @dataclass(frozen=True)
 class Typed:
@@ -400,6 +446,11 @@ class Typed:
 
     def __str__(self) -> str:
         return str(self.value).lower() if isinstance(self.value, bool) else str(self.value)
+
+    def __bool__(self) -> bool:
+        """launch's view of such an attribute: the constant's truth (`if action.prepend:`), and
+        true for one a substitution gives, as launch's non-empty list of substitutions is."""
+        return True if isinstance(self.value, Text) else bool(self.value)
 
 
 # -- the substitutions ------------------------------------------------------------------------

@@ -20,10 +20,10 @@ import re
 from typing import Any, NamedTuple
 from xml.parsers import expat
 
-from zros.launch.entity import Entity, Scalar, checked_value
+from zros.launch.entity import Entity, Scalar, checked_value, normalized_type
 from zros.launch.errors import LaunchFileError, Origin
 
-__all__ = ['XmlElement', 'XmlEntity', 'load_xml', 'load_xml_entities']
+__all__ = ['XmlElement', 'XmlEntity', 'load_xml', 'load_xml_entities', 'load_xml_root']
 
 
 class XmlElement(NamedTuple):
@@ -121,15 +121,17 @@ class XmlEntity(Entity):
         return [XmlEntity(c, path=self.path, parent=self) for c in found]
 
     def get_attr(self, name: str, *, data_type: Any = str, optional: bool = False,
-                 tags: bool = False) -> Any:
+                 tags: bool = False, can_be_str: bool = False) -> Any:
         """Attribute `name` as `data_type`; with `list[Entity]`, the child elements `<name>`.
 
         `str` and `Scalar` give the text as written; `bool`, `int`, `float`, `list[str]` and
-        `Any` give it typed by YAML rules, split at `NAME-sep` first when there is one.
+        `Any` give it typed by YAML rules, split at `NAME-sep` first when there is one. With
+        `can_be_str`, text that is not of `data_type` is returned as text instead of refused.
 
         Raises:
             LaunchFileError: missing required attribute or child, or a value of the wrong type.
         """
+        data_type = normalized_type(data_type)
         self._asked.add(name)
         attributes = self._element.attributes
         if data_type == list[Entity]:
@@ -161,6 +163,8 @@ class XmlEntity(Entity):
             value = [item if data_type == list[str] else _yaml_typed(item) for item in items]
         else:
             value = _yaml_typed(text)
+        if can_be_str and isinstance(value, str):
+            return value   # launch's option: text (with substitutions) stands for any type
         return checked_value(value, data_type, origin)
 
     def raw(self, name: str) -> Any:
@@ -168,13 +172,14 @@ class XmlEntity(Entity):
 
     def assert_complete(self) -> None:
         """Raise for the first attribute or child element that no parser read."""
+        tag = f'`{self.type_name}`'   # launch_xml's errors name the tag this way
         for name in self._element.attributes:
             if name not in self._read:
-                raise self.error(name, f"unknown attribute '{name}'{_known(self._asked - self._asked_children)}")
+                raise self.error(name, f"unknown attribute '{name}' of {tag}{_known(self._asked - self._asked_children)}")
         for child in self._element.children:
             if child.tag not in self._claimed:
                 raise LaunchFileError(Origin(self.path, child.line, self.type_name, child.tag),
-                                      f'unknown child element <{child.tag}>{_known(self._asked_children)}')
+                                      f'unknown child element <{child.tag}> of {tag}{_known(self._asked_children)}')
 
 
 def _known(names: set[str]) -> str:
@@ -182,11 +187,11 @@ def _known(names: set[str]) -> str:
 
 
 def load_xml_entities(path: str, text: str) -> list[XmlEntity]:
-    """The child elements of the `<launch>` root (its own attributes, such as `deprecated`,
-    are not read, as in ROS 2)."""
-    root = load_xml(path, text)
-    if root.tag != 'launch':
-        raise LaunchFileError(None, f'{path}:{root.line}: the root element of an XML launch file '
-                                    f'must be <launch>, got <{root.tag}>')
-    return XmlEntity(root, path=path).children
+    """The child elements of the root element."""
+    return load_xml_root(path, text).children
 
+
+def load_xml_root(path: str, text: str) -> XmlEntity:
+    """The root element of an XML file, whatever its tag (`Parser.parse_description` wants
+    `<launch>`; launch_xml reads other documents' entities too)."""
+    return XmlEntity(load_xml(path, text), path=path)

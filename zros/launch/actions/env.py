@@ -17,7 +17,7 @@ class EnvKwargs(ActionKwargs, total=False):
     name: Text
     value: Text
     prepend: Typed | None
-    separator: Text | None
+    separator: Text
 
 
 @launch_tag('set_env')
@@ -62,12 +62,12 @@ class AppendEnvironmentVariable(Action):
     """`AppendEnvironmentVariable(name, value, prepend=False, separator=os.pathsep)`;
     YAML `append_env: {name, value, prepend, separator}`."""
 
-    def __init__(self, name: Any, value: Any, *, prepend: Any = None, separator: Any = None,
+    def __init__(self, name: Any, value: Any, *, prepend: Any = None, separator: Any = os.pathsep,
                  **kwargs: Any) -> None:
         super().__init__(**kwargs)
         self.name, self.value = self._text(name, 'name'), self._text(value, 'value')
         self.prepend = self._typed(prepend, bool, 'prepend')
-        self.separator = self._optional_text(separator, 'separator')
+        self.separator = self._text(separator, 'separator')
 
     @classmethod
     def parse(cls, entity: Entity, parser: Parser) -> tuple[type[Action], EnvKwargs]:
@@ -75,13 +75,15 @@ class AppendEnvironmentVariable(Action):
         kwargs['name'] = parser.text(entity, 'name')
         kwargs['value'] = parser.text(entity, 'value', data_type=Scalar)
         kwargs['prepend'] = parser.typed(entity, 'prepend', bool)
-        kwargs['separator'] = parser.text(entity, 'separator', optional=True)
+        separator = parser.text(entity, 'separator', optional=True)
+        if separator is not None:
+            kwargs['separator'] = separator
         return cls, kwargs
 
     def execute(self, context: Any) -> None:
         name = self.name.perform(context)
         value = self.value.perform(context)
-        separator = self.separator.perform(context) if self.separator is not None else os.pathsep
+        separator = self.separator.perform(context)
         current = context.environment.get(name)
         if current:
             prepend = self.prepend.perform(context) if self.prepend is not None else False
