@@ -125,10 +125,13 @@ class RosModuleFinder(importlib.abc.MetaPathFinder):
             if finder is self or not hasattr(finder, 'find_spec'):
                 continue
             try:
-                if finder.find_spec(top, None) is not None:
-                    return True
+                spec = finder.find_spec(top, None)
             except (ImportError, ValueError):
                 continue
+            # A bare folder of that name on sys.path (launch's own `test/launch` of test files,
+            # no __init__.py) is a namespace package, not the library installed.
+            if spec is not None and spec.origin is not None:
+                return True
         return False
 
 

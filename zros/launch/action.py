@@ -19,6 +19,7 @@ from typing import Any, ClassVar, TypedDict
 from zros.launch.conditions import Condition, IfCondition, UnlessCondition
 from zros.launch.entity import Entity, Scalar
 from zros.launch.errors import LaunchFileError, Origin
+from zros.launch.launch_description_entity import LaunchDescriptionEntity
 from zros.launch.origin import origin_here
 from zros.launch.template import Text, Typed
 
@@ -50,7 +51,7 @@ class ActionKwargs(TypedDict, total=False):
     condition: Condition | None
 
 
-class Action:
+class Action(LaunchDescriptionEntity):
     """Base of every launch action.
 
     Args:

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 from typing import Any, NamedTuple
 
 from zros.launch.errors import LaunchFileError, Origin
+from zros.launch.event_dispatch import EventDispatch
 from zros.launch.template import make_anon_name
 
 __all__ = ['LaunchContext', 'RosScope', 'DeclaredArgument']
@@ -46,7 +47,7 @@ class _Scope(NamedTuple):
     ros: RosScope
 
 
-class LaunchContext:
+class LaunchContext(EventDispatch):
     """Mutable resolution state; one per `resolve()` call.
 
     Args:
@@ -58,6 +59,7 @@ class LaunchContext:
 
     def __init__(self, *, launch_arguments: dict[str, str] | None = None,
                  environment: dict[str, str] | None = None, log_dir: str = '') -> None:
+        super().__init__()
         self.launch_arguments = dict(launch_arguments or {})
         self.configurations: dict[str, str] = dict(self.launch_arguments)
         self.base_environment = dict(os.environ if environment is None else environment)

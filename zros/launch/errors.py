@@ -10,7 +10,7 @@ from typing import NamedTuple
 
 from zros.errors import ZrosError
 
-__all__ = ['LaunchError', 'LaunchFileError', 'SubstitutionError', 'Origin']
+__all__ = ['LaunchError', 'LaunchFileError', 'LaunchTypeError', 'SubstitutionError', 'Origin']
 
 
 class LaunchError(ZrosError):
@@ -47,3 +47,9 @@ class LaunchFileError(LaunchError):
         self.origin = origin
         self.reason = ' '.join(str(reason).split()) if '\n' in str(reason) else str(reason)
         super().__init__(f'{origin}: {self.reason}' if origin is not None else self.reason)
+
+
+class LaunchTypeError(LaunchFileError, TypeError):
+    """A launch class was given a value of the wrong kind (a target that is not an action, a
+    handler that is neither actions nor a function). Also a TypeError, since launch raises
+    that and launch code catches it."""

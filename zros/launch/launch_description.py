@@ -8,12 +8,13 @@ from __future__ import annotations
 from typing import Any, Iterable
 
 from zros.launch.errors import LaunchFileError
+from zros.launch.launch_description_entity import LaunchDescriptionEntity
 from zros.launch.origin import origin_here
 
 __all__ = ['LaunchDescription']
 
 
-class LaunchDescription:
+class LaunchDescription(LaunchDescriptionEntity):
     """`LaunchDescription([actions...])`, with `add_action` / `add_entity` as in launch."""
 
     condition = None

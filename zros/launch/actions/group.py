@@ -8,7 +8,7 @@ from zros.errors import InvalidNameError
 from zros.launch.action import Action, ActionKwargs, Parser, PopScope, PushScope, launch_tag
 from zros.launch.actions.arg import configuration_pairs, parse_keep
 from zros.launch.entity import Entity
-from zros.launch.errors import LaunchFileError, Origin
+from zros.launch.errors import LaunchFileError, LaunchTypeError, Origin
 from zros.launch.template import Text, Typed
 from zros.names import validate_namespace
 
@@ -29,7 +29,7 @@ def check_actions(actions: Any, origin: Origin) -> list[Action]:
         if item is None:
             continue
         if not isinstance(item, (Action, LaunchDescription)):
-            raise LaunchFileError(origin, f'expected launch actions, got {type(item).__name__}')
+            raise LaunchTypeError(origin, f'expected launch actions, got {type(item).__name__}')
         checked.append(item)
     return checked
 

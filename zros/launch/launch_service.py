@@ -1,0 +1,152 @@
+"""`LaunchService` (launch.LaunchService): run launch descriptions through an event queue, as
+code written against launch's classes expects (`include_launch_description`, `emit_event`,
+`run`, `shutdown`).
+
+It is `zros launch`'s runtime with launch's event loop in front: the service's context
+(zros.launch.context, with its event queue) visits what handlers return with the same walk
+`resolve()` uses, and hands the effects (processes, log lines, timers, shutdowns) to the
+Supervisor (zros.launch.supervisor), which runs them exactly as under `zros launch`. The
+supervisor reports its processes back as launch.events.process events, and drains the queue on
+its own thread between the things it watches.
+"""
+from __future__ import annotations
+
+import queue
+from typing import Any
+
+from zros.launch.context import LaunchContext
+from zros.launch.description import walk
+from zros.launch.event_handlers.on_include_launch_description import OnIncludeLaunchDescription
+from zros.launch.events.include_launch_description import IncludeLaunchDescription
+from zros.launch.events.process import ProcessExited, ProcessStarted
+from zros.launch.events.shutdown import Shutdown
+from zros.launch.plan import Plan, ProcessSpec
+from zros.launch.supervisor import ProcessObserver, Supervisor
+
+__all__ = ['LaunchService']
+
+try:
+    # launch runs on osrf_pycommon's asyncio loop and so loads `osrf_pycommon.process_utils`;
+    # code written against launch (its own tests) reaches that module through the package
+    # once launch is imported. zros needs no part of it: loaded only when it is installed.
+    import osrf_pycommon.process_utils  # noqa: F401
+except ImportError:
+    pass
+
+
+class LaunchService(ProcessObserver):
+    """One launch: a context, its event queue, and (while `run()` runs) a supervisor.
+
+    Args:
+        argv: arguments for the launch description (`context.argv`).
+        noninteractive: the launch runs without a terminal (`context.noninteractive`).
+        debug: DEBUG messages too (command lines, environment, signals).
+
+    `run()` must be called from the main thread (the supervisor forks and handles signals);
+    `emit_event`, `include_launch_description` and `shutdown` may be called from any thread.
+    """
+
+    def __init__(self, *, argv: list[str] | None = None, noninteractive: bool = False, debug: bool = False) -> None:
+        self.__context = LaunchContext()
+        self.__context.argv = list(argv or [])
+        self.__context.noninteractive = noninteractive
+        self.debug = debug
+        self._supervisor: Supervisor | None = None
+        self._shutdown_when_idle = True
+        self._shutting_down = False
+        # The launch's own handler, registered first so that users' handlers see events first.
+        self.__context.register_event_handler(OnIncludeLaunchDescription())
+
+    @property
+    def context(self) -> LaunchContext:
+        return self.__context
+
+    # -- from any thread -------------------------------------------------------------------------
+    def emit_event(self, event: Any) -> None:
+        """Queue `event`; its handlers run on the launch's thread (now, if it is running)."""
+        self.__context.emit_event_sync(event)
+
+    def include_launch_description(self, launch_description: Any) -> None:
+        """Visit `launch_description` in this launch (queued as an IncludeLaunchDescription event)."""
+        self.emit_event(IncludeLaunchDescription(launch_description))
+
+    def shutdown(self, force_sync: bool = False) -> None:
+        """End the launch: a Shutdown event, which its handlers see before the processes stop."""
+        self.emit_event(Shutdown(reason='LaunchService.shutdown() called'))
+
+    # -- running -----------------------------------------------------------------------------------
+    def run(self, *, shutdown_when_idle: bool = True) -> int:
+        """Run until shut down, or (with `shutdown_when_idle`) until nothing is left to do; 0,
+        or 1 when a process could not be started."""
+        self._shutdown_when_idle = shutdown_when_idle
+        self._shutting_down = False
+        self._supervisor = Supervisor(Plan('<LaunchService>'), log_dir=None, debug=self.debug, hub=False,
+                                      observer=self, keep_alive=not shutdown_when_idle)
+        self.__context._wakeup = self._supervisor.wake
+        try:
+            return self._supervisor.run()
+        finally:
+            self.__context._wakeup = lambda: None
+            self._supervisor = None
+
+    async def run_async(self, *, shutdown_when_idle: bool = True) -> int:
+        """`run()` as a coroutine, for `loop.run_until_complete(ls.run_async())`. It runs the
+        supervisor to the end on the calling thread, so the asyncio loop waits meanwhile."""
+        return self.run(shutdown_when_idle=shutdown_when_idle)
+
+    # -- the supervisor's thread (ProcessObserver) ---------------------------------------------
+    def pump(self) -> None:
+        """Offer each queued event to the handlers, newest handler first; visit what they return."""
+        while True:
+            try:
+                event = self.__context._event_queue.get_nowait()
+            except queue.Empty:
+                return
+            self._dispatch(event)
+
+    def idle(self) -> bool:
+        if not self.__context._event_queue.empty():
+            return True
+        if self._shutdown_when_idle and not self._shutting_down:
+            self.emit_event(Shutdown(reason='idle'))
+            return True
+        return False
+
+    def started(self, name: str, spec: ProcessSpec, pid: int, cmd: list[str]) -> None:
+        self.emit_event(ProcessStarted(action=spec.source, name=name, cmd=cmd, cwd=spec.cwd, env=None, pid=pid))
+
+    def exited(self, name: str, spec: ProcessSpec, pid: int, returncode: int, cmd: list[str]) -> None:
+        self.emit_event(ProcessExited(action=spec.source, name=name, cmd=cmd, cwd=spec.cwd, env=None, pid=pid,
+                                      returncode=returncode))
+
+    def _dispatch(self, event: Any) -> None:
+        context = self.__context
+        for handler in context.event_handlers:
+            if not handler.matches(event):
+                continue
+            context._push_locals()
+            try:
+                entities = handler.handle(event, context)
+                self._visit(entities)
+            finally:
+                context._pop_locals()
+        if isinstance(event, Shutdown):
+            self._shutting_down = True
+            if self._supervisor is not None:
+                self._supervisor.shutdown(str(event.reason or 'Shutdown event'))
+
+    def _visit(self, entities: Any) -> None:
+        """Resolve `entities` in the context and carry out their effects."""
+        from zros.launch.actions.group import check_actions
+        from zros.launch.origin import origin_here
+        actions = check_actions(entities, origin_here('LaunchService'))
+        if not actions:
+            return
+        context = self.__context
+        context.begin_capture()
+        try:
+            walk(actions, context)
+        finally:
+            effects = context.end_capture()
+        if self._supervisor is not None:
+            self._supervisor.carry_out(effects)
