@@ -83,7 +83,8 @@ def resolve_actions(actions: list, path: str, *, launch_arguments: dict[str, str
         declared = ', '.join(context.declared_names()) or 'none'
         raise LaunchError(f"{path}: unknown launch argument '{unknown[0]}' (declared arguments: {declared})")
     arguments = {name: context.configurations.get(name, '') for name in context.declared}
-    return Plan(path, context.effects, arguments=arguments, declared=dict(context.declared), log_dir=log_dir)
+    return Plan(path, context.effects, arguments=arguments, declared=dict(context.declared), log_dir=log_dir,
+                context=context)
 
 
 def declared_arguments(path: str, launch_arguments: dict[str, str] | None = None, *,

@@ -12,13 +12,14 @@ its own thread between the things it watches.
 from __future__ import annotations
 
 import queue
+from pathlib import Path
 from typing import Any
 
 from zros.launch.context import LaunchContext
 from zros.launch.description import walk
 from zros.launch.event_handlers.on_include_launch_description import OnIncludeLaunchDescription
 from zros.launch.events.include_launch_description import IncludeLaunchDescription
-from zros.launch.events.process import ProcessExited, ProcessStarted
+from zros.launch.events.process import ProcessExited, ProcessIO, ProcessStarted
 from zros.launch.events.shutdown import Shutdown
 from zros.launch.plan import Plan, ProcessSpec
 from zros.launch.supervisor import ProcessObserver, Supervisor
@@ -46,16 +47,19 @@ class LaunchService(ProcessObserver):
     `emit_event`, `include_launch_description` and `shutdown` may be called from any thread.
     """
 
-    def __init__(self, *, argv: list[str] | None = None, noninteractive: bool = False, debug: bool = False) -> None:
-        self.__context = LaunchContext()
+    def __init__(self, *, argv: list[str] | None = None, noninteractive: bool = False, debug: bool = False,
+                 context: LaunchContext | None = None) -> None:
+        self.__context = context if context is not None else LaunchContext()
         self.__context.argv = list(argv or [])
         self.__context.noninteractive = noninteractive
         self.debug = debug
         self._supervisor: Supervisor | None = None
-        self._shutdown_when_idle = True
+        self._shutdown_when_idle: bool | None = True
         self._shutting_down = False
-        # The launch's own handler, registered first so that users' handlers see events first.
-        self.__context.register_event_handler(OnIncludeLaunchDescription())
+        self._running: dict[str, tuple[int, list[str]]] = {}   # process name -> (pid, argv)
+        # The launch's own handler, registered after those already on the context (a resolved
+        # file's) so that users' handlers see events first.
+        self.__context.register_event_handler(OnIncludeLaunchDescription(), append=True)
 
     @property
     def context(self) -> LaunchContext:
@@ -76,15 +80,27 @@ class LaunchService(ProcessObserver):
 
     # -- running -----------------------------------------------------------------------------------
     def run(self, *, shutdown_when_idle: bool = True) -> int:
-        """Run until shut down, or (with `shutdown_when_idle`) until nothing is left to do; 0,
-        or 1 when a process could not be started."""
+        """Run until shut down, or (with `shutdown_when_idle`) until nothing is left to do, then
+        a Shutdown event; 0, or 1 when a process could not be started."""
         self._shutdown_when_idle = shutdown_when_idle
+        return self._supervise(Supervisor(Plan('<LaunchService>'), log_dir=None, debug=self.debug, hub=False,
+                                          observer=self, keep_alive=not shutdown_when_idle))
+
+    @classmethod
+    def run_plan(cls, plan: Plan, *, log_dir: Path | None, debug: bool = False) -> int:
+        """What `zros launch` runs: a resolved plan, in the context it was resolved in (so the
+        handlers the file registered see its events). It ends when nothing is left to do,
+        without a Shutdown event, as `zros launch` always has."""
+        service = cls(debug=debug, context=plan.context)
+        service._shutdown_when_idle = None
+        return service._supervise(Supervisor(plan, log_dir=log_dir, debug=debug, observer=service))
+
+    def _supervise(self, supervisor: Supervisor) -> int:
         self._shutting_down = False
-        self._supervisor = Supervisor(Plan('<LaunchService>'), log_dir=None, debug=self.debug, hub=False,
-                                      observer=self, keep_alive=not shutdown_when_idle)
-        self.__context._wakeup = self._supervisor.wake
+        self._supervisor = supervisor
+        self.__context._wakeup = supervisor.wake
         try:
-            return self._supervisor.run()
+            return supervisor.run()
         finally:
             self.__context._wakeup = lambda: None
             self._supervisor = None
@@ -112,8 +128,26 @@ class LaunchService(ProcessObserver):
             return True
         return False
 
+    def shutting_down(self, reason: str) -> None:
+        """A shutdown the supervisor began itself (Ctrl-C, a Shutdown action, a process's
+        on_exit): the context's handlers see it as a Shutdown event, before the processes stop."""
+        if not self._shutting_down:
+            self._dispatch(Shutdown(reason=reason, due_to_sigint='SIGINT' in reason))
+
     def started(self, name: str, spec: ProcessSpec, pid: int, cmd: list[str]) -> None:
+        self._running[name] = (pid, list(cmd))
         self.emit_event(ProcessStarted(action=spec.source, name=name, cmd=cmd, cwd=spec.cwd, env=None, pid=pid))
+
+    def output(self, name: str, spec: ProcessSpec, is_stderr: bool, lines: list[str]) -> None:
+        """ProcessIO events, only while an OnProcessIO handler listens: a launch's output is
+        its busiest path, and an event per chunk would cost it for nothing."""
+        from zros.launch.event_handlers.on_process_io import OnProcessIO
+        if not any(isinstance(handler, OnProcessIO) for handler in self.__context.event_handlers):
+            return
+        text = ('\n'.join(lines) + '\n').encode()
+        pid, cmd = self._running.get(name, (0, []))
+        self.emit_event(ProcessIO(action=spec.source, name=name, cmd=cmd, cwd=spec.cwd, env=None, pid=pid,
+                                  text=text, fd=2 if is_stderr else 1))
 
     def exited(self, name: str, spec: ProcessSpec, pid: int, returncode: int, cmd: list[str]) -> None:
         self.emit_event(ProcessExited(action=spec.source, name=name, cmd=cmd, cwd=spec.cwd, env=None, pid=pid,

@@ -187,6 +187,9 @@ class Plan:
     arguments: dict[str, str] = field(default_factory=dict)          # final values of declared args
     declared: dict[str, DeclaredArgument] = field(default_factory=dict)
     log_dir: str = ''
+    # The context the file was resolved in: the launch.EventHandlers it registered stay on its
+    # event queue while the plan runs (zros.launch.launch_service).
+    context: Any = field(default=None, repr=False, compare=False)
 
     def processes_in_start_order(self) -> list[tuple[float, ProcessSpec]]:
         """(start delay, spec) in the order the supervisor starts them (timers by due time)."""

@@ -168,6 +168,9 @@ class ProcessObserver:
     def exited(self, name: str, spec: ProcessSpec, pid: int, returncode: int, cmd: list[str]) -> None:
         """It exited with `returncode` (negative: killed by that signal)."""
 
+    def shutting_down(self, reason: str) -> None:
+        """The launch starts shutting down (Ctrl-C, a Shutdown effect, a process's on_exit)."""
+
     def pump(self) -> None:
         """Each pass of the loop: carry out what other threads asked for since (a
         LaunchService's queued events); `Supervisor.wake()` makes a pass happen now."""
@@ -633,6 +636,7 @@ class Supervisor:
             return
         self._shutting_down = True
         self.log.info('launch', f'shutting down: {reason}')
+        self._observer.shutting_down(reason)
         self._on_shutdown(reason)
         self._timers = [t for t in self._timers if t[2] == 'escalate']
         heapq.heapify(self._timers)
