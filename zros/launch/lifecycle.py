@@ -135,7 +135,7 @@ class OnStateTransition(OnActionEventBase):
             raise LaunchFileError(origin.with_key('matcher'), f'expected a function of the event, '
                                                               f'got {type(matcher).__name__}')
         super().__init__(target_action=None if matcher is not None else target_lifecycle_node,
-                         handler=entities, origin=origin)
+                         entities=entities, origin=origin)
         self.matcher = matcher
         self.filters = {key: None if value is None else Text.of(value, origin.with_key(key))
                         for key, value in (('transition', transition), ('start_state', start_state),

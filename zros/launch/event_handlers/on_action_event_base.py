@@ -30,17 +30,25 @@ def target_matches(target: Any, action: Any) -> bool:
 
 class OnActionEventBase(BaseEventHandler):
     """Subclasses set `event_type` (the launch event class), `event` (the supervisor's name for
-    it: 'start', 'exit', 'shutdown', 'transition') and `_key` (the keyword of what to do)."""
+    it: 'start', 'exit', 'shutdown', 'transition') and `_key` (the keyword of what to do:
+    `OnProcessExit(target_action=node, on_exit=[...])`)."""
 
     event = ''
     _key = ''
     event_type: type = object
 
-    def __init__(self, *, target_action: Any = None, handler: Any, handle_once: bool = False,
-                 origin: Origin | None = None) -> None:
+    def __init__(self, *, target_action: Any = None, handle_once: bool = False, origin: Origin | None = None,
+                 **what_to_do: Any) -> None:
+        """`what_to_do` is the one keyword the subclass names in `_key` (`on_exit=...`); any
+        other keyword is a TypeError, as a misspelt keyword argument is in Python."""
         from zros.launch.action import Action
         from zros.launch.actions.group import check_actions
-        self.origin = origin or origin_here(type(self).__name__)
+        name = type(self).__name__
+        self.origin = origin or origin_here(name)
+        if set(what_to_do) != {self._key}:
+            wrong = sorted(set(what_to_do) - {self._key})
+            raise TypeError(f"{name}() got an unexpected keyword argument '{wrong[0]}'" if wrong
+                            else f"{name}() missing 1 required keyword-only argument: '{self._key}'")
         if target_action is not None and not isinstance(target_action, Action) and not callable(target_action):
             raise LaunchTypeError(self.origin.with_key('target_action'),
                                   f'expected the action of a process (ExecuteProcess, Node) or a function '
@@ -49,6 +57,7 @@ class OnActionEventBase(BaseEventHandler):
         self.target_action = target_action
         self.function: Callable | None = None
         self.actions: list = []
+        handler = what_to_do[self._key]
         if callable(handler) and not isinstance(handler, Action):
             self.function = handler
         else:

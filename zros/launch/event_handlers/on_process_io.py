@@ -16,13 +16,13 @@ class OnProcessIO(OnActionEventBase):
     """`OnProcessIO(target_action=node, on_stdin=f, on_stdout=f, on_stderr=f)`: each `f(event)`
     gets the ProcessIO event of its stream (`event.text`, bytes) and may return actions."""
 
-    event, _key, event_type = 'io', 'on_stdout', ProcessIO
+    event, _key, event_type = 'io', 'on_io', ProcessIO   # on_io: the base's slot, unused
 
     def __init__(self, *, target_action: Any = None, on_stdin: Callable | None = None,
                  on_stdout: Callable | None = None, on_stderr: Callable | None = None,
                  handle_once: bool = False, origin: Origin | None = None) -> None:
         origin = origin or origin_here('OnProcessIO')
-        super().__init__(target_action=target_action, handler=None, handle_once=handle_once, origin=origin)
+        super().__init__(target_action=target_action, handle_once=handle_once, origin=origin, on_io=None)
         self.by_fd: dict[int, Callable | None] = {0: on_stdin, 1: on_stdout, 2: on_stderr}
         for key, function in zip(('on_stdin', 'on_stdout', 'on_stderr'), self.by_fd.values()):
             if function is not None and not callable(function):

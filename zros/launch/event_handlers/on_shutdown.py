@@ -23,7 +23,7 @@ class OnShutdown(OnActionEventBase):
 
     def __init__(self, *, on_shutdown: Any, handle_once: bool = False, origin: Origin | None = None,
                  **_: Any) -> None:
-        super().__init__(handler=on_shutdown, handle_once=handle_once, origin=origin or origin_here('OnShutdown'))
+        super().__init__(on_shutdown=on_shutdown, handle_once=handle_once, origin=origin or origin_here('OnShutdown'))
         self.given = on_shutdown
 
     def handle(self, event: Any, context: Any) -> Any:

@@ -23,12 +23,8 @@ class RunningProcessEvent(Event):
 
     def __init__(self, *, action: Any, name: str, cmd: list, cwd: str | None, env: dict | None,
                  pid: int) -> None:
-        self.action = action
-        self.process_name = name
-        self.cmd = list(cmd)
-        self.cwd = cwd
-        self.env = env
-        self.pid = pid
+        self.action, self.process_name, self.cmd = action, name, list(cmd)
+        self.cwd, self.env, self.pid = cwd, env, pid
 
     @property
     def execute_process_action(self) -> Any:
