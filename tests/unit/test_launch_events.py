@@ -158,3 +158,19 @@ def test_a_bare_folder_named_launch_does_not_hide_zros_launch(tmp_path: Path, mo
     monkeypatch.delitem(sys.modules, 'launch', raising=False)
     assert not finder._installed('launch')
     assert import_hook.module_target('launch', finder._installed) == 'zros.launch'
+
+
+def test_locals_are_read_only_and_a_pushed_layer_hides_then_goes():
+    context = LaunchContext()
+    context.extend_locals({'event': 1})
+    with pytest.raises(AttributeError):
+        context.locals.event = 2
+    context._push_locals()
+    context.extend_locals({'event': 2, 'extra': 3})
+    assert (context.locals.event, context.locals.extra) == (2, 3)
+    context._pop_locals()
+    assert context.get_locals_as_dict() == {'event': 1}
+    with pytest.raises(AttributeError):
+        context.locals.extra
+    with pytest.raises(RuntimeError):
+        context._pop_locals()

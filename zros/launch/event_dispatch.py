@@ -9,10 +9,9 @@ from __future__ import annotations
 
 import queue
 from collections import deque
-from types import SimpleNamespace
 from typing import Any
 
-__all__ = ['EventDispatch']
+__all__ = ['EventDispatch', 'Locals']
 
 
 class EventDispatch:
@@ -52,21 +51,43 @@ class EventDispatch:
 
     # -- locals --------------------------------------------------------------------------------
     @property
-    def locals(self) -> SimpleNamespace:
-        """What the entities being visited may read: `context.locals.event` in a handler's."""
-        merged: dict[str, Any] = {}
-        for layer in self._locals_stack:
-            merged.update(layer)
-        return SimpleNamespace(**merged)
+    def locals(self) -> 'Locals':
+        """What the entities being visited may read (`context.locals.event` in a handler's);
+        read-only: `extend_locals` is the way in."""
+        return Locals(self.get_locals_as_dict())
 
     def extend_locals(self, new_locals: dict[str, Any]) -> None:
         self._locals_stack[-1].update(new_locals)
 
     def get_locals_as_dict(self) -> dict[str, Any]:
-        return vars(self.locals)
+        merged: dict[str, Any] = {}
+        for layer in self._locals_stack:
+            merged.update(layer)
+        return merged
 
     def _push_locals(self) -> None:
+        """A layer whose names hide the ones below until `_pop_locals`."""
         self._locals_stack.append({})
 
     def _pop_locals(self) -> None:
+        if len(self._locals_stack) == 1:
+            raise RuntimeError('_pop_locals() without a _push_locals()')
         self._locals_stack.pop()
+
+
+class Locals:
+    """A read-only attribute view of a context's locals."""
+
+    __slots__ = ('_values',)
+
+    def __init__(self, values: dict[str, Any]) -> None:
+        object.__setattr__(self, '_values', values)
+
+    def __getattr__(self, name: str) -> Any:
+        try:
+            return self._values[name]
+        except KeyError:
+            raise AttributeError(f"context.locals has no '{name}'") from None
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        raise AttributeError('context.locals is read-only; use context.extend_locals()')
