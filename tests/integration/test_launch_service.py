@@ -74,3 +74,20 @@ def test_zros_launch_offers_process_output_to_a_registered_on_process_io(write, 
     result = run_cli('launch', str(path), '--log-dir', str(tmp_path / 'log'), timeout=60.0)
     assert result.returncode == 0, result
     assert 'heard ping' in result.stdout, result.stdout
+
+
+def test_execution_complete_comes_after_an_action_runs_and_after_a_process_exits():
+    from zros.launch.actions import LogInfo
+    from zros.launch.event_handlers import OnExecutionComplete
+    done: list = []
+    log = LogInfo(msg='first')
+    process = ExecuteProcess(cmd=[PY, '-c', 'pass'])
+    service = LaunchService()
+    service.include_launch_description(LaunchDescription([
+        RegisterEventHandler(OnExecutionComplete(target_action=log, on_completion=lambda e, c: done.append('log'))),
+        RegisterEventHandler(OnExecutionComplete(target_action=process,
+                                                 on_completion=lambda e, c: done.append('process'))),
+        log, process,
+    ]))
+    assert service.run() == 0
+    assert done == ['log', 'process']

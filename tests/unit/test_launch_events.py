@@ -174,3 +174,11 @@ def test_locals_are_read_only_and_a_pushed_layer_hides_then_goes():
         context.locals.extra
     with pytest.raises(RuntimeError):
         context._pop_locals()
+
+
+def test_execution_complete_is_queued_only_when_a_handler_would_take_it(tmp_path: Path):
+    quiet, watched = LogInfo(msg='a'), LogInfo(msg='b')
+    plan = resolve_actions([RegisterEventHandler(OnExecutionComplete(target_action=watched, on_completion=[])),
+                            quiet, watched], str(tmp_path / 'x.launch.py'))
+    queued = [plan.context._event_queue.get_nowait() for _ in range(plan.context._event_queue.qsize())]
+    assert [event.action for event in queued] == [watched]

@@ -24,7 +24,7 @@ from zros.launch.origin import origin_here
 from zros.launch.template import Text, Typed
 
 __all__ = ['Action', 'ActionKwargs', 'Parser', 'launch_tag', 'registered_tags',
-           'PushScope', 'PopScope', 'EnterFile', 'LeaveFile', 'EndCapture']
+           'PushScope', 'PopScope', 'EnterFile', 'LeaveFile', 'EndCapture', 'report_completion']
 
 _TAGS: dict[str, type['Action']] = {}
 
@@ -61,6 +61,9 @@ class Action(LaunchDescriptionEntity):
     """
 
     tag: ClassVar[str] = ''
+    #: Its work ends when its process exits, not when it is executed (ExecuteProcess): the
+    #: launch reports its ExecutionComplete then.
+    completes_on_exit: ClassVar[bool] = False
 
     def __init__(self, *, condition: Condition | None = None, origin: Origin | None = None, **unknown: Any) -> None:
         self.origin = origin or origin_here(type(self).__name__)
@@ -106,7 +109,10 @@ class Action(LaunchDescriptionEntity):
         """Check the condition, then execute."""
         if self.condition is not None and not self.condition.evaluate(context):
             return []
-        return list(self.execute(context) or [])
+        entities = list(self.execute(context) or [])
+        if not self.completes_on_exit:
+            report_completion(self, context)
+        return entities
 
     def execute(self, context: Any) -> list['Action'] | None:
         return None
@@ -118,6 +124,18 @@ class Action(LaunchDescriptionEntity):
     def describe_sub_entities(self) -> list['Action']:
         """launch's name for `sub_actions()`."""
         return self.sub_actions()
+
+
+def report_completion(action: Action, context: Any) -> None:
+    """Queue ExecutionComplete for `action` if a handler on the context would take it (launch
+    emits it only then, so a launch without OnExecutionComplete pays nothing)."""
+    from zros.launch.events.execution_complete import ExecutionComplete
+    would_handle = getattr(context, 'would_handle_event', None)
+    if would_handle is None:
+        return
+    event = ExecutionComplete(action=action)
+    if would_handle(event):
+        context.emit_event_sync(event)
 
 
 class Parser:

@@ -35,6 +35,10 @@ class EventDispatch:
         """Raises ValueError if it is not registered (a handle_once handler handled twice)."""
         self._event_handlers.remove(event_handler)
 
+    def would_handle_event(self, event: Any) -> bool:
+        """Whether a registered handler matches `event` (so that emitting it is worth it)."""
+        return any(handler.matches(event) for handler in self._event_handlers)
+
     @property
     def event_handlers(self) -> list:
         return list(self._event_handlers)

@@ -15,6 +15,7 @@ import queue
 from pathlib import Path
 from typing import Any
 
+from zros.launch.action import report_completion
 from zros.launch.context import LaunchContext
 from zros.launch.description import walk
 from zros.launch.event_handlers.on_include_launch_description import OnIncludeLaunchDescription
@@ -152,6 +153,8 @@ class LaunchService(ProcessObserver):
     def exited(self, name: str, spec: ProcessSpec, pid: int, returncode: int, cmd: list[str]) -> None:
         self.emit_event(ProcessExited(action=spec.source, name=name, cmd=cmd, cwd=spec.cwd, env=None, pid=pid,
                                       returncode=returncode))
+        if getattr(spec.source, 'completes_on_exit', False):
+            report_completion(spec.source, self.__context)
 
     def _dispatch(self, event: Any) -> None:
         context = self.__context
