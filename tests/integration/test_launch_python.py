@@ -252,8 +252,8 @@ def test_package_launch_file_on_the_node_path(probe: Path, tmp_path: Path):
     ('import zros.launch_ros.actions\n\ndef generate_launch_description():\n'
      '    return zros.launch_ros.actions.SetParametersFromFile("x")\n',
      [':4: zros.launch_ros.actions has no SetParametersFromFile; supported:', 'Node']),
-    ('from zros.launch.event_handlers import OnProcessIO\n',
-     [':1: zros.launch.event_handlers has no OnProcessIO; supported: OnProcessExit, OnProcessStart, OnShutdown']),
+    ('from zros.launch.event_handlers import event_named\n',
+     [':1: zros.launch.event_handlers has no event_named; supported:', 'OnProcessIO']),
     ('from zros.launch import LaunchDescription\nfrom zros.launch_ros.actions import Node\n\n'
      'def generate_launch_description():\n'
      '    return LaunchDescription([Node(package="demo_nodes", executable="talker", colour="red")])\n',

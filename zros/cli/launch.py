@@ -129,7 +129,8 @@ def _own_scripts_on_path() -> None:
 
 def main(args: argparse.Namespace) -> int:
     from zros.launch import LaunchError, parse_launch_arguments, resolve
-    from zros.launch.supervisor import Supervisor, make_log_dir
+    from zros.launch.launch_service import LaunchService
+    from zros.launch.supervisor import make_log_dir
     late = _late_options(list(args.arguments))
     print_plan = args.print_plan or late.print_plan
     show_args = args.show_args or late.show_args
@@ -158,7 +159,7 @@ def main(args: argparse.Namespace) -> int:
         for line in router.describe():
             print(f'[router] {line}', flush=True)
     try:
-        return Supervisor(plan, log_dir=log_dir, debug=debug).run()
+        return LaunchService.run_plan(plan, log_dir=log_dir, debug=debug)
     except LaunchError as exc:
         print(str(exc), file=sys.stderr)
         return 1

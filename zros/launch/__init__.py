@@ -19,10 +19,13 @@ from zros.launch.conditions import Condition
 from zros.launch.context import LaunchContext
 from zros.launch.description import declared_arguments, parse_launch_arguments, resolve
 from zros.launch.errors import LaunchError, LaunchFileError, Origin, SubstitutionError
+from zros.launch.event import Event
+from zros.launch.event_handler import BaseEventHandler, EventHandler
 from zros.launch.files import module_getattr
 from zros.launch.launch_description import LaunchDescription
-from zros.launch.launch_description_entity import LaunchDescriptionEntity
+from zros.launch.launch_description_entity import LaunchDescriptionEntity, SomeEntitiesType_types_tuple
 from zros.launch.launch_description_sources import LaunchDescriptionSource
+from zros.launch.launch_service import LaunchService
 from zros.launch.plan import Plan, ProcessSpec
 from zros.launch.template import Substitution
 
@@ -34,7 +37,8 @@ __all__ = [
     'LaunchDescription', 'LaunchDescriptionEntity', 'LaunchContext', 'LaunchDescriptionSource', 'Action', 'Condition', 'Substitution',
     'SomeSubstitutionsType', 'resolve', 'declared_arguments', 'parse_launch_arguments', 'Plan', 'ProcessSpec',
     'LaunchError', 'LaunchFileError', 'SubstitutionError', 'Origin', 'actions', 'conditions', 'event_handlers',
-    'events', 'launch_description_sources', 'substitutions',
+    'events', 'launch_description_sources', 'substitutions', 'LaunchService', 'Event', 'EventHandler',
+    'BaseEventHandler', 'LaunchDescriptionEntity', 'SomeEntitiesType_types_tuple',
 ]
 
 #: launch's name for "a string, a Substitution, or a list of them" (for type hints).

@@ -28,7 +28,7 @@ from zros.launch.origin import origin_here
 from zros.launch.template import Text, Typed
 
 __all__ = ['Action', 'ActionKwargs', 'Parser', 'launch_tag', 'registered_tags',
-           'EnterFile', 'LeaveFile', 'EndCapture']
+           'EnterFile', 'LeaveFile', 'EndCapture', 'report_completion']
 
 
 def launch_tag(*names: str) -> Callable[[type['Action']], type['Action']]:
@@ -63,6 +63,9 @@ class Action(LaunchDescriptionEntity):
     """
 
     tag: ClassVar[str] = ''
+    #: Its work ends when its process exits, not when it is executed (ExecuteProcess): the
+    #: launch reports its ExecutionComplete then.
+    completes_on_exit: ClassVar[bool] = False
 
     def __init__(self, *, condition: Condition | None = None, origin: Origin | None = None, **unknown: Any) -> None:
         self.origin = origin or origin_here(type(self).__name__)
@@ -112,6 +115,8 @@ class Action(LaunchDescriptionEntity):
         if self.condition is not None and not self.condition.evaluate(context):
             return None
         result = self.execute(context)
+        if not self.completes_on_exit:
+            report_completion(self, context)
         return None if result is None else list(result)
 
     def execute(self, context: Any) -> list['Action'] | None:
@@ -124,6 +129,18 @@ class Action(LaunchDescriptionEntity):
     def describe_sub_entities(self) -> list['Action']:
         """launch's name for `sub_actions()`."""
         return self.sub_actions()
+
+
+def report_completion(action: Action, context: Any) -> None:
+    """Queue ExecutionComplete for `action` if a handler on the context would take it (launch
+    emits it only then, so a launch without OnExecutionComplete pays nothing)."""
+    from zros.launch.events.execution_complete import ExecutionComplete
+    would_handle = getattr(context, 'would_handle_event', None)
+    if would_handle is None:
+        return
+    event = ExecutionComplete(action=action)
+    if would_handle(event):
+        context.emit_event_sync(event)
 
 
 # -- markers that actions return around their children --------------------------------------

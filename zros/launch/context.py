@@ -16,6 +16,7 @@ from typing import Any, NamedTuple
 
 from zros.launch.errors import LaunchFileError, Origin
 from zros.launch.locals import LaunchLocals, pop_saved
+from zros.launch.event_dispatch import EventDispatch
 from zros.launch.template import make_anon_name
 
 __all__ = ['LaunchContext', 'RosScope', 'DeclaredArgument']
@@ -50,7 +51,7 @@ class _SavedConfigurations(NamedTuple):
     ros: RosScope
 
 
-class LaunchContext:
+class LaunchContext(EventDispatch):
     """Mutable resolution state; one per `resolve()` call.
 
     Args:
@@ -65,6 +66,7 @@ class LaunchContext:
     def __init__(self, *, argv: Iterable[str] | None = None, noninteractive: bool = False,
                  launch_arguments: dict[str, str] | None = None,
                  environment: dict[str, str] | None = None, log_dir: str = '') -> None:
+        super().__init__()
         self.argv = list(argv or [])
         self.noninteractive = noninteractive
         self.is_shutdown = False

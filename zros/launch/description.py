@@ -15,7 +15,7 @@ from zros.launch.errors import LaunchError, LaunchFileError, Origin
 from zros.launch.files import load_launch_file
 from zros.launch.plan import LogMessage, Plan
 
-__all__ = ['resolve', 'resolve_actions', 'declared_arguments', 'load_launch_file', 'BUILTIN_CONFIGURATIONS',
+__all__ = ['resolve', 'resolve_actions', 'walk', 'declared_arguments', 'load_launch_file', 'BUILTIN_CONFIGURATIONS',
            'parse_launch_arguments', 'Deferred']
 
 #: Launch configurations that mean something without an argument (as in ROS 2's launch).
@@ -33,7 +33,7 @@ def parse_launch_arguments(items: list[str]) -> dict[str, str]:
     return values
 
 
-def _walk(actions: list, context: Any) -> None:
+def walk(actions: list, context: Any) -> None:
     """Visit actions depth-first in file order; `visit` returns what to visit next."""
     stack = list(reversed(actions))
     while stack:
@@ -74,7 +74,7 @@ def resolve_actions(actions: list, path: str, *, launch_arguments: dict[str, str
     context = LaunchContext(launch_arguments=launch_arguments, environment=environment, log_dir=log_dir)
     context.known_arguments = {arg.name: arg for arg in declared_arguments(path, launch_arguments, actions=actions)}
     context.enter_file(path, None)
-    _walk(actions, context)
+    walk(actions, context)
     context.leave_file()
     known = (set(context.declared) | set(context.known_arguments) | context.read_configurations
              | set(BUILTIN_CONFIGURATIONS) | _READ_FROM_COMMAND_LINE)
@@ -83,7 +83,8 @@ def resolve_actions(actions: list, path: str, *, launch_arguments: dict[str, str
         declared = ', '.join(context.declared_names()) or 'none'
         raise LaunchError(f"{path}: unknown launch argument '{unknown[0]}' (declared arguments: {declared})")
     arguments = {name: context.configurations.get(name, '') for name in context.declared}
-    return Plan(path, context.effects, arguments=arguments, declared=dict(context.declared), log_dir=log_dir)
+    return Plan(path, context.effects, arguments=arguments, declared=dict(context.declared), log_dir=log_dir,
+                context=context)
 
 
 def declared_arguments(path: str, launch_arguments: dict[str, str] | None = None, *,
@@ -152,7 +153,7 @@ class Deferred:
         context = self.context.snapshot()
         try:
             result = call_user_function(self.function, self.origin, event, context)
-            _walk(check_actions(result, self.origin), context)
+            walk(check_actions(result, self.origin), context)
         except LaunchFileError as exc:
             return [LogMessage('ERROR', str(exc), self.origin)]
         return context.effects

@@ -10,7 +10,7 @@ from typing import NamedTuple
 
 from zros.errors import ZrosError
 
-__all__ = ['LaunchError', 'LaunchFileError', 'ParameterTypeError', 'SubstitutionError', 'Origin']
+__all__ = ['LaunchError', 'LaunchFileError', 'LaunchTypeError', 'ParameterTypeError', 'SubstitutionError', 'Origin']
 
 
 class LaunchError(ZrosError, RuntimeError):
@@ -57,3 +57,9 @@ class LaunchFileError(LaunchError, ValueError):
 class ParameterTypeError(LaunchFileError, TypeError):
     """A node parameter's value cannot be a ROS parameter (a mixed or nested list); also a
     TypeError, which is what launch_ros raises for it."""
+
+
+class LaunchTypeError(LaunchFileError, TypeError):
+    """A launch class was given a value of the wrong kind (a target that is not an action, a
+    handler that is neither actions nor a function). Also a TypeError, since launch raises
+    that and launch code catches it."""

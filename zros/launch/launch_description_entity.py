@@ -6,9 +6,10 @@ it (`--show-args`, introspection) and user code check what it built.
 """
 from __future__ import annotations
 
+from collections.abc import Iterable
 from typing import Any
 
-__all__ = ['LaunchDescriptionEntity']
+__all__ = ['LaunchDescriptionEntity', 'SomeEntitiesType_types_tuple']
 
 
 class LaunchDescriptionEntity:
@@ -42,3 +43,7 @@ class LaunchDescriptionEntity:
         """launch's hook for entities that keep running after `visit`; zros's resolution
         finishes every entity in `visit`, so there is never one."""
         return None
+
+
+#: What a handler may return: one entity or an iterable of them (launch's isinstance tuple).
+SomeEntitiesType_types_tuple = (LaunchDescriptionEntity, Iterable)

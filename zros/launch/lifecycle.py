@@ -22,7 +22,7 @@ from typing import Any, Callable, NamedTuple
 
 from zros.launch.actions.process import Node
 from zros.launch.errors import LaunchFileError, Origin
-from zros.launch.event_handlers import _ProcessEventHandler
+from zros.launch.event_handlers.on_action_event_base import OnActionEventBase
 from zros.launch.origin import origin_here
 from zros.launch.template import Text
 
@@ -115,12 +115,12 @@ class StateTransitionFilter(NamedTuple):
         return (f"'{self.transition}' " if self.transition else '') + states
 
 
-class OnStateTransition(_ProcessEventHandler):
+class OnStateTransition(OnActionEventBase):
     """`OnStateTransition(target_lifecycle_node=node, transition=, start_state=, goal_state=,
     entities=[...])`, or `matcher=f(event)` instead of the filters (launch_ros's rule: then the
     others are not considered). Fires on the steps of transitions this launch requested."""
 
-    event, _key = 'transition', 'entities'
+    event, _key, event_type = 'transition', 'entities', StateTransition
 
     def __init__(self, *, entities: Any, target_lifecycle_node: Any = None, transition: Any = None,
                  start_state: Any = None, goal_state: Any = None, matcher: Any = None,
@@ -135,7 +135,7 @@ class OnStateTransition(_ProcessEventHandler):
             raise LaunchFileError(origin.with_key('matcher'), f'expected a function of the event, '
                                                               f'got {type(matcher).__name__}')
         super().__init__(target_action=None if matcher is not None else target_lifecycle_node,
-                         handler=entities, origin=origin)
+                         entities=entities, origin=origin)
         self.matcher = matcher
         self.filters = {key: None if value is None else Text.of(value, origin.with_key(key))
                         for key, value in (('transition', transition), ('start_state', start_state),

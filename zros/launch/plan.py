@@ -155,14 +155,17 @@ class EventHandlerEffect(NamedTuple):
     transition: Any = None
 
     def matches(self, spec: 'ProcessSpec') -> bool:
-        return self.target is None or spec.source is self.target
+        from zros.launch.event_handlers.on_action_event_base import target_matches
+        return target_matches(self.target, spec.source)
 
     def effects_for(self, process_name: str, pid: int, returncode: int | None, cmd: list) -> list:
         """What to do for this event (the supervisor calls it when the event happens)."""
         if self.deferred is None:
             return self.effects
-        from zros.launch.event_handlers import ProcessEvent
-        return self.deferred(ProcessEvent(self.target, process_name, pid, list(cmd), returncode))
+        from zros.launch.events.process import ProcessExited, ProcessStarted
+        common = dict(action=self.target, name=process_name, cmd=list(cmd), cwd=None, env=None, pid=pid)
+        event = ProcessStarted(**common) if returncode is None else ProcessExited(returncode=returncode, **common)
+        return self.deferred(event)
 
     def effects_at_shutdown(self, reason: str) -> list:
         """What an OnShutdown handler does (its function receives launch.events.Shutdown)."""
@@ -184,6 +187,9 @@ class Plan:
     arguments: dict[str, str] = field(default_factory=dict)          # final values of declared args
     declared: dict[str, DeclaredArgument] = field(default_factory=dict)
     log_dir: str = ''
+    # The context the file was resolved in: the launch.EventHandlers it registered stay on its
+    # event queue while the plan runs (zros.launch.launch_service).
+    context: Any = field(default=None, repr=False, compare=False)
 
     def processes_in_start_order(self) -> list[tuple[float, ProcessSpec]]:
         """(start delay, spec) in the order the supervisor starts them (timers by due time)."""

@@ -168,6 +168,18 @@ class ProcessObserver:
     def exited(self, name: str, spec: ProcessSpec, pid: int, returncode: int, cmd: list[str]) -> None:
         """It exited with `returncode` (negative: killed by that signal)."""
 
+    def shutting_down(self, reason: str) -> None:
+        """The launch starts shutting down (Ctrl-C, a Shutdown effect, a process's on_exit)."""
+
+    def pump(self) -> None:
+        """Each pass of the loop: carry out what other threads asked for since (a
+        LaunchService's queued events); `Supervisor.wake()` makes a pass happen now."""
+
+    def idle(self) -> bool:
+        """The launch has nothing left to do; True if the observer gave it more (a
+        LaunchService's pending events, or its shutdown when idle), False to let it end."""
+        return False
+
 
 class _Process:
     """One process of the plan, across its respawns (same name, same log file)."""
@@ -301,6 +313,10 @@ class Supervisor:
     def request_shutdown(self, reason: str) -> None:
         """Ask for `shutdown(reason)` from any thread (a launch test's, when its tests are done)."""
         self._requests.append(reason)
+        self.wake()
+
+    def wake(self) -> None:
+        """Make the loop pass now (from any thread): the observer's `pump()` runs."""
         with self._wakeup_lock:
             if self._wakeup_write >= 0:
                 try:
@@ -361,6 +377,11 @@ class Supervisor:
                 self._escalate_all()
 
     # -- effects -------------------------------------------------------------------------------
+    def carry_out(self, effects: list) -> None:
+        """Start, log, schedule ... `effects` now, from the supervisor's thread (a
+        LaunchService's handlers resolve actions while the launch runs)."""
+        self._run_effects(effects)
+
     def _run_effects(self, effects: list) -> None:
         # Handlers first: an OnProcessStart written after its node still sees the node start.
         self._handlers += [effect for effect in effects if isinstance(effect, EventHandlerEffect)]
@@ -615,6 +636,7 @@ class Supervisor:
             return
         self._shutting_down = True
         self.log.info('launch', f'shutting down: {reason}')
+        self._observer.shutting_down(reason)
         self._on_shutdown(reason)
         self._timers = [t for t in self._timers if t[2] == 'escalate']
         heapq.heapify(self._timers)
@@ -721,7 +743,8 @@ class Supervisor:
                 _, _, _, callback = heapq.heappop(self._timers)
                 callback()
                 self._handle_signals()
-            if not self._busy():
+            self._observer.pump()
+            if not self._busy() and not self._observer.idle():
                 return
             timeout = _POLL_INTERVAL_S
             if self._timers:

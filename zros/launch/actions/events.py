@@ -1,12 +1,14 @@
 """`RegisterEventHandler`: run actions when a process starts or exits, the launch shuts down,
-or a lifecycle node goes through a transition the launch requested."""
+or a lifecycle node goes through a transition the launch requested; or register any other
+launch.EventHandler on the running launch's event queue."""
 from __future__ import annotations
 
 from typing import Any
 
 from zros.launch.action import Action, EndCapture
 from zros.launch.actions.scope import scoped
-from zros.launch.errors import LaunchFileError
+from zros.launch.errors import LaunchTypeError
+from zros.launch.event_handler import BaseEventHandler
 from zros.launch.event_handlers import OnProcessExit, OnProcessStart, OnShutdown
 from zros.launch.plan import EventHandlerEffect
 
@@ -23,20 +25,27 @@ class RegisterEventHandler(Action):
     """
 
     def __init__(self, event_handler: Any, **kwargs: Any) -> None:
-        from zros.launch.lifecycle import OnStateTransition
         super().__init__(**kwargs)
-        if not isinstance(event_handler, (OnProcessStart, OnProcessExit, OnShutdown, OnStateTransition)):
-            raise LaunchFileError(self.origin.with_key('event_handler'),
-                                  f'zros.launch.event_handlers has no {type(event_handler).__name__}; '
-                                  'supported: OnProcessExit, OnProcessStart, OnShutdown, '
-                                  'launch_ros.event_handlers.OnStateTransition')
+        if not isinstance(event_handler, BaseEventHandler):
+            raise LaunchTypeError(self.origin.with_key('event_handler'),
+                                  f'expected an event handler (launch.EventHandler, OnProcessExit, ...), '
+                                  f'got {type(event_handler).__name__}')
         self.event_handler = event_handler
 
+    def _supervised(self) -> bool:
+        """Whether the supervisor carries this handler out (the process, shutdown and lifecycle
+        handlers); any other is registered on the context's event queue when reached."""
+        from zros.launch.lifecycle import OnStateTransition
+        return isinstance(self.event_handler, (OnProcessStart, OnProcessExit, OnShutdown, OnStateTransition))
+
     def sub_actions(self) -> list[Action]:
-        return self.event_handler.actions
+        return list(getattr(self.event_handler, 'actions', []))
 
     def execute(self, context: Any) -> list[Action]:
         handler = self.event_handler
+        if not self._supervised():
+            context.register_event_handler(handler)
+            return []
         if handler.function is not None:
             from zros.launch.description import Deferred
             deferred = Deferred(handler.function, context.snapshot(), handler.origin)

@@ -1,5 +1,8 @@
-"""launch.actions.execute_process: ExecuteProcess, for code that imports it from launch's own module
-(the class lives in zros.launch.actions.process with its relatives)."""
+"""launch.actions.execute_process: launch's module path of `ExecuteProcess`, which zros keeps in
+zros.launch.actions.process (so `from launch.actions.execute_process import ExecuteProcess`
+gives the one class)."""
+from __future__ import annotations
+
 from zros.launch.actions.process import ExecuteProcess
 
 __all__ = ['ExecuteProcess']

@@ -10,7 +10,7 @@ from zros.launch.actions.arg import (ResetLaunchConfigurations, SetLaunchConfigu
                                      parse_keep)
 from zros.launch.actions.scope import ResetEnvironment, scoped
 from zros.launch.entity import Entity
-from zros.launch.errors import LaunchFileError, Origin
+from zros.launch.errors import LaunchFileError, LaunchTypeError, Origin
 from zros.launch.launch_description_entity import LaunchDescriptionEntity
 from zros.launch.template import Text, Typed
 from zros.names import validate_namespace
@@ -31,7 +31,7 @@ def check_actions(actions: Any, origin: Origin) -> list[Any]:
         if item is None:
             continue
         if not isinstance(item, LaunchDescriptionEntity):
-            raise LaunchFileError(origin, f'expected launch actions, got {type(item).__name__}')
+            raise LaunchTypeError(origin, f'expected launch actions, got {type(item).__name__}')
         checked.append(item)
     return checked
 

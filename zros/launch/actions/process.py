@@ -116,6 +116,8 @@ class ExecuteProcess(Action):
     run when the process exits, as `RegisterEventHandler(OnProcessExit(...))` would.
     """
 
+    completes_on_exit = True
+
     def __init__(self, *, cmd: Any = None, name: Any = None, cwd: Any = None, env: Any = None,
                  additional_env: Any = None, shell: Any = None, prefix: Any = None, output: Any = None,
                  respawn: Any = None, respawn_delay: Any = None, respawn_max_retries: Any = None,

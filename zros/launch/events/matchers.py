@@ -1,24 +1,9 @@
-"""Events an action can emit (launch.events): `Shutdown`, and `matches_action` to aim an event
-at one action (launch_ros's lifecycle `ChangeState` takes it as its `lifecycle_node_matcher`)."""
+"""`matches_action` (launch.events.matches_action): aim an event at one action."""
 from __future__ import annotations
 
 from typing import Any
 
-from zros.launch.files import module_getattr
-
-__all__ = ['Shutdown', 'matches_action', 'ActionMatcher']
-
-__getattr__ = module_getattr(__name__)
-
-
-class Shutdown:
-    """`EmitEvent(event=Shutdown(reason='...'))` stops the whole launch."""
-
-    def __init__(self, *, reason: Any = None) -> None:
-        self.reason = reason
-
-    def __repr__(self) -> str:
-        return f'<Shutdown reason={self.reason!r}>'
+__all__ = ['ActionMatcher', 'matches_action']
 
 
 class ActionMatcher:

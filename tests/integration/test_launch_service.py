@@ -1,0 +1,93 @@
+"""LaunchService with real processes: launch descriptions included into a running launch, the
+context's handlers seeing process start, output, exit and shutdown as launch's events, a
+shutdown from another thread, and `zros launch` carrying out the same handlers (one runtime)."""
+from __future__ import annotations
+
+import sys
+import threading
+import time
+from pathlib import Path
+
+from conftest import run_cli
+from unit.test_launch_parse import write  # noqa: F401 - the fixture
+from zros.launch import EventHandler, LaunchDescription, LaunchService
+from zros.launch.actions import ExecuteProcess, OpaqueFunction, RegisterEventHandler
+from zros.launch.event_handlers import OnProcessIO
+from zros.launch.events import Shutdown
+from zros.launch.events.process import ProcessExited, ProcessStarted
+
+PY = sys.executable
+
+
+def recorder(seen: list, kind: type) -> RegisterEventHandler:
+    """A generic handler whose OpaqueFunction records each event of `kind` it is given."""
+    return RegisterEventHandler(EventHandler(
+        matcher=lambda event: isinstance(event, kind),
+        entities=OpaqueFunction(function=lambda context: seen.append(context.locals.event))))
+
+
+def test_an_included_process_is_reported_as_launch_events_and_the_idle_launch_shuts_down():
+    seen: list = []
+    lines: list = []
+    process = ExecuteProcess(cmd=[PY, '-c', 'print("hello from the child"); raise SystemExit(3)'])
+    service = LaunchService()
+    service.include_launch_description(LaunchDescription([
+        recorder(seen, (ProcessStarted, ProcessExited, Shutdown)),
+        RegisterEventHandler(OnProcessIO(target_action=process, on_stdout=lambda event: lines.append(event.text))),
+        process,
+    ]))
+    assert service.run() == 0
+    kinds = [type(event) for event in seen]
+    assert kinds == [ProcessStarted, ProcessExited, Shutdown], seen
+    assert seen[0].action is process and seen[1].returncode == 3 and seen[1].pid == seen[0].pid
+    assert seen[2].reason == 'idle'
+    assert b'hello from the child' in b''.join(lines)
+
+
+def test_shutdown_from_another_thread_stops_a_running_process():
+    seen: list = []
+    service = LaunchService()
+    service.include_launch_description(LaunchDescription([
+        recorder(seen, ProcessExited),
+        ExecuteProcess(cmd=[PY, '-c', 'import time; time.sleep(60)']),
+    ]))
+    threading.Timer(1.0, service.shutdown).start()
+    began = time.monotonic()
+    assert service.run(shutdown_when_idle=False) == 0
+    assert time.monotonic() - began < 20
+    assert len(seen) == 1 and seen[0].returncode != 0   # stopped by a signal, not finished
+
+
+def test_zros_launch_offers_process_output_to_a_registered_on_process_io(write, tmp_path: Path):
+    path = write('io.launch.py', f'''
+        from launch import LaunchDescription
+        from launch.actions import ExecuteProcess, LogInfo, RegisterEventHandler
+        from launch.event_handlers import OnProcessIO
+
+        def generate_launch_description():
+            child = ExecuteProcess(cmd=[{PY!r}, '-c', 'print("ping")'])
+            def answer(event):
+                return [LogInfo(msg='heard ' + event.text.decode().strip())]
+            return LaunchDescription([RegisterEventHandler(OnProcessIO(target_action=child, on_stdout=answer)),
+                                      child])
+    ''')
+    result = run_cli('launch', str(path), '--log-dir', str(tmp_path / 'log'), timeout=60.0)
+    assert result.returncode == 0, result
+    assert 'heard ping' in result.stdout, result.stdout
+
+
+def test_execution_complete_comes_after_an_action_runs_and_after_a_process_exits():
+    from zros.launch.actions import LogInfo
+    from zros.launch.event_handlers import OnExecutionComplete
+    done: list = []
+    log = LogInfo(msg='first')
+    process = ExecuteProcess(cmd=[PY, '-c', 'pass'])
+    service = LaunchService()
+    service.include_launch_description(LaunchDescription([
+        RegisterEventHandler(OnExecutionComplete(target_action=log, on_completion=lambda e, c: done.append('log'))),
+        RegisterEventHandler(OnExecutionComplete(target_action=process,
+                                                 on_completion=lambda e, c: done.append('process'))),
+        log, process,
+    ]))
+    assert service.run() == 0
+    assert done == ['log', 'process']
