@@ -31,7 +31,7 @@ from zros.service import Service
 from zros.subscription import Subscription, SubscriptionCallback
 from zros.guard_condition import GuardCondition
 from zros.timer import Rate, Timer, timer_lists_changed
-from zros.time_source import USE_SIM_TIME_NAME
+from zros.time_source import TimeSource
 
 if TYPE_CHECKING:
     from zros.qos_monitor import QoSMonitor
@@ -126,11 +126,9 @@ class Node:
         self._parameters.attach_event_publisher(
             Publisher(self, _type('rcl_interfaces/msg/ParameterEvent'), '/parameter_events',
                       events_qos, self._default_callback_group))
-        from zros.time_source import TimeSource
-        self._time_source = TimeSource(self)
-        self.declare_parameter(USE_SIM_TIME_NAME, False)
-        self.add_post_set_parameters_callback(self._on_use_sim_time)
-        self._apply_use_sim_time(self.get_parameter(USE_SIM_TIME_NAME).value)
+        # Declares use_sim_time and follows it: with it, ROS time, timers and rates follow /clock.
+        self._time_source = TimeSource(node=self)
+        self._time_source.attach_clock(self._clock)
         if automatically_declare_parameters_from_overrides:
             for name, value in self._parameters.overrides.items():
                 if not self.has_parameter(name):
@@ -876,19 +874,6 @@ class Node:
     @property
     def _parameter_overrides(self) -> dict[str, Any]:
         return self._parameters.overrides
-
-    # -- simulated time --------------------------------------------------------------------
-    def _on_use_sim_time(self, parameters: list[Parameter]) -> None:
-        for param in parameters:
-            if param.name == USE_SIM_TIME_NAME:
-                self._apply_use_sim_time(bool(param.value))
-
-    def _apply_use_sim_time(self, enabled: bool) -> None:
-        """With use_sim_time, ROS time, timers and rates follow /clock, as in ROS 2."""
-        if enabled:
-            self._time_source.enable()
-        else:
-            self._time_source.disable()
 
     # -- /rosout ---------------------------------------------------------------------------
     def _start_rosout(self) -> None:
