@@ -32,6 +32,7 @@ from zros.subscription import Subscription, SubscriptionCallback
 from zros.guard_condition import GuardCondition
 from zros.timer import Rate, Timer, timer_lists_changed
 from zros.time_source import TimeSource
+from zros.type_description_service import TypeDescriptionService
 
 if TYPE_CHECKING:
     from zros.qos_monitor import QoSMonitor
@@ -129,6 +130,7 @@ class Node:
         # Declares use_sim_time and follows it: with it, ROS time, timers and rates follow /clock.
         self._time_source = TimeSource(node=self)
         self._time_source.attach_clock(self._clock)
+        self._type_description = TypeDescriptionService(self)
         if automatically_declare_parameters_from_overrides:
             for name, value in self._parameters.overrides.items():
                 if not self.has_parameter(name):
