@@ -20,7 +20,7 @@ from zros.names import (Remappings, expand_topic_name, fully_qualified_node_name
 from zros.arguments import parse_ros_args
 from zros.client import Client
 from zros.event_handler import PublisherEventCallbacks, SubscriptionEventCallbacks, attach_event_callbacks
-from zros.parameter import Parameter
+from zros.parameter import Parameter, parameter_value_to_python
 from zros.parameter_store import ParameterStore
 from zros.publisher import Publisher
 from zros.qos_overriding_options import (QoSOverridingOptions, declare_qos_parameters,
@@ -820,6 +820,45 @@ class Node:
         :return: rcl_interfaces/msg/ParameterDescriptor messages, in order.
         """
         return [self._parameters.describe(n) for n in names]
+
+    def set_descriptor(self, name: str, descriptor: Any, alternative_value: Any = None) -> Any:
+        """Replace a declared parameter's descriptor (its ranges, constraints, read-only flag).
+
+        The descriptor's name is ignored, and so is its type when it types dynamically (the
+        value's type is kept). No set-parameters callbacks run.
+
+        :param name: The parameter's name.
+        :param descriptor: The new rcl_interfaces/msg/ParameterDescriptor.
+        :param alternative_value: An rcl_interfaces/msg/ParameterValue to take if the current
+            value does not meet the new descriptor.
+        :return: The parameter's rcl_interfaces/msg/ParameterValue afterwards.
+        :raises ParameterNotDeclaredException: If it is not declared (and undeclared are not allowed).
+        :raises ParameterImmutableException: If it is read-only.
+        :raises InvalidParameterValueException: If neither value meets the descriptor.
+        """
+        alternative = None
+        if alternative_value is not None:
+            alternative = Parameter(name, value=parameter_value_to_python(alternative_value))
+        return self._parameters.set_descriptor(name, descriptor, alternative).get_parameter_value()
+
+    def list_parameters(self, prefixes: list[str], depth: int) -> Any:
+        """The declared parameters' names under `prefixes`, as the ListParameters service answers.
+
+        :param prefixes: Only names equal to or below one of these (all names if empty).
+        :param depth: How many levels below the prefix (or the root) to list; 0 lists all.
+        :return: An rcl_interfaces/msg/ListParametersResult with `names` and their `prefixes`.
+        :raises TypeError: If `prefixes` is not a list of str or `depth` not an int.
+        :raises ValueError: If `depth` is negative.
+        """
+        from interfaces.rcl_interfaces.msg import ListParametersResult
+        if not isinstance(prefixes, list) or not all(isinstance(p, str) for p in prefixes):
+            raise TypeError('prefixes must be a list of str')
+        if not isinstance(depth, int):
+            raise TypeError('depth must be an int')
+        if depth < 0:
+            raise ValueError('depth must be greater than or equal to zero')
+        names, found = self._parameters.list(prefixes, depth)
+        return ListParametersResult(names=names, prefixes=found)
 
     def add_on_set_parameters_callback(self, callback: Callable) -> Callable:
         """Register a validator: `callback(parameters)` returns a SetParametersResult; an unsuccessful

@@ -6,6 +6,7 @@ the same whichever way a value arrives.
 """
 from __future__ import annotations
 
+import copy
 import math
 import threading
 from typing import TYPE_CHECKING, Any, Callable
@@ -109,6 +110,36 @@ class ParameterStore:
             del self._descriptors[name]
         self._publish_event(deleted=[Parameter(name)])
 
+    def set_descriptor(self, name: str, descriptor: Any, alternative: Parameter | None = None) -> Parameter:
+        """Give a declared parameter a new descriptor (rclpy's Node.set_descriptor).
+
+        The descriptor takes the parameter's name and, when it types dynamically or names no
+        type, the value's type. The current value is kept if it meets the new descriptor, else
+        `alternative` replaces it. Like a declaration, this runs no set-parameters callbacks.
+
+        :return: The parameter after the change (NOT_SET for an undeclared one, when allowed).
+        :raises ParameterNotDeclaredException: If it is not declared (and undeclared are not allowed).
+        :raises ParameterImmutableException: If its current descriptor is read-only.
+        :raises InvalidParameterValueException: If neither value meets the descriptor.
+        """
+        with self._lock:
+            if name not in self._values:
+                if self.allow_undeclared:
+                    return Parameter(name, T.NOT_SET, None)
+                raise ParameterNotDeclaredException([name])
+            if self._descriptors[name].read_only:
+                raise ParameterImmutableException([name])
+            candidates = [self._values[name]] if alternative is None else [self._values[name], alternative]
+            for param in candidates:
+                fitted = copy.copy(descriptor)
+                fitted.name = name
+                if fitted.dynamic_typing or fitted.type == T.NOT_SET:
+                    fitted.type = int(param.type_)
+                result = self.set_atomically([param], descriptors={name: fitted}, declaring=True)
+                if result.successful:
+                    return self._values[name]
+            raise InvalidParameterValueException(name, candidates[-1].value, result.reason)
+
     # -- reads -----------------------------------------------------------------------------
     def has(self, name: str) -> bool:
         return name in self._values
@@ -132,23 +163,28 @@ class ParameterStore:
     def describe(self, name: str) -> Any:
         if name not in self._descriptors:
             if self.allow_undeclared:
-                return _descriptor_class()(name=name)
+                return _descriptor_class()()   # as rclpy: a blank descriptor, not even the name
             raise ParameterNotDeclaredException([name])
         return self._descriptors[name]
 
     def list(self, prefixes: list[str], depth: int) -> tuple[list[str], list[str]]:
-        """(names, prefixes) as the ListParameters service answers them."""
-        names, found_prefixes = [], set()
-        for name in sorted(self._values):
-            if prefixes and not any(name == p or name.startswith(p + '.') for p in prefixes):
-                continue
-            dots = name.count('.')
-            if depth and dots >= depth:
-                continue
-            names.append(name)
-            if '.' in name:
-                found_prefixes.add(name.rsplit('.', 1)[0])
-        return names, sorted(found_prefixes)
+        """(names, prefixes) as rclpy's list_parameters and the ListParameters service answer.
+
+        Without prefixes, a name is listed if it has fewer than `depth` dots; under a prefix,
+        if it is the prefix or below it with fewer than `depth` dots after it. Depth 0
+        (DEPTH_RECURSIVE) lists at any depth.
+        """
+        def shallow(rest: str) -> bool:
+            return not depth or rest.count('.') < depth
+
+        def wanted(name: str) -> bool:
+            if not prefixes:
+                return shallow(name)
+            return any(name == p or (name.startswith(p + '.') and shallow(name[len(p) + 1:])) for p in prefixes)
+
+        names = [name for name in self._values if wanted(name)]
+        found_prefixes = dict.fromkeys(name.rsplit('.', 1)[0] for name in names if '.' in name)
+        return names, list(found_prefixes)
 
     # -- callbacks -------------------------------------------------------------------------
     def add_pre_set(self, callback: Callable) -> None:

@@ -18,3 +18,53 @@ def test_every_node_declares_the_read_only_type_description_switch(context):
     with pytest.raises(ParameterImmutableException):
         node.undeclare_parameter(START_TYPE_DESCRIPTION_SERVICE_PARAM)
     node.destroy_node()
+
+
+def test_list_parameters_counts_depth_below_each_prefix(context):
+    node = Node('lister', context=context)
+    node.declare_parameters('', [('arm.joint.kp', 1.0), ('arm.joint.ki', 0.1), ('arm.speed', 2.0),
+                                 ('base.speed', 1.0)])
+    everything = node.list_parameters([], 0)
+    assert {'arm.joint.kp', 'arm.speed', 'base.speed', 'use_sim_time'} <= set(everything.names)
+    assert set(everything.prefixes) == {'arm.joint', 'arm', 'base'}
+    top = node.list_parameters([], 1)
+    assert 'use_sim_time' in top.names and not any('.' in n for n in top.names)
+    under_arm = node.list_parameters(['arm'], 1)   # one level below 'arm', not below the root
+    assert under_arm.names == ['arm.speed'] and under_arm.prefixes == ['arm']
+    assert sorted(node.list_parameters(['arm'], 0).names) == ['arm.joint.ki', 'arm.joint.kp', 'arm.speed']
+    with pytest.raises(ValueError):
+        node.list_parameters([], -1)
+    with pytest.raises(TypeError):
+        node.list_parameters('arm', 0)
+    node.destroy_node()
+
+
+def test_set_descriptor_keeps_name_and_value_type(context):
+    from interfaces.rcl_interfaces.msg import IntegerRange, ParameterDescriptor, ParameterType, ParameterValue
+    from zros.exceptions import InvalidParameterValueException, ParameterNotDeclaredException
+    node = Node('describer', context=context)
+    with pytest.raises(ParameterNotDeclaredException):
+        node.set_descriptor('gain', ParameterDescriptor())
+    node.declare_parameter('gain', 4)
+    value = node.set_descriptor('gain', ParameterDescriptor(
+        name='ignored', type=ParameterType.PARAMETER_STRING, dynamic_typing=True,
+        integer_range=[IntegerRange(from_value=0, to_value=10, step=1)]))
+    assert value.integer_value == 4
+    described = node.describe_parameter('gain')
+    assert (described.name, described.type) == ('gain', ParameterType.PARAMETER_INTEGER)
+    narrow = ParameterDescriptor(integer_range=[IntegerRange(from_value=0, to_value=2, step=1)])
+    with pytest.raises(InvalidParameterValueException):
+        node.set_descriptor('gain', narrow)   # 4 is out of range and there is no alternative
+    value = node.set_descriptor('gain', narrow, ParameterValue(type=ParameterType.PARAMETER_INTEGER,
+                                                                integer_value=1))
+    assert value.integer_value == 1 and node.get_parameter('gain').value == 1
+    node.set_descriptor('gain', ParameterDescriptor(read_only=True))
+    with pytest.raises(ParameterImmutableException):
+        node.set_descriptor('gain', ParameterDescriptor())
+    node.destroy_node()
+
+
+def test_undeclared_parameters_are_described_blank(context):
+    node = Node('lenient', context=context, allow_undeclared_parameters=True)
+    assert node.describe_parameter('anything').name == ''
+    node.destroy_node()
