@@ -710,13 +710,30 @@ class Node:
         :param parameters: ``(name, value)`` or ``(name, value, descriptor)`` tuples.
         :param ignore_override: Use the given values even if overrides are given.
         :return: The declared parameters, in order.
-        :raises ParameterAlreadyDeclaredException: As `declare_parameter`, for the first failing one.
+        :raises ParameterAlreadyDeclaredException: If any is declared already (then none is).
+        :raises InvalidParameterException: If a name is empty (then none is declared).
+        :raises TypeError: If a name is not a str or a descriptor not a ParameterDescriptor.
         """
-        declared = []
+        from zros.exceptions import InvalidParameterException, ParameterAlreadyDeclaredException
+        entries = []
         for entry in parameters:
             name, value, descriptor = (tuple(entry) + (None, None))[:3]
+            if not isinstance(name, str):
+                raise TypeError(f'parameter name {name!r} is not a str')
+            if descriptor is not None and not isinstance(descriptor, _type('rcl_interfaces/msg/ParameterDescriptor')):
+                raise TypeError(f'descriptor of parameter {name!r} is not a ParameterDescriptor')
             full = f'{namespace}.{name}' if namespace else name
-            declared.append(self._parameters.declare(full, value, descriptor, ignore_override))
+            if not full:
+                raise InvalidParameterException(full)
+            entries.append((full, value, descriptor))
+        already = [full for full, _, _ in entries if self._parameters.has(full)]
+        if already:   # before any is declared, as rclpy
+            raise ParameterAlreadyDeclaredException(already)
+        declared = []
+        for full, value, descriptor in entries:
+            if not self._parameters.has(full):   # a name listed twice is declared once, the first time
+                self._parameters.declare(full, value, descriptor, ignore_override)
+            declared.append(self._parameters.get_or(full))
         return declared
 
     def undeclare_parameter(self, name: str) -> None:
@@ -757,7 +774,7 @@ class Node:
         return [self._parameters.get(n) for n in names]
 
     def get_parameter_or(self, name: str, alternative_value: Parameter | None = None) -> Parameter:
-        """Read a parameter, or fall back to `alternative_value` if it is not declared.
+        """Read a parameter, or fall back to `alternative_value` if it is undeclared or unset.
 
         :param name: The parameter's name.
         :param alternative_value: The fallback; a NOT_SET parameter if ``None``.
@@ -775,24 +792,15 @@ class Node:
         return {n[len(dotted):]: self._parameters.get(n) for n in self._parameters.names()
                 if n.startswith(dotted)}
 
-    def _require_declared(self, parameter_list: list[Parameter]) -> None:
-        """rclpy raises for undeclared names here (remote sets get a failed result instead)."""
-        from zros.exceptions import ParameterNotDeclaredException
-        if not self._parameters.allow_undeclared:
-            missing = [p.name for p in parameter_list if not self._parameters.has(p.name)]
-            if missing:
-                raise ParameterNotDeclaredException(missing)
-
     def set_parameters(self, parameter_list: list[Parameter]) -> list[Any]:
         """Set parameters one by one; each succeeds or fails on its own.
 
         :param parameter_list: The new values.
         :return: One rcl_interfaces/msg/SetParametersResult per parameter.
         :raises ParameterNotDeclaredException: If one is not declared (and undeclared parameters
-            are not allowed).
+            are not allowed); the ones before it are set already, as in rclpy.
         """
-        self._require_declared(parameter_list)
-        return self._parameters.set_each(parameter_list)
+        return self._parameters.set_each(parameter_list, raise_undeclared=True)
 
     def set_parameters_atomically(self, parameter_list: list[Parameter]) -> Any:
         """Set parameters all together: either every one is set or none is.
@@ -801,8 +809,7 @@ class Node:
         :return: One rcl_interfaces/msg/SetParametersResult for the whole set.
         :raises ParameterNotDeclaredException: If one is not declared.
         """
-        self._require_declared(parameter_list)
-        return self._parameters.set_atomically(parameter_list)
+        return self._parameters.set_atomically(parameter_list, raise_undeclared=True)
 
     def describe_parameter(self, name: str) -> Any:
         """The descriptor of a parameter.

@@ -68,3 +68,51 @@ def test_undeclared_parameters_are_described_blank(context):
     node = Node('lenient', context=context, allow_undeclared_parameters=True)
     assert node.describe_parameter('anything').name == ''
     node.destroy_node()
+
+
+def test_declaring_follows_rclpys_typing_rules(context):
+    from interfaces.rcl_interfaces.msg import ParameterDescriptor, ParameterType, ParameterValue
+    from zros.exceptions import InvalidParameterException, ParameterAlreadyDeclaredException
+    node = Node('declarer', context=context)
+    with pytest.warns(UserWarning, match='by its name alone'):
+        assert node.declare_parameter('loose').type_ == Parameter.Type.NOT_SET
+    assert node.describe_parameter('loose').dynamic_typing
+    with pytest.raises(ValueError):
+        node.declare_parameter('typeless', None, ParameterDescriptor())   # static, but no type
+    with pytest.raises(ValueError):
+        node.declare_parameter('nothing', Parameter.Type.NOT_SET)
+    with pytest.raises(ValueError):
+        node.declare_parameter('both', Parameter.Type.DOUBLE, ParameterDescriptor(dynamic_typing=True))
+    from_msg = node.declare_parameter('from_msg', ParameterValue(type=ParameterType.PARAMETER_STRING,
+                                                                 string_value='hi'))
+    assert from_msg.value == 'hi'
+    with pytest.raises(ParameterAlreadyDeclaredException):
+        node.declare_parameters('', [('fresh', 1), ('from_msg', 'again')])
+    assert not node.has_parameter('fresh')   # nothing is declared when one name is taken
+    with pytest.raises(InvalidParameterException):
+        node.declare_parameters('', [('fresh', 1), ('', 2)])
+    assert not node.has_parameter('fresh')
+    with pytest.raises(TypeError):
+        node.declare_parameters('', [(1, 'not a name')])
+    node.destroy_node()
+
+
+def test_setting_undeclared_or_unsetting_static_parameters(context):
+    from zros.exceptions import ParameterNotDeclaredException
+    node = Node('setter', context=context)
+    node.declare_parameter('first', 1)
+    node.declare_parameter('counted', Parameter.Type.INTEGER)
+    assert node.get_parameter_or('counted', Parameter('fallback', value=5)).value == 5   # unset
+    with pytest.raises(ParameterNotDeclaredException):
+        node.set_parameters([Parameter('first', value=2), Parameter('missing', value=3)])
+    assert node.get_parameter('first').value == 2   # set one by one: the first went through
+    result, = node.set_parameters([Parameter('first', Parameter.Type.NOT_SET)])
+    assert not result.successful and result.reason == 'Static parameter cannot be undeclared'
+
+    def add_undeclared(parameters):
+        return parameters + [Parameter('sneaked', value=1)]
+    node.add_pre_set_parameters_callback(add_undeclared)
+    with pytest.raises(ParameterNotDeclaredException):   # checked after the pre-set callbacks
+        node.set_parameters([Parameter('first', value=4)])
+    assert node.get_parameter('first').value == 2
+    node.destroy_node()
