@@ -1,7 +1,9 @@
-"""rclpy.wait_for_message: one message, with or without another thread spinning the node."""
+"""rclpy.wait_for_message, and the endpoint getters rclpy's publisher and subscription tests use."""
 from __future__ import annotations
 
 import threading
+
+import pytest
 
 from zros.executors import SingleThreadedExecutor
 from zros.node import Node
@@ -50,4 +52,18 @@ def test_a_node_spun_elsewhere_is_not_spun_again(context):
     assert ok and msg.data == 'spun' and node.executor is executor
     executor.shutdown()
     spinner.join(5.0)
+    node.destroy_node()
+
+
+def test_endpoint_counts_and_acks_from_either_side(context, wait_for):
+    node = Node('counter', context=context)
+    subscription = node.create_subscription(String, 'counted', lambda _: None, 10)
+    assert subscription.get_publisher_count() == 0
+    publisher = node.create_publisher(String, 'counted', 10)
+    wait_for(lambda: subscription.get_publisher_count() == 1)
+    publisher.publish(String(data='x'))
+    assert publisher.wait_for_all_acked()   # Zenoh gives no acks: reliable publish already blocked
+    publisher.destroy()
+    with pytest.raises(RuntimeError):
+        publisher.wait_for_all_acked()
     node.destroy_node()
