@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any, Callable, Iterable
 
-from zros.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup
+from zros.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
 from zros.clock import ROSClock
 from zros.context import Context, get_default_context
 from zros.errors import NotInitializedError
@@ -101,6 +101,7 @@ class Node:
         self._logger = get_logger(self._logger_name())
         self._clock = ROSClock()
         self._default_callback_group = MutuallyExclusiveCallbackGroup()
+        self._rate_group: CallbackGroup | None = None   # rates' timers, apart from other callbacks
         self._executor: Any = None
         self._unseen_completions = 0
         self._entities: list[Any] = []
@@ -443,11 +444,24 @@ class Node:
     def create_rate(self, frequency: float, clock: Any = None) -> Rate:
         """Create a Rate, to pace a loop in a thread other than the one spinning the node.
 
+        As rclpy's, the rate also puts a timer of its period on the node, in a group of its
+        own: an executor spinning the node wakes every period (so a bare `spin_once()` loop
+        returns while another thread sleeps on the rate). The rate itself sleeps on its clock
+        and needs no spinning.
+
         :param frequency: Loop frequency [Hz].
         :param clock: The clock to run on; the node's clock if ``None``.
         :return: The new rate.
+        :raises TypeError: If `frequency` is not a number.
+        :raises ValueError: If it is not positive.
         """
-        return Rate(frequency, clock or self._clock, context=self._context)
+        if isinstance(frequency, bool) or not isinstance(frequency, (int, float)):
+            raise TypeError(f'rate frequency must be a number, got {frequency!r}')
+        rate = Rate(frequency, clock or self._clock, context=self._context)
+        if self._rate_group is None:
+            self._rate_group = ReentrantCallbackGroup()
+        rate._pacer = self.create_timer(1.0 / frequency, _pace_rate, self._rate_group, clock)
+        return rate
 
     def destroy_publisher(self, publisher: Publisher[Any]) -> bool:
         """Destroy a publisher made by this node; it leaves the graph.
@@ -480,6 +494,9 @@ class Node:
         :return: ``True``.
         """
         rate.destroy()
+        if rate._pacer is not None:
+            self.destroy_timer(rate._pacer)
+            rate._pacer = None
         return True
 
     @property
@@ -975,6 +992,10 @@ class Node:
 
     def __repr__(self) -> str:
         return f'<zros Node {self.get_fully_qualified_name()}>'
+
+
+def _pace_rate() -> None:
+    """A rate's timer callback: nothing to do, its firing wakes the executor each period."""
 
 
 def _type(name: str) -> type:
