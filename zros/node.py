@@ -175,10 +175,13 @@ class Node:
 
     @executor.setter
     def executor(self, executor: Any) -> None:
-        if self._executor is not None and self._executor is not executor:
+        if executor is self._executor:
+            return
+        if self._executor is not None:
             self._executor.remove_node(self)
         if executor is not None:
             executor.add_node(self)
+        self._executor = executor   # add_node/remove_node set it too; any executor-like object works
 
     @property
     def default_callback_group(self) -> CallbackGroup:
@@ -817,6 +820,7 @@ class Node:
         :raises ParameterNotDeclaredException: If one is not declared (and undeclared parameters
             are not allowed); the ones before it are set already, as in rclpy.
         """
+        _require_parameters(parameter_list)
         return self._parameters.set_each(parameter_list, raise_undeclared=True)
 
     def set_parameters_atomically(self, parameter_list: list[Parameter]) -> Any:
@@ -826,6 +830,7 @@ class Node:
         :return: One rcl_interfaces/msg/SetParametersResult for the whole set.
         :raises ParameterNotDeclaredException: If one is not declared.
         """
+        _require_parameters(parameter_list)
         return self._parameters.set_atomically(parameter_list, raise_undeclared=True)
 
     def describe_parameter(self, name: str) -> Any:
@@ -992,6 +997,13 @@ class Node:
 
     def __repr__(self) -> str:
         return f'<zros Node {self.get_fully_qualified_name()}>'
+
+
+def _require_parameters(parameter_list: Any) -> None:
+    """rclpy's TypeError for a set_parameters list holding anything but Parameters."""
+    for param in parameter_list:
+        if not isinstance(param, Parameter):
+            raise TypeError(f'parameters must be Parameter instances, got {param!r}')
 
 
 def _pace_rate() -> None:

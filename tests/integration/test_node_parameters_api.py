@@ -116,3 +116,35 @@ def test_setting_undeclared_or_unsetting_static_parameters(context):
         node.set_parameters([Parameter('first', value=4)])
     assert node.get_parameter('first').value == 2
     node.destroy_node()
+
+
+def test_only_parameters_can_be_set(context):
+    node = Node('typed_setter', context=context)
+    with pytest.raises(TypeError):
+        node.set_parameters([42])
+    with pytest.raises(TypeError):
+        node.set_parameters_atomically(['use_sim_time'])
+    node.destroy_node()
+
+
+def test_the_executor_property_takes_any_executor_like_object(context):
+    class Recorder:
+        def __init__(self):
+            self.calls = []
+
+        def add_node(self, node):
+            self.calls.append('add')
+            return True
+
+        def remove_node(self, node):
+            self.calls.append('remove')
+
+    node = Node('moved', context=context)
+    first, second = Recorder(), Recorder()
+    node.executor = first
+    assert node.executor is first
+    node.executor = second
+    assert node.executor is second and first.calls == ['add', 'remove'] and second.calls == ['add']
+    node.executor = None
+    assert node.executor is None and second.calls == ['add', 'remove']
+    node.destroy_node()
