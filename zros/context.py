@@ -178,7 +178,16 @@ class Context:
         with self._lock:
             self._on_shutdown.append(callback)
 
+    def destroy(self) -> None:
+        """Release the context (rclpy's Context.destroy): zros holds nothing beyond what
+        `shutdown()` closes, so this shuts it down if it is still up."""
+        self.shutdown()
+
     def __enter__(self) -> 'Context':
+        """`with Context() as ctx:` initializes it (with default arguments) unless it is
+        initialized already, and shuts it down at the end of the block, as rclpy."""
+        if not self._ok:
+            self.init()
         return self
 
     def __exit__(self, *exc: object) -> None:

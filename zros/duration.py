@@ -5,15 +5,26 @@ from functools import total_ordering
 
 __all__ = ['Duration', 'Infinite']
 
+# rcl holds times and durations as signed 64-bit nanoseconds.
+INT64_MIN, INT64_MAX = -2**63, 2**63 - 1
+
 
 @total_ordering
 class Duration:
-    """A signed span of time in nanoseconds."""
+    """A signed span of time in nanoseconds, held in rcl's signed 64 bits.
+
+    :param seconds: Seconds (may be fractional).
+    :param nanoseconds: Nanoseconds added to `seconds`.
+    :raises OverflowError: If the total does not fit a signed 64-bit count of nanoseconds.
+    """
 
     __slots__ = ('_nanoseconds',)
 
     def __init__(self, *, seconds: float = 0, nanoseconds: int = 0) -> None:
-        self._nanoseconds = int(seconds * 1_000_000_000) + int(nanoseconds)
+        total = int(seconds * 1_000_000_000) + int(nanoseconds)
+        if not INT64_MIN <= total <= INT64_MAX:
+            raise OverflowError(f'a Duration of {total} ns does not fit in 64 bits')
+        self._nanoseconds = total
 
     @property
     def nanoseconds(self) -> int:
@@ -50,9 +61,13 @@ class Duration:
         return hash(self._nanoseconds)
 
     def __add__(self, other: 'Duration') -> 'Duration':
+        if not isinstance(other, Duration):
+            return NotImplemented   # Duration + Time is Time's __radd__
         return Duration(nanoseconds=self._nanoseconds + other._nanoseconds)
 
     def __sub__(self, other: 'Duration') -> 'Duration':
+        if not isinstance(other, Duration):
+            return NotImplemented   # a Duration minus a Time is meaningless: TypeError
         return Duration(nanoseconds=self._nanoseconds - other._nanoseconds)
 
     def __mul__(self, factor: float) -> 'Duration':
@@ -61,5 +76,9 @@ class Duration:
     def __repr__(self) -> str:
         return f'Duration(nanoseconds={self._nanoseconds})'
 
+    def __str__(self) -> str:
+        return 'Infinite' if self._nanoseconds == INT64_MAX else f'{self._nanoseconds} nanoseconds'
 
-Infinite = Duration(nanoseconds=2**63 - 1)
+
+#: The longest Duration, which rclpy uses for "wait for ever".
+Infinite = Duration(nanoseconds=INT64_MAX)

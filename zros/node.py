@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any, Callable, Iterable
 
-from zros.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup
+from zros.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
 from zros.clock import ROSClock
 from zros.context import Context, get_default_context
 from zros.errors import NotInitializedError
@@ -20,7 +20,7 @@ from zros.names import (Remappings, expand_topic_name, fully_qualified_node_name
 from zros.arguments import parse_ros_args
 from zros.client import Client
 from zros.event_handler import PublisherEventCallbacks, SubscriptionEventCallbacks, attach_event_callbacks
-from zros.parameter import Parameter
+from zros.parameter import Parameter, parameter_value_to_python
 from zros.parameter_store import ParameterStore
 from zros.publisher import Publisher
 from zros.qos_overriding_options import (QoSOverridingOptions, declare_qos_parameters,
@@ -31,7 +31,8 @@ from zros.service import Service
 from zros.subscription import Subscription, SubscriptionCallback
 from zros.guard_condition import GuardCondition
 from zros.timer import Rate, Timer, timer_lists_changed
-from zros.time_source import USE_SIM_TIME_NAME
+from zros.time_source import TimeSource
+from zros.type_description_service import TypeDescriptionService
 
 if TYPE_CHECKING:
     from zros.qos_monitor import QoSMonitor
@@ -100,6 +101,7 @@ class Node:
         self._logger = get_logger(self._logger_name())
         self._clock = ROSClock()
         self._default_callback_group = MutuallyExclusiveCallbackGroup()
+        self._rate_group: CallbackGroup | None = None   # rates' timers, apart from other callbacks
         self._executor: Any = None
         self._unseen_completions = 0
         self._entities: list[Any] = []
@@ -126,11 +128,10 @@ class Node:
         self._parameters.attach_event_publisher(
             Publisher(self, _type('rcl_interfaces/msg/ParameterEvent'), '/parameter_events',
                       events_qos, self._default_callback_group))
-        from zros.time_source import TimeSource
-        self._time_source = TimeSource(self)
-        self.declare_parameter(USE_SIM_TIME_NAME, False)
-        self.add_post_set_parameters_callback(self._on_use_sim_time)
-        self._apply_use_sim_time(self.get_parameter(USE_SIM_TIME_NAME).value)
+        # Declares use_sim_time and follows it: with it, ROS time, timers and rates follow /clock.
+        self._time_source = TimeSource(node=self)
+        self._time_source.attach_clock(self._clock)
+        self._type_description = TypeDescriptionService(self)
         if automatically_declare_parameters_from_overrides:
             for name, value in self._parameters.overrides.items():
                 if not self.has_parameter(name):
@@ -174,10 +175,13 @@ class Node:
 
     @executor.setter
     def executor(self, executor: Any) -> None:
-        if self._executor is not None and self._executor is not executor:
+        if executor is self._executor:
+            return
+        if self._executor is not None:
             self._executor.remove_node(self)
         if executor is not None:
             executor.add_node(self)
+        self._executor = executor   # add_node/remove_node set it too; any executor-like object works
 
     @property
     def default_callback_group(self) -> CallbackGroup:
@@ -443,11 +447,24 @@ class Node:
     def create_rate(self, frequency: float, clock: Any = None) -> Rate:
         """Create a Rate, to pace a loop in a thread other than the one spinning the node.
 
+        As rclpy's, the rate also puts a timer of its period on the node, in a group of its
+        own: an executor spinning the node wakes every period (so a bare `spin_once()` loop
+        returns while another thread sleeps on the rate). The rate itself sleeps on its clock
+        and needs no spinning.
+
         :param frequency: Loop frequency [Hz].
         :param clock: The clock to run on; the node's clock if ``None``.
         :return: The new rate.
+        :raises TypeError: If `frequency` is not a number.
+        :raises ValueError: If it is not positive.
         """
-        return Rate(frequency, clock or self._clock, context=self._context)
+        if isinstance(frequency, bool) or not isinstance(frequency, (int, float)):
+            raise TypeError(f'rate frequency must be a number, got {frequency!r}')
+        rate = Rate(frequency, clock or self._clock, context=self._context)
+        if self._rate_group is None:
+            self._rate_group = ReentrantCallbackGroup()
+        rate._pacer = self.create_timer(1.0 / frequency, _pace_rate, self._rate_group, clock)
+        return rate
 
     def destroy_publisher(self, publisher: Publisher[Any]) -> bool:
         """Destroy a publisher made by this node; it leaves the graph.
@@ -480,6 +497,9 @@ class Node:
         :return: ``True``.
         """
         rate.destroy()
+        if rate._pacer is not None:
+            self.destroy_timer(rate._pacer)
+            rate._pacer = None
         return True
 
     @property
@@ -710,13 +730,30 @@ class Node:
         :param parameters: ``(name, value)`` or ``(name, value, descriptor)`` tuples.
         :param ignore_override: Use the given values even if overrides are given.
         :return: The declared parameters, in order.
-        :raises ParameterAlreadyDeclaredException: As `declare_parameter`, for the first failing one.
+        :raises ParameterAlreadyDeclaredException: If any is declared already (then none is).
+        :raises InvalidParameterException: If a name is empty (then none is declared).
+        :raises TypeError: If a name is not a str or a descriptor not a ParameterDescriptor.
         """
-        declared = []
+        from zros.exceptions import InvalidParameterException, ParameterAlreadyDeclaredException
+        entries = []
         for entry in parameters:
             name, value, descriptor = (tuple(entry) + (None, None))[:3]
+            if not isinstance(name, str):
+                raise TypeError(f'parameter name {name!r} is not a str')
+            if descriptor is not None and not isinstance(descriptor, _type('rcl_interfaces/msg/ParameterDescriptor')):
+                raise TypeError(f'descriptor of parameter {name!r} is not a ParameterDescriptor')
             full = f'{namespace}.{name}' if namespace else name
-            declared.append(self._parameters.declare(full, value, descriptor, ignore_override))
+            if not full:
+                raise InvalidParameterException(full)
+            entries.append((full, value, descriptor))
+        already = [full for full, _, _ in entries if self._parameters.has(full)]
+        if already:   # before any is declared, as rclpy
+            raise ParameterAlreadyDeclaredException(already)
+        declared = []
+        for full, value, descriptor in entries:
+            if not self._parameters.has(full):   # a name listed twice is declared once, the first time
+                self._parameters.declare(full, value, descriptor, ignore_override)
+            declared.append(self._parameters.get_or(full))
         return declared
 
     def undeclare_parameter(self, name: str) -> None:
@@ -757,7 +794,7 @@ class Node:
         return [self._parameters.get(n) for n in names]
 
     def get_parameter_or(self, name: str, alternative_value: Parameter | None = None) -> Parameter:
-        """Read a parameter, or fall back to `alternative_value` if it is not declared.
+        """Read a parameter, or fall back to `alternative_value` if it is undeclared or unset.
 
         :param name: The parameter's name.
         :param alternative_value: The fallback; a NOT_SET parameter if ``None``.
@@ -775,24 +812,16 @@ class Node:
         return {n[len(dotted):]: self._parameters.get(n) for n in self._parameters.names()
                 if n.startswith(dotted)}
 
-    def _require_declared(self, parameter_list: list[Parameter]) -> None:
-        """rclpy raises for undeclared names here (remote sets get a failed result instead)."""
-        from zros.exceptions import ParameterNotDeclaredException
-        if not self._parameters.allow_undeclared:
-            missing = [p.name for p in parameter_list if not self._parameters.has(p.name)]
-            if missing:
-                raise ParameterNotDeclaredException(missing)
-
     def set_parameters(self, parameter_list: list[Parameter]) -> list[Any]:
         """Set parameters one by one; each succeeds or fails on its own.
 
         :param parameter_list: The new values.
         :return: One rcl_interfaces/msg/SetParametersResult per parameter.
         :raises ParameterNotDeclaredException: If one is not declared (and undeclared parameters
-            are not allowed).
+            are not allowed); the ones before it are set already, as in rclpy.
         """
-        self._require_declared(parameter_list)
-        return self._parameters.set_each(parameter_list)
+        _require_parameters(parameter_list)
+        return self._parameters.set_each(parameter_list, raise_undeclared=True)
 
     def set_parameters_atomically(self, parameter_list: list[Parameter]) -> Any:
         """Set parameters all together: either every one is set or none is.
@@ -801,8 +830,8 @@ class Node:
         :return: One rcl_interfaces/msg/SetParametersResult for the whole set.
         :raises ParameterNotDeclaredException: If one is not declared.
         """
-        self._require_declared(parameter_list)
-        return self._parameters.set_atomically(parameter_list)
+        _require_parameters(parameter_list)
+        return self._parameters.set_atomically(parameter_list, raise_undeclared=True)
 
     def describe_parameter(self, name: str) -> Any:
         """The descriptor of a parameter.
@@ -820,6 +849,45 @@ class Node:
         :return: rcl_interfaces/msg/ParameterDescriptor messages, in order.
         """
         return [self._parameters.describe(n) for n in names]
+
+    def set_descriptor(self, name: str, descriptor: Any, alternative_value: Any = None) -> Any:
+        """Replace a declared parameter's descriptor (its ranges, constraints, read-only flag).
+
+        The descriptor's name is ignored, and so is its type when it types dynamically (the
+        value's type is kept). No set-parameters callbacks run.
+
+        :param name: The parameter's name.
+        :param descriptor: The new rcl_interfaces/msg/ParameterDescriptor.
+        :param alternative_value: An rcl_interfaces/msg/ParameterValue to take if the current
+            value does not meet the new descriptor.
+        :return: The parameter's rcl_interfaces/msg/ParameterValue afterwards.
+        :raises ParameterNotDeclaredException: If it is not declared (and undeclared are not allowed).
+        :raises ParameterImmutableException: If it is read-only.
+        :raises InvalidParameterValueException: If neither value meets the descriptor.
+        """
+        alternative = None
+        if alternative_value is not None:
+            alternative = Parameter(name, value=parameter_value_to_python(alternative_value))
+        return self._parameters.set_descriptor(name, descriptor, alternative).get_parameter_value()
+
+    def list_parameters(self, prefixes: list[str], depth: int) -> Any:
+        """The declared parameters' names under `prefixes`, as the ListParameters service answers.
+
+        :param prefixes: Only names equal to or below one of these (all names if empty).
+        :param depth: How many levels below the prefix (or the root) to list; 0 lists all.
+        :return: An rcl_interfaces/msg/ListParametersResult with `names` and their `prefixes`.
+        :raises TypeError: If `prefixes` is not a list of str or `depth` not an int.
+        :raises ValueError: If `depth` is negative.
+        """
+        from interfaces.rcl_interfaces.msg import ListParametersResult
+        if not isinstance(prefixes, list) or not all(isinstance(p, str) for p in prefixes):
+            raise TypeError('prefixes must be a list of str')
+        if not isinstance(depth, int):
+            raise TypeError('depth must be an int')
+        if depth < 0:
+            raise ValueError('depth must be greater than or equal to zero')
+        names, found = self._parameters.list(prefixes, depth)
+        return ListParametersResult(names=names, prefixes=found)
 
     def add_on_set_parameters_callback(self, callback: Callable) -> Callable:
         """Register a validator: `callback(parameters)` returns a SetParametersResult; an unsuccessful
@@ -877,19 +945,6 @@ class Node:
     def _parameter_overrides(self) -> dict[str, Any]:
         return self._parameters.overrides
 
-    # -- simulated time --------------------------------------------------------------------
-    def _on_use_sim_time(self, parameters: list[Parameter]) -> None:
-        for param in parameters:
-            if param.name == USE_SIM_TIME_NAME:
-                self._apply_use_sim_time(bool(param.value))
-
-    def _apply_use_sim_time(self, enabled: bool) -> None:
-        """With use_sim_time, ROS time, timers and rates follow /clock, as in ROS 2."""
-        if enabled:
-            self._time_source.enable()
-        else:
-            self._time_source.disable()
-
     # -- /rosout ---------------------------------------------------------------------------
     def _start_rosout(self) -> None:
         from interfaces.rcl_interfaces.msg import Log
@@ -942,6 +997,17 @@ class Node:
 
     def __repr__(self) -> str:
         return f'<zros Node {self.get_fully_qualified_name()}>'
+
+
+def _require_parameters(parameter_list: Any) -> None:
+    """rclpy's TypeError for a set_parameters list holding anything but Parameters."""
+    for param in parameter_list:
+        if not isinstance(param, Parameter):
+            raise TypeError(f'parameters must be Parameter instances, got {param!r}')
+
+
+def _pace_rate() -> None:
+    """A rate's timer callback: nothing to do, its firing wakes the executor each period."""
 
 
 def _type(name: str) -> type:

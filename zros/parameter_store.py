@@ -6,14 +6,16 @@ the same whichever way a value arrives.
 """
 from __future__ import annotations
 
+import copy
 import math
 import threading
+import warnings
 from typing import TYPE_CHECKING, Any, Callable
 
-from zros.exceptions import (InvalidParameterTypeException, InvalidParameterValueException,
+from zros.exceptions import (InvalidParameterException, InvalidParameterTypeException, InvalidParameterValueException,
                              ParameterAlreadyDeclaredException, ParameterImmutableException,
                              ParameterNotDeclaredException, ParameterUninitializedException)
-from zros.parameter import Parameter, load_parameter_file, parse_parameter_value
+from zros.parameter import Parameter, load_parameter_file, parameter_value_to_python, parse_parameter_value
 
 if TYPE_CHECKING:
     from zros.node import Node
@@ -27,6 +29,11 @@ T = Parameter.Type
 def _descriptor_class():
     from interfaces.rcl_interfaces.msg import ParameterDescriptor
     return ParameterDescriptor
+
+
+def _value_class():
+    from interfaces.rcl_interfaces.msg import ParameterValue
+    return ParameterValue
 
 
 def _result(successful: bool, reason: str = ''):
@@ -76,13 +83,28 @@ class ParameterStore:
             if name in self._values:
                 raise ParameterAlreadyDeclaredException([name])
             if not name or not isinstance(name, str):
-                raise InvalidParameterValueException(name, value, 'parameter name must be a non-empty string')
+                raise InvalidParameterException(name)
+            name_only = value is None and descriptor is None
             descriptor = descriptor if descriptor is not None else _descriptor_class()()
             descriptor.name = name
+            if name_only:
+                warnings.warn(f"declaring parameter '{name}' by its name alone is deprecated (as in rclpy): "
+                              'give a default value, a Parameter.Type, or a descriptor with '
+                              'dynamic_typing=True', UserWarning, stacklevel=4)
+                descriptor.dynamic_typing = True
+            if isinstance(value, _value_class()):
+                value = parameter_value_to_python(value)
             if isinstance(value, Parameter.Type):
+                if value == T.NOT_SET:
+                    raise ValueError(f"parameter '{name}' cannot be statically typed as NOT_SET")
+                if descriptor.dynamic_typing:
+                    raise ValueError(f"parameter '{name}' is given a type and a descriptor with dynamic_typing")
                 declared_type, value = value, None
             else:
                 declared_type = None
+                if value is None and not descriptor.dynamic_typing:
+                    raise ValueError(f"parameter '{name}' is statically typed but its default is NOT_SET: "
+                                     'give a value or a Parameter.Type, or use dynamic_typing')
             param = _parameter(name, value)
             if declared_type is None and not descriptor.dynamic_typing and param.type_ != T.NOT_SET:
                 declared_type = param.type_   # as rclpy: the default's type is the parameter's type
@@ -109,6 +131,36 @@ class ParameterStore:
             del self._descriptors[name]
         self._publish_event(deleted=[Parameter(name)])
 
+    def set_descriptor(self, name: str, descriptor: Any, alternative: Parameter | None = None) -> Parameter:
+        """Give a declared parameter a new descriptor (rclpy's Node.set_descriptor).
+
+        The descriptor takes the parameter's name and, when it types dynamically or names no
+        type, the value's type. The current value is kept if it meets the new descriptor, else
+        `alternative` replaces it. Like a declaration, this runs no set-parameters callbacks.
+
+        :return: The parameter after the change (NOT_SET for an undeclared one, when allowed).
+        :raises ParameterNotDeclaredException: If it is not declared (and undeclared are not allowed).
+        :raises ParameterImmutableException: If its current descriptor is read-only.
+        :raises InvalidParameterValueException: If neither value meets the descriptor.
+        """
+        with self._lock:
+            if name not in self._values:
+                if self.allow_undeclared:
+                    return Parameter(name, T.NOT_SET, None)
+                raise ParameterNotDeclaredException([name])
+            if self._descriptors[name].read_only:
+                raise ParameterImmutableException([name])
+            candidates = [self._values[name]] if alternative is None else [self._values[name], alternative]
+            for param in candidates:
+                fitted = copy.copy(descriptor)
+                fitted.name = name
+                if fitted.dynamic_typing or fitted.type == T.NOT_SET:
+                    fitted.type = int(param.type_)
+                result = self.set_atomically([param], descriptors={name: fitted}, declaring=True)
+                if result.successful:
+                    return self._values[name]
+            raise InvalidParameterValueException(name, candidates[-1].value, result.reason)
+
     # -- reads -----------------------------------------------------------------------------
     def has(self, name: str) -> bool:
         return name in self._values
@@ -124,7 +176,11 @@ class ParameterStore:
         return param
 
     def get_or(self, name: str, alternative: Parameter | None = None) -> Parameter:
-        return self._values.get(name, alternative if alternative is not None else Parameter(name, T.NOT_SET))
+        """The parameter, or `alternative` if it is undeclared or has no value yet."""
+        param = self._values.get(name)
+        if param is None or param.type_ == T.NOT_SET:
+            return alternative if alternative is not None else Parameter(name, T.NOT_SET)
+        return param
 
     def names(self) -> list[str]:
         return sorted(self._values)
@@ -132,23 +188,28 @@ class ParameterStore:
     def describe(self, name: str) -> Any:
         if name not in self._descriptors:
             if self.allow_undeclared:
-                return _descriptor_class()(name=name)
+                return _descriptor_class()()   # as rclpy: a blank descriptor, not even the name
             raise ParameterNotDeclaredException([name])
         return self._descriptors[name]
 
     def list(self, prefixes: list[str], depth: int) -> tuple[list[str], list[str]]:
-        """(names, prefixes) as the ListParameters service answers them."""
-        names, found_prefixes = [], set()
-        for name in sorted(self._values):
-            if prefixes and not any(name == p or name.startswith(p + '.') for p in prefixes):
-                continue
-            dots = name.count('.')
-            if depth and dots >= depth:
-                continue
-            names.append(name)
-            if '.' in name:
-                found_prefixes.add(name.rsplit('.', 1)[0])
-        return names, sorted(found_prefixes)
+        """(names, prefixes) as rclpy's list_parameters and the ListParameters service answer.
+
+        Without prefixes, a name is listed if it has fewer than `depth` dots; under a prefix,
+        if it is the prefix or below it with fewer than `depth` dots after it. Depth 0
+        (DEPTH_RECURSIVE) lists at any depth.
+        """
+        def shallow(rest: str) -> bool:
+            return not depth or rest.count('.') < depth
+
+        def wanted(name: str) -> bool:
+            if not prefixes:
+                return shallow(name)
+            return any(name == p or (name.startswith(p + '.') and shallow(name[len(p) + 1:])) for p in prefixes)
+
+        names = [name for name in self._values if wanted(name)]
+        found_prefixes = dict.fromkeys(name.rsplit('.', 1)[0] for name in names if '.' in name)
+        return names, list(found_prefixes)
 
     # -- callbacks -------------------------------------------------------------------------
     def add_pre_set(self, callback: Callable) -> None:
@@ -168,12 +229,17 @@ class ParameterStore:
         raise ValueError('callback is not registered')
 
     # -- writes ----------------------------------------------------------------------------
-    def set_each(self, parameters: list[Parameter]) -> list[Any]:
-        return [self.set_atomically([p]) for p in parameters]
+    def set_each(self, parameters: list[Parameter], *, raise_undeclared: bool = False) -> list[Any]:
+        return [self.set_atomically([p], raise_undeclared=raise_undeclared) for p in parameters]
 
     def set_atomically(self, parameters: list[Parameter], *, descriptors: dict | None = None,
-                       declaring: bool = False) -> Any:
-        """Apply all or none of `parameters`; a SetParametersResult says which and why."""
+                       declaring: bool = False, raise_undeclared: bool = False) -> Any:
+        """Apply all or none of `parameters`; a SetParametersResult says which and why.
+
+        :param raise_undeclared: Raise ParameterNotDeclaredException for an undeclared name (as
+            rclpy's Node methods do) instead of failing the result (as the services do). The
+            names are checked after the pre-set callbacks, which may add some.
+        """
         with self._lock:
             if self._pre_set and not declaring:
                 for callback in self._pre_set:
@@ -181,6 +247,10 @@ class ParameterStore:
                 if not parameters:
                     return _result(False, 'parameter list cannot be empty, this might be due to '
                                           'pre_set_parameters_callback modifying the original parameters list')
+            if raise_undeclared and not self.allow_undeclared:
+                missing = [p.name for p in parameters if p.name not in self._values]
+                if missing:
+                    raise ParameterNotDeclaredException(missing)
             staged: list[tuple[Parameter, Any]] = []
             for param in parameters:
                 descriptor = (descriptors or {}).get(param.name) or self._descriptors.get(param.name)
@@ -222,7 +292,8 @@ class ParameterStore:
         if descriptor.read_only and not declaring:
             return f'Trying to set a read-only parameter: {param.name}.'
         if param.type_ == T.NOT_SET:
-            return ''
+            # Setting NOT_SET undeclares; a statically typed parameter stays (as rclpy).
+            return '' if declaring or descriptor.dynamic_typing else 'Static parameter cannot be undeclared'
         if not descriptor.dynamic_typing and descriptor.type not in (T.NOT_SET, param.type_):
             return (f'Wrong parameter type, parameter {{{param.name}}} is of type {{{T(descriptor.type).name}}}, '
                     f'setting it to {{{param.type_.name}}} is not allowed.')

@@ -92,6 +92,21 @@ class Publisher(NodeEntity, Generic[MsgT]):
         """
         return self._node.count_subscribers(self.topic_name)
 
+    def wait_for_all_acked(self, timeout: Any = None) -> bool:
+        """rclpy's wait for reliable subscribers to acknowledge what was published.
+
+        Zenoh does not report per-message acknowledgements (nor does rmw_zenoh): a RELIABLE
+        `publish()` returns once Zenoh's reliable transport holds the message, blocking while
+        its queues are full, so nothing is left to wait for here.
+
+        :param timeout: A Duration to wait at most (ignored: there is nothing to wait for).
+        :return: ``True``.
+        :raises RuntimeError: If the publisher has been destroyed.
+        """
+        if self._destroyed:
+            raise RuntimeError(f"publisher on '{self.topic_name}' has been destroyed")
+        return True
+
     def wait_for_subscribers(self, count: int = 1, timeout_sec: float | None = None) -> bool:
         """Block until `count` subscriptions on the topic are in the graph (`zros topic pub -w`).
 

@@ -144,7 +144,7 @@ class QoSProfile:
             if value == policy.SYSTEM_DEFAULT:
                 value = _SYSTEM_DEFAULTS[name]
         elif name == 'depth' and (isinstance(value, bool) or not isinstance(value, int) or value < 0):
-            raise ValueError(f'QoS depth must be a non-negative int, got {value!r}')
+            raise ValueError(f'QoS depth must be greater than or equal to zero, got {value!r}')
         object.__setattr__(self, name, value)
 
     def __post_init__(self) -> None:

@@ -127,6 +127,14 @@ class Subscription(QueuedEntity, Generic[MsgT]):
             self._zenoh = session.declare_subscriber(key, handler)
         super().__init__(node, EntityKind.SUBSCRIPTION, topic, msg_type, qos)
 
+    def get_publisher_count(self) -> int:
+        """Count the publishers on this subscription's topic that the graph knows of now
+        (from their liveliness tokens, so a brand-new one may be missing for a moment).
+
+        :return: The number of publishers, local and remote.
+        """
+        return self._node.count_publishers(self.topic_name)
+
     # Zenoh thread: queue the sample untouched (no copy, no parsing) and make sure the executor
     # will run us. Never user code.
     def _on_sample(self, sample: Any) -> None:

@@ -4,7 +4,7 @@ from __future__ import annotations
 import enum
 from functools import total_ordering
 
-from zros.duration import Duration
+from zros.duration import INT64_MAX, Duration
 
 __all__ = ['Time', 'ClockType']
 
@@ -25,16 +25,22 @@ class Time:
     :param nanoseconds: Nanoseconds added to `seconds`.
     :param clock_type: The clock this time belongs to.
     :raises ValueError: If the total is negative.
+    :raises OverflowError: If it does not fit rcl's signed 64 bits.
+    :raises TypeError: If `clock_type` is not a ClockType.
     """
     __slots__ = ('_nanoseconds', '_clock_type')
 
     def __init__(self, *, seconds: float = 0, nanoseconds: int = 0,
                  clock_type: ClockType = ClockType.SYSTEM_TIME) -> None:
+        if not isinstance(clock_type, ClockType):
+            raise TypeError(f'clock_type must be a ClockType, got {clock_type!r}')
         total = int(seconds * 1_000_000_000) + int(nanoseconds)
         if total < 0:
             raise ValueError('Time must not be negative')
+        if total > INT64_MAX:
+            raise OverflowError(f'a Time of {total} ns does not fit in 64 bits')
         self._nanoseconds = total
-        self._clock_type = ClockType(clock_type)
+        self._clock_type = clock_type
 
     @property
     def nanoseconds(self) -> int:
@@ -79,7 +85,10 @@ class Time:
             raise TypeError("Can't compare times with different clock types")
 
     def __eq__(self, other: object) -> bool:
-        return isinstance(other, Time) and (self._nanoseconds, self._clock_type) == (other._nanoseconds, other._clock_type)
+        if not isinstance(other, Time):
+            return False
+        self._check(other)   # as rclpy: times of two clocks are not comparable, even for equality
+        return self._nanoseconds == other._nanoseconds
 
     def __lt__(self, other: 'Time') -> bool:
         self._check(other)

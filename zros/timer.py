@@ -195,6 +195,7 @@ class Rate:
         self._schedule = _Schedule(self._clock, int(1e9 / frequency), running=True)
         self._context = context or get_default_context()
         self._destroyed = False
+        self._pacer: Any = None   # the node's timer of this period (Node.create_rate), if any
 
     def sleep(self) -> None:
         """Block until the next period of the rate begins.

@@ -167,6 +167,7 @@ def test_param_cli_round_trip(param_talker, zros_cli, tmp_path):
     loaded = zros_cli('param', 'load', '/param_talker', str(dumped))
     assert loaded.returncode == 0, loaded
     assert 'Set parameter published_text successful' in loaded.stdout
+    assert 'Skipped read-only parameter start_type_description_service' in loaded.stdout
     assert zros_cli('param', 'get', '/param_talker', 'published_text').stdout.strip() == 'String value is: Loaded'
     assert zros_cli('param', 'get', '/param_talker', 'extra').stdout.strip() == 'Integer value is: 42'
     changed = zros_cli('param', 'set', '/param_talker', 'timer_period', '0.5')

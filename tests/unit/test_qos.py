@@ -110,3 +110,8 @@ def test_reliability_reason_names_the_policies():
     assert 'Best effort publisher and reliable subscription' in reason
     _, reason = qos_check_compatible(QoSProfile(), QoSProfile(durability=TRANSIENT_LOCAL))
     assert 'Volatile publisher and transient local subscription' in reason
+
+
+def test_a_negative_depth_is_refused_in_rclpys_words():
+    with pytest.raises(ValueError, match='must be greater than or equal to zero'):
+        QoSProfile(depth=-1)

@@ -250,7 +250,14 @@ def cmd_load(args: argparse.Namespace) -> int:
     failed = False
     with cli_context() as ctx:
         remote = _Remote(ctx, fq, args.timeout)
+        # A dump holds read-only parameters too (every node's start_type_description_service):
+        # loading it back skips them rather than failing on them.
+        described = remote.call('describe_parameters', 'DescribeParameters', names=list(values)).descriptors
+        read_only = {d.name for d in described if d.read_only}
         for name, value in values.items():
+            if name in read_only:
+                print(f'Skipped read-only parameter {name}')
+                continue
             result = remote.call('set_parameters', 'SetParameters', parameters=[_parameter_msg(name, value)]).results[0]
             if result.successful:
                 print(f'Set parameter {name} successful')
