@@ -199,7 +199,8 @@ class RcutilsLogger:
     def log(self, message: object, severity: LoggingSeverity | int, _stack: int = 1, **options: Any) -> bool:
         """Log `message` at `severity`, as rclpy does.
 
-        Options (per call site; they must not change between calls from one site):
+        Options (per call site; a call site that gives one must keep its name, severity and
+        options from call to call, as rclpy insists; a plain call site is free):
         `throttle_duration_sec` (at most one message per this many seconds, timed on
         `throttle_time_source_type`, a Clock, or the monotonic clock), then `skip_first`, then
         `once` (each sees only the calls the one before let through); `name` logs under
@@ -218,13 +219,18 @@ class RcutilsLogger:
                             '(throttle_time_source_type needs it)')
         name = options.pop('name', self.name)
         severity = LoggingSeverity(severity)
-        frame = sys._getframe(_stack)
-        site = self._call_site(frame.f_code.co_filename, frame.f_lineno, name, severity, options)
+        filtered = bool(options.get('once') or options.get('skip_first') or options.get('throttle_duration_sec'))
         caller = None
-        if _sinks or site.filtered:
+        if _sinks or filtered:
+            frame = sys._getframe(_stack)
             caller = inspect.Traceback(frame.f_code.co_filename, frame.f_lineno, frame.f_code.co_name, None, None)
-        if site.filtered and not site.passes():
-            return False
+        if filtered:
+            # A filtered call site remembers what it let through, so it must keep its name,
+            # severity and options; a plain call keeps no state (and `(log.error if bad else
+            # log.warn)(text)`, which rclpy refuses on its second call, works).
+            site = self._call_site(caller.filename, caller.lineno, name, severity, options)
+            if not site.passes():
+                return False
         if severity < _effective_level(self.name):
             return False
         _emit(severity, name, str(message), caller)

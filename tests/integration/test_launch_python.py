@@ -182,7 +182,8 @@ def test_a_python_launch_runs_every_construct(probe: Path, write, tmp_path: Path
     out = result.stdout
     report = reports(out)['/robot/inner/reporter']
     assert report['params'] == {'from_file': 7, 'rate': 42, 'text': '42', 'mode_text': 'fast', 'home': 'from-launch',
-                                'nested.deep': True, 'scope_level': 3, 'use_sim_time': False}
+                                'nested.deep': True, 'scope_level': 3, 'start_type_description_service': True,
+                                'use_sim_time': False}
     assert report['chatter'] == '/robot/inner/talk'
     assert report['unused'] == '/other'                              # SetRemap, for the whole group
     assert report['args'] == ['--flag', 'two words']

@@ -214,7 +214,8 @@ def test_a_yaml_launch_run_with_a_nested_namespace_file_and_a_node_without_packa
     result = run_cli('launch', path, '--log-dir', tmp_path / 'log', timeout=60)
     assert result.returncode == 0, result
     report = reports(result.stdout)['/robots/report']
-    assert report['params'] == {'depth': 3, 'level': 4, 'copied': 4, 'use_sim_time': False}
+    assert report['params'] == {'depth': 3, 'level': 4, 'copied': 4, 'start_type_description_service': True,
+                                'use_sim_time': False}
     assert "ARGS ['--ros-args', '-r', '__node:=bare', '--params-file', " in result.stdout, result  # set_parameter too
 
 

@@ -162,7 +162,8 @@ def test_node_graph_matches_ros(sim):
 
 
 def test_param_list_matches_ros(sim, zros_cli):
-    """`ros2 param list /turtlesim` on Humble (the C++ node's qos_overrides included), and the
+    """`ros2 param list /turtlesim` on Jazzy (the C++ node's qos_overrides and the
+    start_type_description_service every node declares, as seed 002 lists them), and the
     failure a node gives for a read-only one, with its reason, as ros2 param set prints it."""
     listed = zros_cli('param', 'list', '/turtlesim')
     assert listed.returncode == 0, listed
@@ -171,7 +172,8 @@ def test_param_list_matches_ros(sim, zros_cli):
         '  qos_overrides./parameter_events.publisher.depth',
         '  qos_overrides./parameter_events.publisher.durability',
         '  qos_overrides./parameter_events.publisher.history',
-        '  qos_overrides./parameter_events.publisher.reliability', '  use_sim_time'], listed
+        '  qos_overrides./parameter_events.publisher.reliability', '  start_type_description_service',
+        '  use_sim_time'], listed
     depth = zros_cli('param', 'get', '/turtlesim', 'qos_overrides./parameter_events.publisher.depth')
     assert depth.stdout == 'Integer value is: 1000\n', depth
     refused = zros_cli('param', 'set', '/turtlesim', 'qos_overrides./parameter_events.publisher.depth', '5')

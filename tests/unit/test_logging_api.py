@@ -68,7 +68,9 @@ def test_a_call_site_keeps_its_options_and_severity():
         logger.info('m', throttle_time_source_type=ROSClock())
     with pytest.raises(ValueError, match='severity cannot be changed'):
         for severity in (LoggingSeverity.INFO, LoggingSeverity.WARN):
-            logger.log('m', severity)
+            logger.log('m', severity, once=True)
+    for severity in (LoggingSeverity.INFO, LoggingSeverity.WARN):   # a plain call site keeps no state
+        assert logger.log('m', severity)
     with pytest.raises(ValueError, match='parameters cannot be changed'):
         for duration in (1, 2):
             logger.info('m', throttle_duration_sec=duration)

@@ -239,3 +239,23 @@ def test_tf_transformations_conventions():
     assert tft.euler_from_quaternion(tft.quaternion_slerp(a, b, 0.5))[2] == pytest.approx(0.45)
     with pytest.raises(ValueError, match="like 'sxyz'"):
         tft.euler_matrix(0, 0, 0, axes='xyz')
+
+
+def test_after_a_jump_back_data_from_before_it_is_dropped_until_the_clock_catches_up():
+    """A reset simulation: the buffer is cleared, and a message stamped before the reset but
+    delivered after it must not refill it with the future (tf2 would then refuse the new data)."""
+    from zros.clock import ROSClock
+    from zros.tf2_ros.buffer_core import BufferCore
+    from zros.tf2_ros.listener_hub import _Target
+    from zros.time import ClockType, Time
+    clock = ROSClock()
+    clock._set_ros_time_is_active(True)
+    target = _Target(BufferCore(), clock, None)
+    clock.set_ros_time_override(Time(seconds=47, clock_type=ClockType.ROS_TIME))
+    assert target.check_clock() == 47_000_000_000
+    clock.set_ros_time_override(Time(seconds=2, clock_type=ClockType.ROS_TIME))
+    now = target.check_clock()
+    old, new = [('odom', 'map', 47_500_000_000, ())], [('odom', 'map', 2_000_000_000, ())]
+    assert target.stale(now, old) and not target.stale(now, new)
+    clock.set_ros_time_override(Time(seconds=47, clock_type=ClockType.ROS_TIME))
+    assert not target.stale(target.check_clock(), old)      # caught up: nothing is stale any more

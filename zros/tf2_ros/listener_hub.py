@@ -38,20 +38,36 @@ _logger = get_logger('tf2_listener')
 class _Target:
     """A registered buffer and the clock of the listener that registered it."""
 
-    __slots__ = ('buffer', 'clock', 'last_now', 'notify')
+    __slots__ = ('buffer', 'clock', 'last_now', 'notify', 'before_jump')
 
     def __init__(self, buffer: Any, clock: Any, notify: Any) -> None:
         self.buffer, self.clock, self.last_now, self.notify = buffer, clock, 0, notify
+        self.before_jump: int | None = None   # the time a jump back left, while stale data may still come
 
-    def check_clock(self) -> None:
+    def check_clock(self) -> int | None:
+        """Clear the buffer when the clock went back; returns the clock's time (None on
+        system time)."""
         clock = self.clock
         if clock is None or not getattr(clock, 'ros_time_is_active', False):
-            return
+            return None
         now = clock.now().nanoseconds
         if now + _JUMP_BACK_NS < self.last_now:
             _logger.warn('Detected jump back in time. Clearing TF buffer.')
             self.buffer.clear()
+            self.before_jump = self.last_now
         self.last_now = now
+        return now
+
+    def stale(self, now: int | None, items: list) -> bool:
+        """After a jump back, a message stamped from before it (sent before the reset, delivered
+        after) would refill the cleared buffer with the future, and tf2 then refuses the new
+        data as too old: it is dropped until the clock has caught up with the jump."""
+        if self.before_jump is None or now is None:
+            return False
+        if now + _JUMP_BACK_NS >= self.before_jump:
+            self.before_jump = None
+            return False
+        return any(item[2] > now + _JUMP_BACK_NS for item in items)
 
 
 class TfHub:
@@ -127,7 +143,8 @@ class TfHub:
             return
         writer, items = decoded
         for target in self._targets[False]:
-            target.check_clock()
+            if target.stale(target.check_clock(), items):
+                continue
             target.buffer._insert_many(items, _AUTHORITY, False, writer)
             if target.notify is not None:
                 target.notify()
