@@ -29,6 +29,8 @@ TF_TOPIC = '/tf'
 TF_STATIC_TOPIC = '/tf_static'
 _AUTHORITY = 'default_authority'
 _JUMP_BACK_NS = 1_000_000_000
+# How long before a jump back a message may have been stamped and still be taken for stale.
+_STALE_WINDOW_NS = 5_000_000_000
 
 _hubs: 'weakref.WeakKeyDictionary[Any, TfHub]' = weakref.WeakKeyDictionary()
 _hubs_lock = threading.Lock()
@@ -67,7 +69,10 @@ class _Target:
         if now + _JUMP_BACK_NS >= self.before_jump:
             self.before_jump = None
             return False
-        return any(item[2] > now + _JUMP_BACK_NS for item in items)
+        # stamped ahead of the clock *and* near the time the jump left: data sent just before the
+        # reset (a lagging clock under load must not make fresh data look stale)
+        since = self.before_jump - _STALE_WINDOW_NS
+        return any(item[2] > now + _JUMP_BACK_NS and item[2] >= since for item in items)
 
 
 class TfHub:
