@@ -138,12 +138,12 @@ class Client(NodeEntity, Generic[SrvRequestT, SrvResponseT]):
 
     def _send(self, request: Any, timeout_sec: float | None, handler: Any = None,
               parameters: str = '') -> tuple[float, Any]:
-        """Issue the Zenoh get for `request`: (timeout used, reply receiver or None).
+        """Issue the Zenoh get for `request`, already `_check`ed by the caller: (timeout used,
+        reply receiver or None).
 
         With no handler, Zenoh's default FIFO channel holds the replies for the caller.
         `parameters` go in the selector (`key?parameters`) for servers that read them."""
         import zenoh
-        self._check(request)
         timeout = _NO_TIMEOUT if timeout_sec is None else max(0.001, timeout_sec)
         receiver = self._node.context.session.get(
             f'{self._key}?{parameters}' if parameters else self._key, handler,

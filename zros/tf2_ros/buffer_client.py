@@ -12,6 +12,7 @@ import threading
 from typing import Any
 
 from zros.duration import Duration
+from zros.tf2_ros.buffer import _timeout_seconds
 from zros.tf2_ros.buffer_interface import BufferInterface
 from zros.tf2_ros.exceptions import (ConnectivityException, ExtrapolationException, InvalidArgumentException,
                                      LookupException, TimeoutException, TransformException)
@@ -32,14 +33,6 @@ def _to_duration_msg(duration: Any) -> Any:
     if isinstance(duration, (int, float)):
         duration = Duration(seconds=duration)
     return duration.to_msg() if isinstance(duration, Duration) else duration
-
-
-def _seconds(duration: Any) -> float:
-    if isinstance(duration, Duration):
-        return duration.nanoseconds / 1e9
-    if isinstance(duration, (int, float)):
-        return float(duration)
-    return Duration.from_msg(duration).nanoseconds / 1e9
 
 
 class BufferClient(BufferInterface):
@@ -99,7 +92,7 @@ class BufferClient(BufferInterface):
         return True
 
     def _process(self, goal: Any, timeout: Any) -> Any:
-        wait = _seconds(timeout) + _seconds(self.timeout_padding)
+        wait = _timeout_seconds(timeout) + _timeout_seconds(self.timeout_padding)
         if not self.action_client.wait_for_server(timeout_sec=max(wait, 0.001)):
             raise TimeoutException(f"the buffer server '{self.action_client.action_name}' is not running")
         done = threading.Event()
