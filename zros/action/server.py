@@ -432,12 +432,10 @@ class ActionServer:
                 handle._status = GoalStatus.EXECUTING
         if status == GoalStatus.EXECUTING:
             raise RuntimeError(f'goal {handle._hex()} is already executing')
-        if status == GoalStatus.CANCELING:
-            handle.canceled()  # a cancel was accepted before the goal started: it ends here
-            self._finish(handle, self._action_type.Result())
-            return
-        if status != GoalStatus.ACCEPTED:
+        if status not in (GoalStatus.ACCEPTED, GoalStatus.CANCELING):
             return  # already finished
+        # A goal whose cancel was accepted before it started stays CANCELING and still runs the
+        # execute callback, as in rclpy: the callback sees is_cancel_requested and ends it.
         self._publish_status()
         if inline:
             return self._run(handle, execute_callback or self._execute_callback)
