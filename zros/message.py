@@ -625,12 +625,14 @@ def make_service_class(spec: ServiceSpec, request: type, response: type) -> type
 
 
 def make_action_class(spec: ActionSpec, goal: type, result: type, feedback: type) -> type:
-    """An action type holds Goal, Result and Feedback (zros.action adds its protocol types)."""
+    """An action type holds Goal, Result and Feedback, and its protocol types as `Impl`
+    (built on first access, see zros.action_types)."""
+    from zros.action_types import ImplAttribute
     namespace = {
         '__module__': f'interfaces.{spec.full_name.split("/")[0]}.action',
         '_TYPE': spec.full_name, '_SPEC': spec, 'Goal': goal, 'Result': result, 'Feedback': feedback,
         '_HASH': hashlib.sha256(f'{goal._HASH};{result._HASH};{feedback._HASH}'.encode()).hexdigest()[:16],
-        '__doc__': spec.text,
+        '__doc__': spec.text, 'Impl': ImplAttribute(),
     }
     return type(spec.full_name.split('/')[-1], (), namespace)
 

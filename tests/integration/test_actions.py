@@ -262,10 +262,13 @@ def test_send_goal_cli_cancels_on_ctrl_c(fibonacci_server, spawn, client_node, F
 
 
 def test_goal_canceled_before_it_executes_ends_canceled(make_context, client_node, Fibonacci):
-    pending = []
+    """As in rclpy, the execute callback still runs (the goal stays CANCELING): it sees the
+    cancel and ends the goal."""
+    pending, saw_cancel = [], []
 
-    def execute(goal_handle):  # never reached: the goal is canceled first
-        goal_handle.succeed()
+    def execute(goal_handle):
+        saw_cancel.append(goal_handle.is_cancel_requested)
+        goal_handle.canceled()
         return Fibonacci.Result()
     node, server, spinner = _in_process_server(
         make_context, Fibonacci, execute, handle_accepted_callback=pending.append,
@@ -278,6 +281,7 @@ def test_goal_canceled_before_it_executes_ends_canceled(make_context, client_nod
         pending[0].execute()
         result = handle.get_result_async()
         assert result.wait(5) and result.result().status == GoalStatus.CANCELED
+        assert saw_cancel == [True]
         server.destroy()
         assert server not in node._entities
     finally:

@@ -204,10 +204,11 @@ def valid_scan(payload: bytes) -> bool:
 
 
 def valid_goal_request(payload: bytes) -> bool:
+    """[goal_id [16], goal [order], client_id], then the goal id's 16 bytes."""
     parsed = _header(payload)
-    return parsed is not None and not parsed[1] and isinstance(parsed[0], list) and len(parsed[0]) == 2 \
-        and isinstance(parsed[0][0], list) and len(parsed[0][0]) == 1 \
-        and _is_int(parsed[0][0][0], -2 ** 31, 2 ** 31 - 1) and type(parsed[0][1]) is str
+    return parsed is not None and len(parsed[1]) == 16 and isinstance(parsed[0], list) and len(parsed[0]) == 3 \
+        and parsed[0][0] == [16] and isinstance(parsed[0][1], list) and len(parsed[0][1]) == 1 \
+        and _is_int(parsed[0][1][0], -2 ** 31, 2 ** 31 - 1) and type(parsed[0][2]) is str
 
 
 def valid_uuid_request(payload: bytes) -> bool:
@@ -300,7 +301,8 @@ def test_malformed_input_on_every_surface(target, context, raw_session, wait_for
     names_payload = msgpack.packb([['speed']])
     services = {
         '/fuzz/add': (msgpack.packb([1, 2]), valid_add_request, AddTwoInts, [0, 1]),
-        '/fuzz/fib/_action/send_goal': (msgpack.packb([[5], 'c']), valid_goal_request, None, [[3], 'abc']),
+        '/fuzz/fib/_action/send_goal': (msgpack.packb([[16], [5], 'c']) + bytes(16), valid_goal_request, None,
+                                        [[16], [3], 'abc']),
         '/fuzz/fib/_action/get_result': (msgpack.packb([[16]]) + bytes(16), valid_uuid_request, None, [[16]]),
         '/fuzz_target/get_parameters': (names_payload, valid_names_request, GetParameters, [['a', 'b']]),
         '/fuzz_target/describe_parameters': (names_payload, valid_names_request, None, [['a']]),
@@ -308,7 +310,7 @@ def test_malformed_input_on_every_surface(target, context, raw_session, wait_for
     for name, (probe, is_valid, srv_type, header) in services.items():
         key = f'zros/{domain}/s/{name[1:]}'
         _wait_for_queryable(raw_session, key, probe)
-        tail = bytes(16) if header == [[16]] else b''  # a UUID's 16 bytes
+        tail = bytes(16) if header[0] == [16] else b''  # a UUID's 16 bytes
         payloads = malformed(rng, header, tail, WRONG, is_valid)
         type_name, type_hash = (srv_type._TYPE, srv_type._HASH) if srv_type else ('x/srv/Y', '00' * 8)
         errors = _request_all(raw_session, key, payloads, type_name, type_hash, rng)

@@ -1,7 +1,9 @@
 """Action clients (rclpy.action.ActionClient's interface).
 
 The client subscribes at creation to its own feedback topic (the server sends a client only
-the feedback of its own goals) and to the status topic. The get-result request has no
+the feedback of its own goals), to the action's shared feedback topic (where a server speaking
+ROS 2's protocol, with no client ids, sends all feedback) and to the status topic. The client
+picks each goal's id (UUID4), as rclpy does. The get-result request has no
 timeout, so arbitrarily long goals are fine; if the server dies, Zenoh finalizes the request
 and the result future fails with a clear error instead of hanging.
 """
@@ -10,10 +12,12 @@ from __future__ import annotations
 import os
 import threading
 import time
+import uuid
 from typing import TYPE_CHECKING, Any, Callable
 
+from zros.action.counts import NumberOfEntities
 from zros.action.server import RESULT_PARAMETER, GoalStatus
-from zros.action.types import protocol_types
+from zros.action_types import protocol_types
 from zros.errors import ServiceCallError
 from zros.graph import EntityKind
 from zros.qos import QoSProfile, qos_profile_action_status_default, qos_profile_services_default
@@ -25,11 +29,11 @@ if TYPE_CHECKING:
 
 __all__ = ['ActionClient', 'ClientGoalHandle']
 
-_EARLY_FEEDBACK_LIMIT = 100
-# Feedback and the result travel separately: the result can be processed before the last
-# feedback messages, which were sent first. A finished goal's feedback callback is therefore
-# kept this long before it is forgotten.
-_FEEDBACK_GRACE_S = 2.0
+# Feedback and the result travel separately: the result (completed on Zenoh's thread) can be
+# processed before feedback that arrived earlier and waits for the executor. A finished goal's
+# feedback callback therefore still gets feedback that arrived before the result, and is
+# forgotten this long after it [s].
+_SETTLED_MEMORY_S = 2.0
 
 
 class ClientGoalHandle:
@@ -141,21 +145,20 @@ class ActionClient:
         self._client_id = os.urandom(8).hex()
         self._lock = threading.Lock()
         self._feedback_callbacks: dict[bytes, Callable] = {}
-        self._early_feedback: dict[bytes, list] = {}
         self._handles: dict[bytes, ClientGoalHandle] = {}
-        self._settled: dict[bytes, float] = {}
+        self._settled: dict[bytes, int] = {}   # goal key -> when its result came [ns, wall clock]
         group = self.callback_group
         self._send_client: Client[Any, Any] = node.create_client(
-            self._types.SendGoal, f'{self._name}/_action/send_goal',
+            self._types.SendGoalService, f'{self._name}/_action/send_goal',
             qos_profile=goal_service_qos_profile, callback_group=group)
         self._cancel_client = node.create_client(CancelGoal, f'{self._name}/_action/cancel_goal',
                                                  qos_profile=cancel_service_qos_profile, callback_group=group)
         self._result_client: Client[Any, Any] = node.create_client(
-            self._types.GetResult, f'{self._name}/_action/get_result',
+            self._types.GetResultService, f'{self._name}/_action/get_result',
             qos_profile=result_service_qos_profile, callback_group=group)
-        self._feedback_sub = node.create_subscription(
-            self._types.FeedbackMessage, f'{self._name}/_action/feedback/c{self._client_id}', self._on_feedback,
-            feedback_sub_qos_profile, callback_group=group)
+        self._feedback_subs = [node.create_subscription(
+            self._types.FeedbackMessage, topic, self._on_feedback, feedback_sub_qos_profile, callback_group=group)
+            for topic in (f'{self._name}/_action/feedback/c{self._client_id}', f'{self._name}/_action/feedback')]
         self._status_sub = node.create_subscription(
             GoalStatusArray, f'{self._name}/_action/status', self._on_status, status_sub_qos_profile,
             callback_group=group)
@@ -168,12 +171,16 @@ class ActionClient:
         """The fully qualified (remapped) name of the action."""
         return self._name
 
+    def get_num_entities(self) -> NumberOfEntities:
+        """What the client is made of, as rclpy's Waitable reports it: three service clients (send
+        goal, cancel, get result) and two subscriptions, feedback and status (zros's feedback is
+        one channel on two topics, the client's own and the shared one)."""
+        return NumberOfEntities(num_subscriptions=2, num_clients=3)
+
     def _listed(self, entities: list) -> bool:
-        """Whether the graph lists a server of this name and action type (servers of other types
-        may share the name) and its three services of their types, as rclpy requires."""
-        if not any(e.kind == EntityKind.ACTION_SERVER and e.name == self._name and e.type == self._action_type._TYPE
-                   for e in entities):
-            return False
+        """Whether the graph lists the action's three services, each of its type (servers of other
+        action types may share the name), as rclpy requires. A server need not be a zros
+        ActionServer: services made from the action's `Impl` types serve it too."""
         served = {(e.name, e.type) for e in entities if e.kind == EntityKind.SERVICE}
         return all((c.srv_name, c.srv_type._TYPE) in served for c in self._service_clients())
 
@@ -212,55 +219,70 @@ class ActionClient:
 
         :param goal: An instance of the action's Goal type.
         :param feedback_callback: Called on the executor with each FeedbackMessage of this goal.
-        :param goal_uuid: Accepted for rclpy's signature; zros takes the goal id from the server.
+        :param goal_uuid: The goal's id (a unique_identifier_msgs/msg/UUID); the server picks one if ``None``.
         :return: A Future completed with a ClientGoalHandle (check its `accepted`).
         :raises TypeError: If `goal` is not the action's Goal.
         """
-        if type(goal) is not self._action_type.Goal:
-            raise TypeError(f"action '{self._name}' expects {self._action_type._TYPE} Goal, "
-                            f'got {getattr(type(goal), "_TYPE", type(goal).__name__)}')
+        request = self._goal_request(goal, goal_uuid, feedback_callback)
         outer: Future[ClientGoalHandle] = Future(node=self._node)
-        inner = self._send_client.call_async(self._types.SendGoal.Request(goal=goal, client_id=self._client_id))
+        inner = self._send_client.call_async(request)
 
         def on_response(done: Future[Any]) -> None:
             exc = done.exception()
             if exc is not None:
+                self._forget(request.goal_id)
                 outer.set_exception(exc)
                 return
-            response: Any = done.result()
-            outer.set_result(self._register(response, feedback_callback) if response.accepted
-                             else ClientGoalHandle(self, response.goal_id, response.stamp, False))
+            outer.set_result(self._register(request.goal_id, done.result()))
         inner.add_done_callback(on_response)
         return outer
 
-    def _register(self, response: Any, feedback_callback: Callable | None) -> ClientGoalHandle:
-        """Track an accepted goal: its handle, its feedback callback and feedback that came early."""
-        handle = ClientGoalHandle(self, response.goal_id, response.stamp, True)
-        key = response.goal_id.uuid.tobytes()
-        with self._lock:
-            self._handles[key] = handle
-            if feedback_callback is not None:
-                self._feedback_callbacks[key] = feedback_callback
-            early = self._early_feedback.pop(key, [])
+    def _goal_request(self, goal: Any, goal_uuid: Any, feedback_callback: Callable | None) -> Any:
+        """The send-goal request for `goal`, with the caller's goal id or a new UUID4. The feedback
+        callback is registered before the request leaves: feedback can overtake the reply.
+
+        :raises TypeError: If `goal` is not the action's Goal.
+        """
+        from interfaces.unique_identifier_msgs.msg import UUID
+        if type(goal) is not self._action_type.Goal:
+            raise TypeError(f"action '{self._name}' expects {self._action_type._TYPE} Goal, "
+                            f'got {getattr(type(goal), "_TYPE", type(goal).__name__)}')
+        goal_id = goal_uuid if goal_uuid is not None else UUID(uuid=uuid.uuid4().bytes)
+        request = self._types.SendGoalService.Request(goal_id=goal_id, goal=goal, client_id=self._client_id)
         if feedback_callback is not None:
-            for message in early:
-                feedback_callback(message)
+            with self._lock:
+                self._feedback_callbacks[request.goal_id.uuid.tobytes()] = feedback_callback
+        return request
+
+    def _register(self, goal_id: Any, response: Any) -> ClientGoalHandle:
+        """The handle of a goal the server answered; an accepted goal is tracked for its status.
+        The goal keeps the id the client chose (a ROS 2 server's reply carries none)."""
+        handle = ClientGoalHandle(self, goal_id, response.stamp, response.accepted)
+        if not response.accepted:
+            self._forget(goal_id)
+            return handle
+        with self._lock:
+            self._handles[goal_id.uuid.tobytes()] = handle
         return handle
 
+    def _forget(self, goal_id: Any) -> None:
+        """Drop the feedback callback of a goal the server never took."""
+        with self._lock:
+            self._feedback_callbacks.pop(goal_id.uuid.tobytes(), None)
+
     def _settle(self, handle: ClientGoalHandle, response: Any) -> None:
-        """The goal's result is in: record its status, stop tracking it, and forget its feedback
-        callback after a grace period (late feedback still reaches it)."""
+        """The goal's result is in: record its status and stop tracking it. Feedback that arrived
+        before now still reaches the goal's callback; later feedback does not, as in rclpy."""
         handle._status = GoalStatus(response.status)
         key = handle.goal_id.uuid.tobytes()
-        now = time.monotonic()
+        now = time.time_ns()
         with self._lock:
             self._handles.pop(key, None)
             self._settled[key] = now
             for old, when in list(self._settled.items()):
-                if now - when > _FEEDBACK_GRACE_S:
+                if now - when > _SETTLED_MEMORY_S * 1e9:
                     del self._settled[old]
                     self._feedback_callbacks.pop(old, None)
-                    self._early_feedback.pop(old, None)
 
     def send_goal(self, goal: Any, feedback_callback: Callable | None = None, goal_uuid: Any = None) -> Any:
         """Send a goal and block until it ends.
@@ -270,28 +292,30 @@ class ActionClient:
 
         :param goal: An instance of the action's Goal type.
         :param feedback_callback: Called on the executor with each FeedbackMessage of this goal.
-        :param goal_uuid: Accepted for rclpy's signature.
+        :param goal_uuid: The goal's id; the server picks one if ``None``.
         :return: The GetResult response (`.status`, `.result`), or ``None`` if the goal was rejected.
         :raises TypeError: If `goal` is not the action's Goal.
         :raises ServiceCallError: If the server cannot be reached.
         """
-        if type(goal) is not self._action_type.Goal:
-            raise TypeError(f"action '{self._name}' expects {self._action_type._TYPE} Goal, "
-                            f'got {getattr(type(goal), "_TYPE", type(goal).__name__)}')
+        request = self._goal_request(goal, goal_uuid, feedback_callback)
         # One query: the server replies with the acceptance, then with the result when the goal
         # ends. A server that answers only the acceptance is asked for the result separately.
         replies = self._send_client._replies(
-            self._types.SendGoal.Request(goal=goal, client_id=self._client_id), None,
-            (self._types.SendGoal.Response, self._types.GetResult.Response), RESULT_PARAMETER)
-        response = next(replies)
-        if not response.accepted:
+            request, None,
+            (self._types.SendGoalService.Response, self._types.GetResultService.Response), RESULT_PARAMETER)
+        try:
+            response = next(replies)
+        except ServiceCallError:
+            self._forget(request.goal_id)
+            raise
+        handle = self._register(request.goal_id, response)
+        if not handle.accepted:
             return None
-        handle = self._register(response, feedback_callback)
         try:
             result = next(replies)
         except ServiceCallError:
             try:
-                result = self._result_client.call(self._types.GetResult.Request(goal_id=handle.goal_id))
+                result = self._result_client.call(self._types.GetResultService.Request(goal_id=handle.goal_id))
             except ServiceCallError as exc:
                 raise ServiceCallError(f"action server '{self._name}' did not deliver the result of goal "
                                        f'{bytes(handle.goal_id.uuid).hex()}: {exc}') from None
@@ -300,7 +324,7 @@ class ActionClient:
 
     def _get_result_async(self, handle: ClientGoalHandle) -> Future:
         outer: Future[Any] = Future(node=self._node)
-        inner = self._result_client.call_async(self._types.GetResult.Request(goal_id=handle.goal_id))
+        inner = self._result_client.call_async(self._types.GetResultService.Request(goal_id=handle.goal_id))
         name = self._name
 
         def on_result(done: Future) -> None:
@@ -322,17 +346,14 @@ class ActionClient:
         return self._cancel_client.call_async(CancelGoal.Request(goal_info=GoalInfo(goal_id=handle.goal_id)))
 
     # -- topics (executor) ---------------------------------------------------------------------
-    def _on_feedback(self, message: Any) -> None:
+    def _on_feedback(self, message: Any, info: Any) -> None:
+        """Hand feedback to its goal's callback, unless it arrived after the goal's result (or is
+        for a goal this client did not send, or sent without a callback)."""
         key = message.goal_id.uuid.tobytes()
         with self._lock:
             callback = self._feedback_callbacks.get(key)
-            if callback is None and key not in self._handles and key not in self._settled:
-                # Feedback can overtake the send-goal reply; keep it for the handle.
-                early = self._early_feedback.setdefault(key, [])
-                if len(early) < _EARLY_FEEDBACK_LIMIT:
-                    early.append(message)
-                return
-        if callback is not None:
+            settled = self._settled.get(key)
+        if callback is not None and (settled is None or info['received_timestamp'] <= settled):
             callback(message)
 
     def _on_status(self, array: Any) -> None:
@@ -352,6 +373,6 @@ class ActionClient:
         self._destroyed = True
         self._node._forget(self)
         self._node._undeclare_entity(self._entity)
-        for entity in (self._send_client, self._cancel_client, self._result_client, self._feedback_sub,
+        for entity in (self._send_client, self._cancel_client, self._result_client, *self._feedback_subs,
                        self._status_sub):
             self._node._destroy_entity(entity)

@@ -16,7 +16,8 @@ import uuid
 from collections import deque
 from typing import TYPE_CHECKING, Any, Callable
 
-from zros.action.types import protocol_types
+from zros.action.counts import NumberOfEntities
+from zros.action_types import protocol_types
 from zros.graph import EntityKind
 from zros.message import packed_array, serialize_parts
 from zros.publisher import Publisher
@@ -56,6 +57,9 @@ class GoalStatus(enum.IntEnum):
 
 #: The selector parameter of a send-goal query that asks for the result in a second reply.
 RESULT_PARAMETER = 'result'
+
+# The expiry timer's shortest period [s], for servers that keep results briefly or not at all.
+_MIN_EXPIRE_PERIOD_S = 0.1
 
 _ACTIVE = (GoalStatus.ACCEPTED, GoalStatus.EXECUTING, GoalStatus.CANCELING)
 # action_msgs/srv/CancelGoal return codes
@@ -242,7 +246,7 @@ class ActionServer:
         self._result_timeout = result_timeout
         self._feedback_qos = feedback_pub_qos_profile
         self.callback_group = callback_group or node.default_callback_group
-        self._goals: dict[bytes, ServerGoalHandle] = {}
+        self._goal_handles: dict[bytes, ServerGoalHandle] = {}
         self._feedback_pubs: dict[str, Publisher] = {}
         self._lock = threading.RLock()
         self._destroyed = False
@@ -255,9 +259,9 @@ class ActionServer:
                                      status_pub_qos_profile, self.callback_group)
         group = self.callback_group
         self._services = [
-            node.create_service(self._types.SendGoal, f'{self._name}/_action/send_goal', self._on_send_goal,
+            node.create_service(self._types.SendGoalService, f'{self._name}/_action/send_goal', self._on_send_goal,
                                 qos_profile=goal_service_qos_profile, callback_group=group),
-            node.create_service(self._types.GetResult, f'{self._name}/_action/get_result', self._on_get_result,
+            node.create_service(self._types.GetResultService, f'{self._name}/_action/get_result', self._on_get_result,
                                 qos_profile=result_service_qos_profile, callback_group=group),
         ]
         self._services[0]._follow_up = self._result_too
@@ -265,6 +269,9 @@ class ActionServer:
         self._cancel_service: Service[Any, Any] | None = None
         if not any(s._cancel_service for s in self._siblings()):
             self._serve_cancel()
+        # Finished goals are forgotten at most half a result_timeout late, while the node spins.
+        self._expire_timer = node.create_timer(max(result_timeout / 2, _MIN_EXPIRE_PERIOD_S), self._on_expire_timer,
+                                               callback_group=group)
         self._entity = node._declare_entity(EntityKind.ACTION_SERVER, self._name, action_type)
         node._add(self)
 
@@ -272,6 +279,12 @@ class ActionServer:
     def action_name(self) -> str:
         """The fully qualified (remapped) name of the action."""
         return self._name
+
+    def get_num_entities(self) -> NumberOfEntities:
+        """What the server is made of, as rclpy's Waitable reports it: three services (send goal,
+        cancel, get result) and the timer that forgets expired results. The feedback and status
+        publishers are not counted, as in rclpy."""
+        return NumberOfEntities(num_services=3, num_timers=1)
 
     def _siblings(self) -> list['ActionServer']:
         """Servers of other action types under this name in this node. Endpoints are typed, as in
@@ -288,34 +301,53 @@ class ActionServer:
 
     # -- protocol handlers (executor threads) -------------------------------------------------
     def _on_send_goal(self, request: Any, response: Any) -> Any:
-        from interfaces.unique_identifier_msgs.msg import UUID
+        response.stamp = self._node.get_clock().now().to_msg()
+        goal_id = _chosen_id(request.goal_id)
+        if goal_id.uuid.tobytes() in self._goal_handles:
+            return self._duplicate(response, goal_id)  # the goal callback never sees a duplicate
         try:
             decision = self._goal_callback(request.goal)
         except Exception as exc:  # noqa: BLE001 - a failing user callback rejects the goal
             self._node.get_logger().error(f"goal callback of action '{self._name}' raised {type(exc).__name__}: {exc}")
             decision = GoalResponse.REJECT
         response.accepted = decision == GoalResponse.ACCEPT
-        response.stamp = self._node.get_clock().now().to_msg()
         if not response.accepted:
             return response
-        goal_id = UUID(uuid=uuid.uuid4().bytes)
         handle = ServerGoalHandle(self, goal_id, request.goal, request.client_id)
-        response.goal_id = goal_id
         with self._lock:
-            self._goals[goal_id.uuid.tobytes()] = handle
+            if handle._key in self._goal_handles:  # the same id came twice at once
+                return self._duplicate(response, goal_id)
+            self._goal_handles[handle._key] = handle
+        response.goal_id = goal_id
         self._feedback_publisher(request.client_id)
         self._publish_status()
-        # Accepted-callback after the reply is sent: the client learns the id before feedback.
-        self._node._run_on_executor(self._handle_accepted, handle)
+        self._accept(handle)
         return response
+
+    def _duplicate(self, response: Any, goal_id: Any) -> Any:
+        """Reject a goal whose id the server already tracks, as rclpy does."""
+        self._node.get_logger().error(
+            f"action '{self._name}' cannot accept goal {bytes(goal_id.uuid).hex()}: the goal id already exists")
+        response.accepted = False
+        return response
+
+    def _accept(self, handle: ServerGoalHandle) -> None:
+        """A user's accepted-callback is called now, in the send-goal turn, so it has run when the
+        client learns the goal was accepted, as with rclpy (the client has registered the goal's
+        feedback callback before sending it, so feedback may come first); the default one starts
+        the goal as a task of its own, after the reply (it may run long)."""
+        if self._handle_accepted_callback is default_handle_accepted_callback:
+            self._node._run_on_executor(self._handle_accepted, handle)
+        else:
+            self._handle_accepted(handle)
 
     def _result_too(self, query: Any, response: Any) -> DeferredResponse | None:
         """A send-goal query with the `result` parameter (a blocking `send_goal`) gets the goal's
         GetResult response as a second reply when the goal ends: one exchange instead of two."""
         if not response.accepted or RESULT_PARAMETER not in query.parameters:
             return None
-        outcome = self._on_get_result(self._types.GetResult.Request(goal_id=response.goal_id),
-                                      self._types.GetResult.Response())
+        outcome = self._on_get_result(self._types.GetResultService.Request(goal_id=response.goal_id),
+                                      self._types.GetResultService.Response())
         if isinstance(outcome, DeferredResponse):
             return outcome
         deferred = DeferredResponse()
@@ -344,7 +376,7 @@ class ActionServer:
         goals: list[Any] = []
         for server in (self, *self._siblings()):
             with server._lock:
-                goals.extend(server._goals.values())
+                goals.extend(server._goal_handles.values())
         if any(target):
             candidates = [g for g in goals if g._goal_id.uuid.tobytes() == target]
             if not candidates:
@@ -378,7 +410,7 @@ class ActionServer:
 
     def _on_get_result(self, request: Any, response: Any) -> Any:
         with self._lock:
-            handle = self._goals.get(request.goal_id.uuid.tobytes())
+            handle = self._goal_handles.get(request.goal_id.uuid.tobytes())
         if handle is None:
             response.status = int(GoalStatus.UNKNOWN)
             return response
@@ -400,12 +432,10 @@ class ActionServer:
                 handle._status = GoalStatus.EXECUTING
         if status == GoalStatus.EXECUTING:
             raise RuntimeError(f'goal {handle._hex()} is already executing')
-        if status == GoalStatus.CANCELING:
-            handle.canceled()  # a cancel was accepted before the goal started: it ends here
-            self._finish(handle, self._action_type.Result())
-            return
-        if status != GoalStatus.ACCEPTED:
+        if status not in (GoalStatus.ACCEPTED, GoalStatus.CANCELING):
             return  # already finished
+        # A goal whose cancel was accepted before it started stays CANCELING and still runs the
+        # execute callback, as in rclpy: the callback sees is_cancel_requested and ends it.
         self._publish_status()
         if inline:
             return self._run(handle, execute_callback or self._execute_callback)
@@ -459,22 +489,29 @@ class ActionServer:
             waiters, handle._waiters = handle._waiters, []
         with self._lock:
             self._finished.append((handle._finished_at, handle._key))
-        response = self._types.GetResult.Response(status=handle.status, result=result)
+        response = self._types.GetResultService.Response(status=handle.status, result=result)
         for waiter in waiters:
             waiter.resolve(response)
         self._publish_status()
 
-    def _expire_results(self) -> None:
-        """Forget goals whose results have been kept for result_timeout (checked lazily, on the
-        next status change, instead of a timer thread per goal; oldest first, so the cost is
-        that of the goals that expire)."""
+    def _expire_results(self) -> bool:
+        """Forget goals whose results have been kept for result_timeout (checked on the server's
+        one timer and on each status change, not by a timer per goal; oldest first, so the cost is
+        that of the goals that expire). Returns whether any goal was forgotten."""
         cutoff = time.monotonic() - self._result_timeout
+        expired = False
         with self._lock:
             while self._finished and self._finished[0][0] <= cutoff:
                 key = self._finished.popleft()[1]
-                self._goals.pop(key, None)
+                self._goal_handles.pop(key, None)
                 self._status_heads.pop(key, None)
                 self._status_tails.pop(key, None)
+                expired = True
+        return expired
+
+    def _on_expire_timer(self) -> None:
+        if self._expire_results():
+            self._publish_status()  # the status array no longer lists them
 
     def _status_changed(self, handle: ServerGoalHandle) -> None:
         with self._lock:
@@ -482,10 +519,12 @@ class ActionServer:
 
     # -- topics -------------------------------------------------------------------------------
     def _feedback_publisher(self, client_id: str) -> Publisher:
+        """The publisher of one client's feedback topic; a goal sent without a client id (by
+        code written for ROS 2's protocol) gets its feedback on the one topic ROS 2 uses."""
         with self._lock:
             pub = self._feedback_pubs.get(client_id)
             if pub is None:
-                topic = f'{self._name}/_action/feedback/c{client_id}'
+                topic = f'{self._name}/_action/feedback' + (f'/c{client_id}' if client_id else '')
                 pub = Publisher(self._node, self._types.FeedbackMessage, topic, self._feedback_qos,
                                 self.callback_group)
                 self._feedback_pubs[client_id] = pub
@@ -517,7 +556,7 @@ class ActionServer:
                 return
             self._expire_results()
             for goal in self._changed:
-                if goal._key in self._goals:
+                if goal._key in self._goal_handles:
                     self._status_heads[goal._key], self._status_tails[goal._key] = goal._status_entry()
             self._changed.clear()
             payload = (packed_array([packed_array(list(self._status_heads.values()))])
@@ -539,6 +578,7 @@ class ActionServer:
         self._node._undeclare_entity(self._entity)
         for service in self._services:
             self._node.destroy_service(service)
+        self._node.destroy_timer(self._expire_timer)
         if self._cancel_service is not None:
             self._node.destroy_service(self._cancel_service)
             siblings = self._siblings()
@@ -547,7 +587,7 @@ class ActionServer:
         with self._lock:
             pubs = list(self._feedback_pubs.values())
             self._feedback_pubs.clear()
-            goals = list(self._goals.values())
+            goals = list(self._goal_handles.values())
         for pub in pubs:
             pub.destroy()
         self._status_pub.destroy()
@@ -556,6 +596,12 @@ class ActionServer:
                 waiters, handle._waiters = handle._waiters, []
             for waiter in waiters:
                 waiter.fail(f"action server '{self._name}' was destroyed")
+
+
+def _chosen_id(goal_id: Any) -> Any:
+    """The id a goal request asks for, or a new UUID4 if it asks for none (all zeros)."""
+    from interfaces.unique_identifier_msgs.msg import UUID
+    return goal_id if any(goal_id.uuid) else UUID(uuid=uuid.uuid4().bytes)
 
 
 def _ns(stamp: Any) -> int:
