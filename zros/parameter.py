@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import enum
 import fnmatch
+import functools
 import re
 from typing import Any
 
@@ -247,13 +248,10 @@ def _flatten(prefix: str, tree: dict, out: dict) -> None:
 
 
 def _node_pattern_matches(pattern: str, node_fqn: str) -> bool:
-    """ROS 2's node-name wildcards: `*` one token, `**` any number; a key without a leading
-    '/' matches a node of that name in any namespace (so files work under `namespace:`)."""
+    """ROS 2's node-name wildcards: `*` one token, `**` any number. A key is read from the
+    root as rcl reads it, leading '/' or not: `node2` and `*` match /node2, not /ns/node2."""
     if pattern in ('/**', '**'):
         return True
-    anchored = pattern.startswith('/')
-    if not anchored:
-        pattern = '/**/' + pattern
     regex = ''
     for token in pattern.strip('/').split('/'):
         if token == '**':
@@ -312,7 +310,7 @@ def _parameter_entries(path: str) -> list[tuple[str, dict]]:
     import yaml
     try:
         with open(path, encoding='utf-8') as stream:
-            document = yaml.safe_load(stream)
+            document = yaml.load(stream, Loader=_merging_loader())  # noqa: S506 - a SafeLoader
     except OSError as exc:
         error = ParameterFileNotFoundError if isinstance(exc, FileNotFoundError) else ParameterFileError
         raise error(f"cannot read parameter file '{path}': {exc.strerror}") from None
@@ -332,6 +330,34 @@ def _parameter_entries(path: str) -> list[tuple[str, dict]]:
             raise ParameterFileError(f"{path}: 'ros__parameters' of '{node_key}' must be a mapping")
         entries.append((node_key, params))
     return entries
+
+
+@functools.cache
+def _merging_loader() -> type:
+    """A yaml SafeLoader under which a key given twice in one mapping merges its mappings,
+    as rcl reads parameter files: a file may say `/**:` twice (once with `ros__parameters`,
+    once with a node under it) and both count, where plain YAML would keep only the last."""
+    import yaml
+
+    def merged(first: dict, second: dict) -> dict:
+        out = dict(first)
+        for key, value in second.items():
+            both = isinstance(out.get(key), dict) and isinstance(value, dict)
+            out[key] = merged(out[key], value) if both else value
+        return out
+
+    def construct_mapping(loader: yaml.SafeLoader, node: yaml.MappingNode) -> dict:
+        loader.flatten_mapping(node)
+        mapping: dict = {}
+        for key_node, value_node in node.value:
+            key = loader.construct_object(key_node, deep=True)
+            mapping = merged(mapping, {key: loader.construct_object(value_node, deep=True)})
+        return mapping
+
+    class MergingLoader(yaml.SafeLoader):
+        pass
+    MergingLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, construct_mapping)
+    return MergingLoader
 
 
 def _node_entries(path: str, prefix: str, mapping: dict) -> list[tuple[str, Any]]:
