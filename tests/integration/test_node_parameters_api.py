@@ -207,3 +207,28 @@ def test_names_given_to_graph_queries_are_checked_as_rclpy_checks_them(context):
     with pytest.raises(TypeError, match='Expected QoSProfile or int'):
         node.create_publisher(String, 'chatter', 'deep')
     node.destroy_node()
+
+
+def test_get_parameters_answers_nothing_when_one_name_has_no_value(context):
+    from zros.executors import SingleThreadedExecutor
+    from zros.parameter_client import AsyncParameterClient
+    server = Node('holder', context=context)
+    server.declare_parameter('typed_only', Parameter.Type.STRING)
+    server.declare_parameter('set', 'yes')
+    asker = Node('asker', context=context)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(server)
+    executor.add_node(asker)
+    client = AsyncParameterClient(asker, 'holder')
+    assert client.wait_for_services(timeout_sec=10)
+
+    def answer(future):
+        executor.spin_until_future_complete(future, timeout_sec=10)
+        return future.result()
+    assert [v.string_value for v in answer(client.get_parameters(['set'])).values] == ['yes']
+    assert answer(client.get_parameters(['set', 'typed_only'])).values == []   # declared, no value yet
+    assert answer(client.get_parameters(['set', 'undeclared'])).values == []
+    assert answer(client.describe_parameters(['typed_only'])).descriptors[0].type == Parameter.Type.STRING
+    executor.shutdown()
+    server.destroy_node()
+    asker.destroy_node()
