@@ -12,6 +12,25 @@ __all__ = ['TypeHash']
 _DIGEST_SIZE = 32  # [bytes] a SHA-256 digest
 
 
+class _Typed:
+    """A slot-backed attribute that takes values of one type only (rclpy asserts them)."""
+
+    def __init__(self, kind: type, doc: str) -> None:
+        self._kind = kind
+        self.__doc__ = doc
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        self._name, self._slot = name, '_' + name
+
+    def __get__(self, obj: object, owner: type | None = None) -> object:
+        return self if obj is None else getattr(obj, self._slot)
+
+    def __set__(self, obj: object, value: object) -> None:
+        if not isinstance(value, self._kind):
+            raise TypeError(f'a type hash {self._name} must be {self._kind.__name__}, got {type(value).__name__}')
+        setattr(obj, self._slot, value)
+
+
 class TypeHash:
     """A version and a 32-byte digest; version -1 (the default) stands for no hash.
 
@@ -36,27 +55,8 @@ class TypeHash:
         except ValueError:
             return cls()
 
-    @property
-    def version(self) -> int:
-        """The RIHS version (-1: no hash)."""
-        return self._version
-
-    @version.setter
-    def version(self, version: int) -> None:
-        if not isinstance(version, int):
-            raise TypeError(f'a type hash version must be an int, got {type(version).__name__}')
-        self._version = version
-
-    @property
-    def value(self) -> bytes:
-        """The digest."""
-        return self._value
-
-    @value.setter
-    def value(self, value: bytes) -> None:
-        if not isinstance(value, bytes):
-            raise TypeError(f'a type hash value must be bytes, got {type(value).__name__}')
-        self._value = value
+    version = _Typed(int, 'The RIHS version (-1: no hash).')
+    value = _Typed(bytes, 'The digest.')
 
     def __eq__(self, other: object) -> bool:
         return isinstance(other, TypeHash) and (self._version, self._value) == (other._version, other._value)
