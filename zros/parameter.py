@@ -17,6 +17,7 @@ __all__ = ['Parameter', 'parameter_value_to_python', 'load_parameter_file', 'par
            'ParameterFileNotFoundError']
 
 from zros.errors import ZrosError
+from zros.message import register_stand_in
 
 
 class ParameterFileError(ZrosError):
@@ -177,6 +178,11 @@ class Parameter:
 
     def __repr__(self) -> str:
         return f'Parameter(name={self._name!r}, type_={self._type.name}, value={self._value!r})'
+
+
+# rclpy code builds ParameterEvent messages from Parameter objects; a Parameter field takes one
+# as its message
+register_stand_in('rcl_interfaces/msg/Parameter', Parameter, Parameter.to_parameter_msg)
 
 
 def parameter_value_to_python(msg) -> Any:
