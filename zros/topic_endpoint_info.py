@@ -9,7 +9,7 @@ from __future__ import annotations
 import enum
 from typing import Any
 
-from zros.qos import HistoryPolicy, QoSProfile
+from zros.qos import DurabilityPolicy, HistoryPolicy, LivelinessPolicy, QoSProfile, ReliabilityPolicy
 from zros.type_hash import TypeHash
 
 __all__ = ['TopicEndpointTypeEnum', 'TopicEndpointInfo']
@@ -22,6 +22,11 @@ class TopicEndpointTypeEnum(enum.IntEnum):
     SUBSCRIPTION = 2
 
 
+#: What an endpoint info holds before the graph says: every policy UNKNOWN (rmw's unknown profile).
+_UNKNOWN_QOS = QoSProfile(history=HistoryPolicy.UNKNOWN, depth=0, reliability=ReliabilityPolicy.UNKNOWN,
+                          durability=DurabilityPolicy.UNKNOWN, liveliness=LivelinessPolicy.UNKNOWN)
+
+
 class TopicEndpointInfo:
     """One endpoint of a topic; constructed by the node's graph queries, fields by keyword.
 
@@ -32,7 +37,7 @@ class TopicEndpointInfo:
         zros.type_hash), or its ``version``/``value`` as a dict.
     :param endpoint_type: A TopicEndpointTypeEnum (or its int).
     :param endpoint_gid: The endpoint's unique id, as a list of byte values.
-    :param qos_profile: The QoS the endpoint announced.
+    :param qos_profile: The QoS the endpoint announced (all UNKNOWN if not given).
     """
 
     __slots__ = ('node_name', 'node_namespace', 'topic_type', 'topic_type_hash', 'endpoint_type', 'endpoint_gid',
@@ -49,7 +54,7 @@ class TopicEndpointInfo:
             else topic_type_hash or TypeHash()
         self.endpoint_type = TopicEndpointTypeEnum(endpoint_type)
         self.endpoint_gid = list(endpoint_gid or [])
-        self.qos_profile = QoSProfile(**qos_profile) if isinstance(qos_profile, dict) else qos_profile or QoSProfile()
+        self.qos_profile = QoSProfile(**qos_profile) if isinstance(qos_profile, dict) else qos_profile or _UNKNOWN_QOS
 
     def __eq__(self, other: Any) -> bool:
         return isinstance(other, TopicEndpointInfo) and all(

@@ -28,11 +28,3 @@ def test_endpoint_infos_name_node_type_kind_and_the_announced_qos(context):
     assert ('informer', '/info', '/') in node.get_node_names_and_namespaces_with_enclaves()
     node.destroy_node()
 
-
-def test_an_endpoint_info_takes_its_hash_and_qos_as_dicts_as_rclpy_builds_them():
-    info = TopicEndpointInfo(topic_type_hash={'version': 1, 'value': bytes(32)}, endpoint_type=2,
-                             qos_profile={'depth': 4})
-    assert info.topic_type_hash == TypeHash(1, bytes(32)) and info.qos_profile.depth == 4
-    assert info.endpoint_type == TopicEndpointTypeEnum.SUBSCRIPTION
-    assert info == TopicEndpointInfo(topic_type_hash=TypeHash(1, bytes(32)), endpoint_type=2,
-                                     qos_profile=QoSProfile(depth=4))
