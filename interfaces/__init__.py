@@ -65,8 +65,12 @@ class _Finder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
     def create_module(self, spec: importlib.machinery.ModuleSpec) -> types.ModuleType:
         if spec.name.count('.') == 2:
             return _InterfaceModule(spec.name)
+        from zros import typesupport
+        package = PACKAGE_ALIASES.get(spec.name.split('.')[1], spec.name.split('.')[1])
         module = types.ModuleType(spec.name)
-        module.__path__ = []
+        # the package's folders on the search path: a Python module shipped beside the
+        # interface files (test_msgs's message_fixtures) imports as `<pkg>.<module>`
+        module.__path__ = [str(root / package) for root in typesupport.search_roots() if (root / package).is_dir()]
         return module
 
     def exec_module(self, module: types.ModuleType) -> None:

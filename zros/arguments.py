@@ -22,6 +22,9 @@ class RosArgs:
     remaps: list[str] = field(default_factory=list)
     params: list[tuple[str, str]] = field(default_factory=list)      # (name, yaml text)
     params_files: list[str] = field(default_factory=list)
+    #: `-p` values and `--params-file` paths in command-line order, as rcl applies them (a later
+    #: one wins): a (name, yaml text) pair is a `-p`, a str a parameter file.
+    parameter_sources: list[tuple[str, str] | str] = field(default_factory=list)
     log_levels: list[tuple[str, str]] = field(default_factory=list)  # (logger or '', level)
     enclave: str | None = None
     disable_rosout: bool = False
@@ -87,8 +90,10 @@ def parse_ros_args(argv: list[str]) -> RosArgs:
                 if not name:
                     raise RosArgsError(f"parameter '{value}' has no name")
                 result.params.append((name, text))
+                result.parameter_sources.append((name, text))
             elif flag == '--params-file':
                 result.params_files.append(value)
+                result.parameter_sources.append(value)
             elif flag == '--log-level':
                 logger, _, level = value.rpartition(':=')
                 result.log_levels.append((logger, level))

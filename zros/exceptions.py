@@ -8,7 +8,7 @@ __all__ = ['ParameterException', 'ParameterNotDeclaredException', 'ParameterAlre
            'InvalidParameterException', 'InvalidParameterValueException', 'InvalidParameterTypeException',
            'ParameterImmutableException', 'ParameterUninitializedException', 'InvalidServiceNameException',
            'InvalidTopicNameException', 'InvalidNodeNameException', 'InvalidNamespaceException',
-           'ROSInterruptException', 'NotInitializedException', 'InvalidHandle']
+           'ROSInterruptException', 'NotInitializedException', 'InvalidHandle', 'NoTypeSupportImportedException']
 
 
 
@@ -69,3 +69,10 @@ class ROSInterruptException(ZrosError):
 
     def __init__(self) -> None:
         super().__init__('zros was shut down while sleeping')
+
+
+class NoTypeSupportImportedException(ZrosError):
+    """A class declares type support (rclpy's `_TYPE_SUPPORT`) but none could be imported."""
+
+    def __init__(self) -> None:
+        super().__init__('no type_support imported')

@@ -37,7 +37,7 @@ from zros.idl import ActionSpec, Field, FieldType, MessageSpec, ServiceSpec
 
 __all__ = ['Message', 'make_message_class', 'make_service_class', 'make_action_class', 'type_hash',
            'ARRAY_TYPECODES', 'NUMPY_DTYPES', 'serialize', 'serialize_parts', 'packed_array', 'deserialize',
-           'encoder', 'decoder', 'MsgT', 'SrvRequestT', 'SrvResponseT', 'Srv']
+           'encoder', 'decoder', 'MsgT', 'SrvRequestT', 'SrvResponseT', 'Srv', 'register_stand_in']
 
 # Type variables for the typed entities (rclpy's type_support has the same): with them a checker
 # or an editor knows that `create_publisher(String, ...)` returns a `Publisher[String]` whose
@@ -165,6 +165,21 @@ class Message:
         return deserialize(serialize(self), type(self))
 
 
+# -- stand-ins: objects a message field converts on assignment -----------------------------------
+#: message type -> {class: conversion}. rclpy code fills messages with its own objects where a
+#: message is expected (`ParameterEvent(new_parameters=[Parameter(...)])`: rclpy's generated
+#: classes do not check fields by default); such a value is converted when it is assigned.
+_STAND_INS: dict[str, dict[type, Callable[[Any], Any]]] = {}
+
+
+def register_stand_in(message_type: str, cls: type, to_message: Callable[[Any], Any]) -> None:
+    """Let a field of `message_type` ('pkg/msg/Name') take instances of `cls`, converted with
+    `to_message` as they are assigned (in a list too). A list changed in place afterwards is
+    checked strictly when the message is serialized: the conversion runs on assignment only.
+    """
+    _STAND_INS.setdefault(message_type, {})[cls] = to_message
+
+
 # -- checks shared by assignment and decoding --------------------------------------------------
 def _type_error(msg_type: str, field: str, expected: str, value: Any) -> MessageTypeError:
     return MessageTypeError(
@@ -172,16 +187,21 @@ def _type_error(msg_type: str, field: str, expected: str, value: Any) -> Message
 
 
 def _scalar_checker(msg_type: str, name: str, ftype: FieldType,
-                    nested: type | None) -> Callable[[Any], Any]:
+                    nested: type | None, stand_ins: bool = True) -> Callable[[Any], Any]:
     """Return a function that validates one scalar value of this field and returns it in the
-    form the message holds (an int for a float field becomes a float, and so on)."""
+    form the message holds (an int for a float field becomes a float, a registered stand-in its
+    message, and so on; `stand_ins=False` refuses those, for what is checked before encoding)."""
     base = ftype.base
     if nested is not None:
         expected = nested._TYPE
+        conversions = _STAND_INS.setdefault(expected, {}) if stand_ins else {}
 
         def check_nested(value: Any) -> Any:
             if type(value) is not nested:
-                raise _type_error(msg_type, name, f'a {expected} message', value)
+                convert = conversions.get(type(value))
+                if convert is None:
+                    raise _type_error(msg_type, name, f'a {expected} message', value)
+                return convert(value)
             return value
         return check_nested
     if base == 'bool':
@@ -575,7 +595,7 @@ def _encode_checks(msg_type: str, spec: MessageSpec, nested: dict[str, type]):
         kind = _kind(ftype, sub)
         if kind in ('list', 'bytes'):
             check_length = _length_checker(msg_type, name, ftype)
-            check_item = _scalar_checker(msg_type, name, ftype, sub)
+            check_item = _scalar_checker(msg_type, name, ftype, sub, stand_ins=False)
 
             def check_list(values: Any, check_length=check_length, check_item=check_item) -> None:
                 check_length(len(values))

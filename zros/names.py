@@ -115,7 +115,9 @@ def expand_topic_name(name: str, node_name: str, namespace: str, kind: str = 'to
     Follows rcl_expand_topic_name: `~` is the node's fully qualified name, `{node}` and `{ns}`
     substitutions are supported, relative names go under the namespace.
     """
-    if not isinstance(name, str) or not name:
+    if not isinstance(name, str):
+        raise TypeError(f'a {kind} must be a str, got {type(name).__name__} {name!r}')
+    if not name:
         raise _invalid(kind, f'{kind} must not be empty (a non-empty string)')
     original = name
     if '{' in name or '}' in name:
@@ -136,7 +138,7 @@ def expand_topic_name(name: str, node_name: str, namespace: str, kind: str = 'to
         return validate_full_name(name, kind)
     except InvalidNameError as exc:
         if name != original:
-            raise type(exc)(f"{exc} (expanded from '{original}')") from None
+            raise type(exc)(f"{exc} (expanded from '{original}', which is invalid)") from None
         raise
 
 

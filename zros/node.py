@@ -33,6 +33,9 @@ from zros.guard_condition import GuardCondition
 from zros.timer import Rate, Timer, timer_lists_changed
 from zros.time_source import TimeSource
 from zros.type_description_service import TypeDescriptionService
+from zros.topic_endpoint_info import TopicEndpointInfo, TopicEndpointTypeEnum
+from zros.type_hash import TypeHash
+from zros.type_support import is_message_type, is_service_type
 
 if TYPE_CHECKING:
     from zros.qos_monitor import QoSMonitor
@@ -207,12 +210,20 @@ class Node:
         :return: The fully qualified name.
         :raises InvalidNameError: If the name is not a valid ROS name.
         """
-        fq = expand_topic_name(topic, self._name, self._namespace)
+        return self._resolve(topic, 'topic name', only_expand)
+
+    def resolve_service_name(self, service: str, *, only_expand: bool = False) -> str:
+        """Expand a service name against this node and apply remapping, as resolve_topic_name.
+
+        :raises InvalidServiceNameException: If the name is not a valid ROS name.
+        """
+        return self._resolve(service, 'service name', only_expand)
+
+    def _resolve(self, name: str, kind: str, only_expand: bool) -> str:
+        fq = expand_topic_name(name, self._name, self._namespace, kind)
         if only_expand:
             return fq
         return self._remappings.apply(fq, self._name, self._namespace, self._original_name)
-
-    resolve_service_name = resolve_topic_name
 
     # -- entities --------------------------------------------------------------------------
     def _declare_token(self, entity: Entity) -> Any:
@@ -583,6 +594,16 @@ class Node:
         """
         return node_names_and_namespaces(self._graph_entities())
 
+    def get_node_names_and_namespaces_with_enclaves(self) -> list[tuple[str, str, str]]:
+        """The nodes in the graph with their security enclave.
+
+        zros's graph does not announce enclaves, so each node is listed in the root enclave
+        '/' (docs/porting.md).
+
+        :return: ``(name, namespace, enclave)`` triples, sorted.
+        """
+        return [(name, namespace, '/') for name, namespace in self.get_node_names_and_namespaces()]
+
     def get_fully_qualified_node_names(self) -> list[str]:
         """The nodes in the graph, as fully qualified names.
 
@@ -649,50 +670,60 @@ class Node:
     def count_services(self, service_name: str) -> int:
         """Count the servers of a service in the graph.
 
-        :param service_name: The service name, resolved against this node.
+        :param service_name: The service name, expanded against this node (not remapped, as rclpy).
         :return: The number of servers.
         """
-        return len(endpoints(self._graph_entities(), EntityKind.SERVICE, self.resolve_service_name(service_name)))
+        return len(endpoints(self._graph_entities(), EntityKind.SERVICE, self.resolve_service_name(service_name, only_expand=True)))
 
     def count_clients(self, service_name: str) -> int:
         """Count the clients of a service in the graph.
 
-        :param service_name: The service name, resolved against this node.
+        :param service_name: The service name, expanded against this node (not remapped, as rclpy).
         :return: The number of clients.
         """
-        return len(endpoints(self._graph_entities(), EntityKind.CLIENT, self.resolve_service_name(service_name)))
+        return len(endpoints(self._graph_entities(), EntityKind.CLIENT, self.resolve_service_name(service_name, only_expand=True)))
 
     def count_publishers(self, topic_name: str) -> int:
         """Count the publishers on a topic in the graph.
 
-        :param topic_name: The topic name, resolved against this node.
+        :param topic_name: The topic name, expanded against this node (not remapped, as rclpy).
         :return: The number of publishers.
         """
-        return len(endpoints(self._graph_entities(), EntityKind.PUBLISHER, self.resolve_topic_name(topic_name)))
+        return len(endpoints(self._graph_entities(), EntityKind.PUBLISHER, self.resolve_topic_name(topic_name, only_expand=True)))
 
     def count_subscribers(self, topic_name: str) -> int:
         """Count the subscriptions on a topic in the graph.
 
-        :param topic_name: The topic name, resolved against this node.
+        :param topic_name: The topic name, expanded against this node (not remapped, as rclpy).
         :return: The number of subscriptions.
         """
-        return len(endpoints(self._graph_entities(), EntityKind.SUBSCRIPTION, self.resolve_topic_name(topic_name)))
+        return len(endpoints(self._graph_entities(), EntityKind.SUBSCRIPTION, self.resolve_topic_name(topic_name, only_expand=True)))
 
-    def get_publishers_info_by_topic(self, topic_name: str) -> list[Entity]:
+    def get_publishers_info_by_topic(self, topic_name: str, no_mangle: bool = False) -> list[TopicEndpointInfo]:
         """Describe every publisher on a topic: node, type, QoS (what `zros topic info -v` prints).
 
         :param topic_name: The topic name, resolved against this node.
-        :return: The publishers' graph records (zros.graph.Entity).
+        :param no_mangle: Accepted for rclpy's signature; zros names are never mangled.
+        :return: One TopicEndpointInfo per publisher.
         """
-        return endpoints(self._graph_entities(), EntityKind.PUBLISHER, self.resolve_topic_name(topic_name))
+        return self._endpoint_infos(EntityKind.PUBLISHER, topic_name)
 
-    def get_subscriptions_info_by_topic(self, topic_name: str) -> list[Entity]:
+    def get_subscriptions_info_by_topic(self, topic_name: str, no_mangle: bool = False) -> list[TopicEndpointInfo]:
         """Describe every subscription on a topic: node, type, QoS.
 
         :param topic_name: The topic name, resolved against this node.
-        :return: The subscriptions' graph records (zros.graph.Entity).
+        :param no_mangle: Accepted for rclpy's signature; zros names are never mangled.
+        :return: One TopicEndpointInfo per subscription.
         """
-        return endpoints(self._graph_entities(), EntityKind.SUBSCRIPTION, self.resolve_topic_name(topic_name))
+        return self._endpoint_infos(EntityKind.SUBSCRIPTION, topic_name)
+
+    def _endpoint_infos(self, kind: str, topic_name: str) -> list[TopicEndpointInfo]:
+        endpoint_type = (TopicEndpointTypeEnum.PUBLISHER if kind == EntityKind.PUBLISHER
+                         else TopicEndpointTypeEnum.SUBSCRIPTION)
+        return [TopicEndpointInfo(node_name=e.node_name, node_namespace=e.namespace, topic_type=e.type,
+                                  topic_type_hash=TypeHash.from_string(e.type_hash), endpoint_type=endpoint_type,
+                                  endpoint_gid=_endpoint_gid(e), qos_profile=QoSProfile.from_token(e.qos))
+                for e in endpoints(self._graph_entities(), kind, self.resolve_topic_name(topic_name))]
 
     def wait_for_node(self, fully_qualified_node_name: str, timeout: float) -> bool:
         """Wait until a node is in the graph (woken by graph changes, not by polling).
@@ -896,7 +927,7 @@ class Node:
         :param callback: The validator.
         :return: `callback`, for `remove_on_set_parameters_callback`.
         """
-        self._parameters.add_on_set(callback)
+        self._parameters.add_callback('on_set', callback)
         return callback
 
     def remove_on_set_parameters_callback(self, callback: Callable) -> None:
@@ -905,7 +936,7 @@ class Node:
         :param callback: A callback given to `add_on_set_parameters_callback`.
         :raises ValueError: If it is not registered.
         """
-        self._parameters.remove_callback(callback)
+        self._parameters.remove_callback('on_set', callback)
 
     def add_pre_set_parameters_callback(self, callback: Callable) -> Callable:
         """Register a callback that may change the list of parameters about to be set.
@@ -913,7 +944,7 @@ class Node:
         :param callback: Takes the list of Parameters, returns the list to set instead.
         :return: `callback`.
         """
-        self._parameters.add_pre_set(callback)
+        self._parameters.add_callback('pre_set', callback)
         return callback
 
     def remove_pre_set_parameters_callback(self, callback: Callable) -> None:
@@ -922,7 +953,7 @@ class Node:
         :param callback: A callback given to `add_pre_set_parameters_callback`.
         :raises ValueError: If it is not registered.
         """
-        self._parameters.remove_callback(callback)
+        self._parameters.remove_callback('pre_set', callback)
 
     def add_post_set_parameters_callback(self, callback: Callable) -> Callable:
         """Register a callback run after parameters were set (to apply them).
@@ -930,7 +961,7 @@ class Node:
         :param callback: Takes the list of Parameters that were set.
         :return: `callback`.
         """
-        self._parameters.add_post_set(callback)
+        self._parameters.add_callback('post_set', callback)
         return callback
 
     def remove_post_set_parameters_callback(self, callback: Callable) -> None:
@@ -939,11 +970,25 @@ class Node:
         :param callback: A callback given to `add_post_set_parameters_callback`.
         :raises ValueError: If it is not registered.
         """
-        self._parameters.remove_callback(callback)
+        self._parameters.remove_callback('post_set', callback)
 
     @property
     def _parameter_overrides(self) -> dict[str, Any]:
         return self._parameters.overrides
+
+    # rclpy's Node keeps its callbacks in these lists and code reads them (`cb in node._on_set_
+    # parameters_callbacks`); here they are snapshots of the store's, in the order they run.
+    @property
+    def _pre_set_parameters_callbacks(self) -> tuple[Callable, ...]:
+        return self._parameters.callbacks('pre_set')
+
+    @property
+    def _on_set_parameters_callbacks(self) -> tuple[Callable, ...]:
+        return self._parameters.callbacks('on_set')
+
+    @property
+    def _post_set_parameters_callbacks(self) -> tuple[Callable, ...]:
+        return self._parameters.callbacks('post_set')
 
     # -- /rosout ---------------------------------------------------------------------------
     def _start_rosout(self) -> None:
@@ -1015,11 +1060,20 @@ def _type(name: str) -> type:
     return get_type(name)
 
 
+def _endpoint_gid(entity: Entity) -> list[int]:
+    """An endpoint's unique id as rclpy lists a GID: its session's id, node and entity numbers."""
+    try:
+        session = bytes.fromhex(entity.zid if len(entity.zid) % 2 == 0 else '0' + entity.zid)
+    except ValueError:
+        session = entity.zid.encode()
+    return list(session + entity.node_id.to_bytes(4, 'big') + entity.entity_id.to_bytes(4, 'big'))
+
+
 def _require_service_type(srv_type: Any) -> None:
-    if not (isinstance(srv_type, type) and hasattr(srv_type, 'Request') and hasattr(srv_type, 'Response')):
+    if not is_service_type(srv_type):
         raise TypeError(f'{srv_type!r} is not a service type (import it from interfaces.<pkg>.srv)')
 
 
 def _require_message_type(msg_type: Any) -> None:
-    if not (isinstance(msg_type, type) and hasattr(msg_type, '_ENC')):
+    if not is_message_type(msg_type):
         raise TypeError(f'{msg_type!r} is not a message class (import it from interfaces.<pkg>.msg)')

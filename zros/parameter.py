@@ -8,17 +8,25 @@ from __future__ import annotations
 
 import enum
 import fnmatch
+import functools
 import re
 from typing import Any
 
 __all__ = ['Parameter', 'parameter_value_to_python', 'load_parameter_file', 'parameter_dict_from_yaml_file',
-           'parse_parameter_value', 'get_parameter_value', 'ParameterFileError']
+           'parse_parameter_value', 'get_parameter_value', 'ParameterFileError',
+           'ParameterFileNotFoundError']
 
 from zros.errors import ZrosError
+from zros.message import register_stand_in
 
 
 class ParameterFileError(ZrosError):
     """A parameter file that cannot be read; the message names the file."""
+
+
+class ParameterFileNotFoundError(ParameterFileError, FileNotFoundError):
+    """A parameter file that does not exist: also a FileNotFoundError, which is what rclpy's
+    parameter_dict_from_yaml_file raises and its callers catch."""
 
 
 class Parameter:
@@ -30,7 +38,9 @@ class Parameter:
     :param name: The parameter's name (dots separate namespaces).
     :param type_: A Parameter.Type; ``None`` infers it from `value`.
     :param value: The value; ``None`` with no type gives a NOT_SET parameter.
-    :raises TypeError: If the value does not match the type, or an array mixes element types.
+    :raises TypeError: If `type_` is no Parameter.Type, or the value's type cannot be inferred
+        (an array mixing element types, a dict).
+    :raises ValueError: If the value does not match the given type (as rclpy).
     """
     class Type(enum.IntEnum):
         NOT_SET = 0
@@ -77,15 +87,19 @@ class Parameter:
             raise TypeError(f'unsupported parameter value type {type(value).__name__}')
 
         def check(self, value: Any) -> bool:
+            """Whether `value` is of this type (only None is NOT_SET, as rclpy)."""
             try:
-                return self == Parameter.Type.NOT_SET or Parameter.Type.from_parameter_value(value) == self
+                return Parameter.Type.from_parameter_value(value) == self
             except TypeError:
                 return False
 
     def __init__(self, name: str, type_: 'Parameter.Type | None' = None, value: Any = None) -> None:
         if type_ is None:
             type_ = Parameter.Type.from_parameter_value(value)
-        type_ = Parameter.Type(type_)
+        try:
+            type_ = Parameter.Type(type_)
+        except ValueError:
+            raise TypeError(f'type must be a Parameter.Type, got {type_!r} (parameter {name})') from None
         if hasattr(value, 'tolist') and not isinstance(value, (list, tuple)):
             value = value.tolist()
         if isinstance(value, tuple):
@@ -95,7 +109,7 @@ class Parameter:
         if type_ == Parameter.Type.DOUBLE_ARRAY and isinstance(value, list):
             value = [float(v) if isinstance(v, int) and not isinstance(v, bool) else v for v in value]
         if not type_.check(value):
-            raise TypeError(f"type {type(value).__name__} of value {value!r:.60} does not match "
+            raise ValueError(f"type {type(value).__name__} of value {value!r:.60} does not match "
                             f'parameter type {type_.name} (parameter {name})')
         self._name = name
         self._type = type_
@@ -157,14 +171,31 @@ class Parameter:
         return (isinstance(other, Parameter) and (self._name, self._type, self._value)
                 == (other._name, other._type, other._value))
 
+    def __hash__(self) -> int:
+        # equal parameters hash alike; a list value is hashed as the tuple of its elements
+        value = tuple(self._value) if isinstance(self._value, list) else self._value
+        return hash((self._name, self._type, value))
+
     def __repr__(self) -> str:
         return f'Parameter(name={self._name!r}, type_={self._type.name}, value={self._value!r})'
 
 
+# rclpy code builds ParameterEvent messages from Parameter objects; a Parameter field takes one
+# as its message
+register_stand_in('rcl_interfaces/msg/Parameter', Parameter, Parameter.to_parameter_msg)
+
+
 def parameter_value_to_python(msg) -> Any:
-    """The Python value of an rcl_interfaces/msg/ParameterValue (None for NOT_SET)."""
+    """The Python value of an rcl_interfaces/msg/ParameterValue (None for NOT_SET).
+
+    Raises:
+        RuntimeError: the message's `type` is no ParameterType (as rclpy).
+    """
     T = Parameter.Type
-    kind = T(msg.type)
+    try:
+        kind = T(msg.type)
+    except ValueError:
+        raise RuntimeError(f'unexpected parameter type {msg.type}') from None
     if kind == T.NOT_SET:
         return None
     if kind == T.BOOL:
@@ -223,13 +254,10 @@ def _flatten(prefix: str, tree: dict, out: dict) -> None:
 
 
 def _node_pattern_matches(pattern: str, node_fqn: str) -> bool:
-    """ROS 2's node-name wildcards: `*` one token, `**` any number; a key without a leading
-    '/' matches a node of that name in any namespace (so files work under `namespace:`)."""
+    """ROS 2's node-name wildcards: `*` one token, `**` any number. A key is read from the
+    root as rcl reads it, leading '/' or not: `node2` and `*` match /node2, not /ns/node2."""
     if pattern in ('/**', '**'):
         return True
-    anchored = pattern.startswith('/')
-    if not anchored:
-        pattern = '/**/' + pattern
     regex = ''
     for token in pattern.strip('/').split('/'):
         if token == '**':
@@ -288,9 +316,10 @@ def _parameter_entries(path: str) -> list[tuple[str, dict]]:
     import yaml
     try:
         with open(path, encoding='utf-8') as stream:
-            document = yaml.safe_load(stream)
+            document = yaml.load(stream, Loader=_merging_loader())  # noqa: S506 - a SafeLoader
     except OSError as exc:
-        raise ParameterFileError(f"cannot read parameter file '{path}': {exc.strerror}") from None
+        error = ParameterFileNotFoundError if isinstance(exc, FileNotFoundError) else ParameterFileError
+        raise error(f"cannot read parameter file '{path}': {exc.strerror}") from None
     except yaml.YAMLError as exc:
         mark = getattr(exc, 'problem_mark', None)
         where = f':{mark.line + 1}' if mark else ''
@@ -307,6 +336,34 @@ def _parameter_entries(path: str) -> list[tuple[str, dict]]:
             raise ParameterFileError(f"{path}: 'ros__parameters' of '{node_key}' must be a mapping")
         entries.append((node_key, params))
     return entries
+
+
+@functools.cache
+def _merging_loader() -> type:
+    """A yaml SafeLoader under which a key given twice in one mapping merges its mappings,
+    as rcl reads parameter files: a file may say `/**:` twice (once with `ros__parameters`,
+    once with a node under it) and both count, where plain YAML would keep only the last."""
+    import yaml
+
+    def merged(first: dict, second: dict) -> dict:
+        out = dict(first)
+        for key, value in second.items():
+            both = isinstance(out.get(key), dict) and isinstance(value, dict)
+            out[key] = merged(out[key], value) if both else value
+        return out
+
+    def construct_mapping(loader: yaml.SafeLoader, node: yaml.MappingNode) -> dict:
+        loader.flatten_mapping(node)
+        mapping: dict = {}
+        for key_node, value_node in node.value:
+            key = loader.construct_object(key_node, deep=True)
+            mapping = merged(mapping, {key: loader.construct_object(value_node, deep=True)})
+        return mapping
+
+    class MergingLoader(yaml.SafeLoader):
+        pass
+    MergingLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, construct_mapping)
+    return MergingLoader
 
 
 def _node_entries(path: str, prefix: str, mapping: dict) -> list[tuple[str, Any]]:

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from zros.exceptions import ParameterException
+from zros.exceptions import ParameterException, ParameterNotDeclaredException, ParameterUninitializedException
 from zros.parameter import Parameter
 from zros.qos import qos_profile_parameters
 
@@ -54,11 +54,12 @@ class ParameterService:
         return response
 
     def _get(self, request: Any, response: Any) -> Any:
-        values = []
-        for name in request.names:
-            param = self._store.get_or(name)
-            values.append(param.get_parameter_value())
-        response.values = values
+        """All the values asked for, or none (an empty list, as rclpy answers) when one of the
+        names is undeclared or declared with a type but no value yet."""
+        try:
+            response.values = [self._store.get(name).get_parameter_value() for name in request.names]
+        except (ParameterNotDeclaredException, ParameterUninitializedException):
+            response.values = []
         return response
 
     def _get_types(self, request: Any, response: Any) -> Any:

@@ -20,7 +20,11 @@ from zros.parameter import Parameter, load_parameter_file, parameter_value_to_py
 if TYPE_CHECKING:
     from zros.node import Node
 
-__all__ = ['ParameterStore']
+__all__ = ['ParameterStore', 'CALLBACK_STAGES']
+
+#: When a set runs the user's callbacks: `pre_set` may change the list, `on_set` may reject it,
+#: `post_set` sees what was set.
+CALLBACK_STAGES = ('pre_set', 'on_set', 'post_set')
 
 _FLOAT_TOLERANCE = 1e-6
 T = Parameter.Type
@@ -59,20 +63,21 @@ class ParameterStore:
         self._descriptors: dict[str, Any] = {}
         self.overrides = overrides
         self.allow_undeclared = allow_undeclared
-        self._pre_set: list[Callable] = []
-        self._on_set: list[Callable] = []
-        self._post_set: list[Callable] = []
+        #: The user's callbacks by stage (CALLBACK_STAGES), newest first as rclpy runs them.
+        self._callbacks: dict[str, list[Callable]] = {stage: [] for stage in CALLBACK_STAGES}
         self._events = None  # publisher of /parameter_events, set by the node
 
     @staticmethod
     def collect_overrides(node_fqn: str, arg_sets: list, explicit: list[Parameter] | None) -> dict[str, Any]:
-        """Overrides in ROS 2's order: parameter files, then `-p`, then the constructor's list."""
+        """Overrides in ROS 2's order: `-p` values and parameter files as the command line
+        gives them (a later one wins), then the constructor's list."""
         values: dict[str, Any] = {}
         for args in reversed(arg_sets):  # global arguments first, the node's own win
-            for path in args.params_files:
-                values.update(load_parameter_file(path, node_fqn))
-            for name, text in args.params:
-                values[name] = parse_parameter_value(text)
+            for source in args.parameter_sources:
+                if isinstance(source, str):
+                    values.update(load_parameter_file(source, node_fqn))
+                else:
+                    values[source[0]] = parse_parameter_value(source[1])
         for param in explicit or []:
             values[param.name] = param.value
         return values
@@ -82,8 +87,13 @@ class ParameterStore:
         with self._lock:
             if name in self._values:
                 raise ParameterAlreadyDeclaredException([name])
-            if not name or not isinstance(name, str):
+            if not isinstance(name, str):
+                raise TypeError(f'a parameter name must be a str, got {type(name).__name__} {name!r}')
+            if not name:
                 raise InvalidParameterException(name)
+            if descriptor is not None and not isinstance(descriptor, _descriptor_class()):
+                raise TypeError(f"the descriptor of parameter '{name}' must be an rcl_interfaces/msg/"
+                                f'ParameterDescriptor, got {type(descriptor).__name__}')
             name_only = value is None and descriptor is None
             descriptor = descriptor if descriptor is not None else _descriptor_class()()
             descriptor.name = name
@@ -212,21 +222,24 @@ class ParameterStore:
         return names, list(found_prefixes)
 
     # -- callbacks -------------------------------------------------------------------------
-    def add_pre_set(self, callback: Callable) -> None:
-        self._pre_set.insert(0, callback)
+    def add_callback(self, stage: str, callback: Callable) -> None:
+        """Register `callback` for one of CALLBACK_STAGES; it runs before those added earlier."""
+        self._callbacks[stage].insert(0, callback)
 
-    def add_on_set(self, callback: Callable) -> None:
-        self._on_set.insert(0, callback)
+    def remove_callback(self, stage: str, callback: Callable) -> None:
+        """Unregister `callback` from `stage` (only there: one function may serve two stages).
 
-    def add_post_set(self, callback: Callable) -> None:
-        self._post_set.insert(0, callback)
+        Raises:
+            ValueError: it is not registered for that stage.
+        """
+        try:
+            self._callbacks[stage].remove(callback)
+        except ValueError:
+            raise ValueError(f'callback is not registered as a {stage} parameters callback') from None
 
-    def remove_callback(self, callback: Callable) -> None:
-        for chain in (self._pre_set, self._on_set, self._post_set):
-            if callback in chain:
-                chain.remove(callback)
-                return
-        raise ValueError('callback is not registered')
+    def callbacks(self, stage: str) -> tuple[Callable, ...]:
+        """The callbacks of `stage`, in the order they run (a snapshot)."""
+        return tuple(self._callbacks[stage])
 
     # -- writes ----------------------------------------------------------------------------
     def set_each(self, parameters: list[Parameter], *, raise_undeclared: bool = False) -> list[Any]:
@@ -241,12 +254,12 @@ class ParameterStore:
             names are checked after the pre-set callbacks, which may add some.
         """
         with self._lock:
-            if self._pre_set and not declaring:
-                for callback in self._pre_set:
+            if self._callbacks['pre_set'] and not declaring:
+                for callback in self._callbacks['pre_set']:
                     parameters = callback(list(parameters))
                 if not parameters:
                     return _result(False, 'parameter list cannot be empty, this might be due to '
-                                          'pre_set_parameters_callback modifying the original parameters list')
+                                          'pre_set_parameters_callback modifying the original parameters list.')
             if raise_undeclared and not self.allow_undeclared:
                 missing = [p.name for p in parameters if p.name not in self._values]
                 if missing:
@@ -265,7 +278,7 @@ class ParameterStore:
                 if reason:
                     return _result(False, reason)
                 staged.append((param, descriptor))
-            for callback in self._on_set:
+            for callback in self._callbacks['on_set']:
                 result = callback([p for p, _ in staged])
                 if result is None or not getattr(result, 'successful', False):
                     return result if result is not None else _result(False, 'on_set_parameters_callback returned None')
@@ -282,7 +295,7 @@ class ParameterStore:
                 self._descriptors[param.name] = descriptor
         self._publish_event(new=new, changed=changed, deleted=deleted)
         if not declaring:
-            for callback in self._post_set:
+            for callback in self._callbacks['post_set']:
                 callback([p for p, _ in staged])
         return _result(True)
 

@@ -241,7 +241,7 @@ def to_profile(qos: 'QoSProfile | int') -> QoSProfile:
     if isinstance(qos, QoSProfile):
         return replace(qos)
     if isinstance(qos, bool) or not isinstance(qos, int):
-        raise TypeError(f'expected a QoSProfile or an int depth, got {type(qos).__name__}')
+        raise TypeError(f'Expected QoSProfile or int (a history depth), got {type(qos).__name__}')
     return replace(qos_profile_default, depth=qos)
 
 

@@ -148,3 +148,87 @@ def test_the_executor_property_takes_any_executor_like_object(context):
     node.executor = None
     assert node.executor is None and second.calls == ['add', 'remove']
     node.destroy_node()
+
+
+def test_a_file_after_a_value_on_the_command_line_wins_as_rcl_applies_them(context, tmp_path):
+    params = tmp_path / 'later.yaml'
+    params.write_text('/ordered:\n  ros__parameters: {first: from_file, second: from_file}\n')
+    node = Node('ordered', context=context,
+                cli_args=['--ros-args', '-p', 'first:=from_cli', '--params-file', str(params), '-p', 'second:=cli'])
+    assert node.declare_parameter('first', '').value == 'from_file'
+    assert node.declare_parameter('second', '').value == 'cli'
+    node.destroy_node()
+
+
+def test_declaring_checks_the_types_of_name_and_descriptor(context):
+    from interfaces.rcl_interfaces.msg import ParameterValue
+    from zros.exceptions import InvalidParameterException
+    node = Node('declarer', context=context)
+    with pytest.raises(TypeError):
+        node.declare_parameter(1, 'a name must be a str')
+    with pytest.raises(TypeError):
+        node.declare_parameter('bad_descriptor', 1, ParameterValue())
+    with pytest.raises(InvalidParameterException):
+        node.declare_parameter('', 1)
+    node.destroy_node()
+
+
+def test_each_stage_of_set_parameters_callbacks_is_visible_and_removed_on_its_own(context):
+    node = Node('staged', context=context)
+
+    def either(parameters):
+        return parameters
+    node.add_pre_set_parameters_callback(either)
+    node.add_post_set_parameters_callback(either)
+    assert node._pre_set_parameters_callbacks[0] is either and node._post_set_parameters_callbacks[0] is either
+    node.remove_post_set_parameters_callback(either)   # the pre-set registration stays
+    assert either in node._pre_set_parameters_callbacks and either not in node._post_set_parameters_callbacks
+    with pytest.raises(ValueError):
+        node.remove_on_set_parameters_callback(either)
+    node.add_pre_set_parameters_callback(lambda parameters: [])
+    result, = node.set_parameters([Parameter('use_sim_time', value=False)])
+    assert result.reason.endswith('modifying the original parameters list.')
+    node.destroy_node()
+
+
+def test_names_given_to_graph_queries_are_checked_as_rclpy_checks_them(context):
+    from interfaces.std_msgs.msg import String
+    from interfaces.std_srvs.srv import Trigger
+    from zros.errors import InvalidServiceNameException
+    node = Node('counter', namespace='/ns', context=context, cli_args=['--ros-args', '-r', 'chatter:=renamed'])
+    node.create_publisher(String, 'chatter', 1)   # remapped to /ns/renamed
+    assert node.count_publishers('renamed') == 1 and node.count_publishers('chatter') == 0   # expanded only
+    with pytest.raises(TypeError):
+        node.count_subscribers(1)
+    with pytest.raises(ValueError, match='is invalid'):
+        node.count_services('42')
+    with pytest.raises(InvalidServiceNameException, match='must not contain characters'):
+        node.create_client(Trigger, 'get/parameters?')
+    with pytest.raises(TypeError, match='Expected QoSProfile or int'):
+        node.create_publisher(String, 'chatter', 'deep')
+    node.destroy_node()
+
+
+def test_get_parameters_answers_nothing_when_one_name_has_no_value(context):
+    from zros.executors import SingleThreadedExecutor
+    from zros.parameter_client import AsyncParameterClient
+    server = Node('holder', context=context)
+    server.declare_parameter('typed_only', Parameter.Type.STRING)
+    server.declare_parameter('set', 'yes')
+    asker = Node('asker', context=context)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(server)
+    executor.add_node(asker)
+    client = AsyncParameterClient(asker, 'holder')
+    assert client.wait_for_services(timeout_sec=10)
+
+    def answer(future):
+        executor.spin_until_future_complete(future, timeout_sec=10)
+        return future.result()
+    assert [v.string_value for v in answer(client.get_parameters(['set'])).values] == ['yes']
+    assert answer(client.get_parameters(['set', 'typed_only'])).values == []   # declared, no value yet
+    assert answer(client.get_parameters(['set', 'undeclared'])).values == []
+    assert answer(client.describe_parameters(['typed_only'])).descriptors[0].type == Parameter.Type.STRING
+    executor.shutdown()
+    server.destroy_node()
+    asker.destroy_node()

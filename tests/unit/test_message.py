@@ -596,3 +596,17 @@ def test_unknown_interface_import_fails_cleanly():
 
 
 # -- rclpy programs that rely on array.array ---------------------------------------------------
+
+
+def test_a_registered_stand_in_is_converted_on_assignment_and_refused_when_added_in_place():
+    from interfaces.rcl_interfaces.msg import Parameter as ParameterMsg
+    from interfaces.rcl_interfaces.msg import ParameterEvent
+    from zros.errors import MessageTypeError
+    from zros.message import serialize
+    from zros.parameter import Parameter
+    event = ParameterEvent(new_parameters=[Parameter('rate', value=5)])
+    assert type(event.new_parameters[0]) is ParameterMsg and event.new_parameters[0].value.integer_value == 5
+    serialize(event)
+    event.new_parameters.append(Parameter('late', value=1))   # no setter ran: no conversion
+    with pytest.raises(MessageTypeError, match='new_parameters'):
+        serialize(event)

@@ -138,9 +138,10 @@ def cmd_get(args: argparse.Namespace) -> int:
     from zros.parameter import parameter_value_to_python
     with cli_context() as ctx:
         remote = _Remote(ctx, args.node_name, args.timeout)
-        value = remote.get_values([args.parameter_name])[0]
-    if value.type == 0:
+        values = remote.get_values([args.parameter_name])
+    if not values or values[0].type == 0:   # undeclared, or declared with no value yet
         raise CliError('Parameter not set.')
+    value = values[0]
     print(parameter_value_to_python(value) if args.hide_type else _value_text(value))
     return 0
 
@@ -223,6 +224,9 @@ def cmd_dump(args: argparse.Namespace) -> int:
         remote = _Remote(ctx, args.node_name, args.timeout)
         names = sorted(remote.list_names())
         values = remote.get_values(names) if names else []
+        if len(values) != len(names):   # a parameter with no value yet empties the answer: ask one by one
+            pairs = [(name, value) for name in names for value in remote.get_values([name])]
+            names, values = [name for name, _ in pairs], [value for _, value in pairs]
     flat = {}
     for name, value in zip(names, values):
         py = parameter_value_to_python(value)
