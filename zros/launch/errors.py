@@ -10,7 +10,8 @@ from typing import NamedTuple
 
 from zros.errors import ZrosError
 
-__all__ = ['LaunchError', 'LaunchFileError', 'LaunchTypeError', 'ParameterTypeError', 'SubstitutionError', 'Origin']
+__all__ = ['LaunchError', 'LaunchFileError', 'LaunchTypeError', 'ParameterTypeError', 'SubstitutionError', 'ExpressionNameError',
+           'Origin']
 
 
 class LaunchError(ZrosError, RuntimeError):
@@ -21,6 +22,11 @@ class LaunchError(ZrosError, RuntimeError):
 
 class SubstitutionError(LaunchError):
     """A substitution cannot be parsed or evaluated; the caller adds where it was written."""
+
+
+class ExpressionNameError(SubstitutionError, NameError):
+    """A `$(eval)` / PythonExpression uses a name not in its scope (a module not listed); also
+    a NameError, which is what launch's PythonExpression raises."""
 
 
 class Origin(NamedTuple):
