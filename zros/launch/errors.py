@@ -11,7 +11,7 @@ from typing import NamedTuple
 from zros.errors import ZrosError
 
 __all__ = ['LaunchError', 'LaunchFileError', 'LaunchTypeError', 'ParameterTypeError', 'SubstitutionError', 'ExpressionNameError',
-           'Origin']
+           'LaunchFileNotFoundError', 'Origin']
 
 
 class LaunchError(ZrosError, RuntimeError):
@@ -58,6 +58,11 @@ class LaunchFileError(LaunchError, ValueError):
         self.origin = origin
         self.reason = ' '.join(str(reason).split()) if '\n' in str(reason) else str(reason)
         super().__init__(f'{origin}: {self.reason}' if origin is not None else self.reason)
+
+
+class LaunchFileNotFoundError(LaunchFileError, FileNotFoundError):
+    """A launch file (or a file it reads) is not there; also a FileNotFoundError, which is what
+    launch raises for it."""
 
 
 class ParameterTypeError(LaunchFileError, TypeError):
