@@ -714,9 +714,13 @@ def test_error_missing_required_argument_lists_declared(plan_of):
 
 
 def test_error_required_argument_of_included_file(plan_of, write):
-    write('inner.launch.yaml', 'launch:\n- arg: {name: who}\n')
-    message = error_of(plan_of, 'launch:\n- include: {file: inner.launch.yaml}\n')
-    assert_located(message, 'inner.launch.yaml', 2, 'arg', 'name')
+    """As launch: the include must pass an included file's required argument itself; the error
+    is the include's, and a configuration set elsewhere does not count."""
+    write('inner.launch.yaml', 'launch:\n- arg: {name: who, description: the name}\n')
+    message = error_of(plan_of, 'launch:\n- let: {name: who, value: x}\n- include: {file: inner.launch.yaml}\n')
+    assert_located(message, 'test.launch.yaml', 3, 'include')
+    assert "missing required argument 'who' (description: 'the name'), given: []" in message
+    plan_of('launch:\n- include: {file: inner.launch.yaml, arg: [{name: who, value: x}]}\n')
 
 
 def test_error_if_and_unless_together(plan_of):
