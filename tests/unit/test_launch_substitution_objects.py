@@ -16,11 +16,14 @@ from zros.launch.frontend.parse_substitution import parse_substitution
 from zros.launch.substitutions import (EqualsSubstitution, IfElseSubstitution, LaunchLogDir, NotEqualsSubstitution,
                                        PythonExpression, SubstitutionFailure, TextSubstitution, ThisLaunchFile,
                                        ThisLaunchFileDir)
+from zros.launch.substitutions.launch_configuration import LaunchConfiguration as ConfigurationByModule
 from zros.launch.substitutions.substitution_failure import SubstitutionFailure as FailureByModule
 
 
-def test_substitution_failure_is_one_class_under_both_module_paths():
+def test_launch_module_paths_give_the_one_class():
+    from zros.launch.substitutions import LaunchConfiguration
     assert FailureByModule is SubstitutionFailure
+    assert ConfigurationByModule is LaunchConfiguration
 
 
 def test_python_expression_scope_is_the_modules_it_lists():
