@@ -99,14 +99,14 @@ class IncludeLaunchDescription(Action):
             # Check the cycle before parsing, so a cycle is reported at this include.
             context.enter_file(path, origin)
             context.leave_file()
-            included: Any = IncludedFile(self.source.get_launch_description(context, path), path, origin)
+            description = self.source.get_launch_description(context, path)
+            included: Any = IncludedFile(description, path, origin)
         else:
-            included = self.source.get_launch_description(context)
+            description = included = self.source.get_launch_description(context)
             location = self.source.location
             context.extend_locals({'current_launch_file_path': location,
                                    'current_launch_file_directory': os.path.dirname(location)
                                    if os.path.exists(location) else location})
-        description = included.description if isinstance(included, IncludedFile) else included
         self._check_required_arguments(description, context)
         return [*(SetLaunchConfiguration(name, value, origin=self.origin) for name, value in self.launch_arguments),
                 included]
