@@ -91,3 +91,19 @@ def test_execution_complete_comes_after_an_action_runs_and_after_a_process_exits
     ]))
     assert service.run() == 0
     assert done == ['log', 'process']
+
+
+def test_an_entity_that_does_not_resolve_ends_the_launch_with_exit_code_1(capsys):
+    """As launch: the error is logged and run() returns 1, the processes already started stop."""
+    from zros.launch.actions import IncludeLaunchDescription
+    from zros.launch.actions.arg import DeclareLaunchArgument
+    from zros.launch.launch_description_sources import LaunchDescriptionSource
+    service = LaunchService()
+    service.include_launch_description(LaunchDescription([
+        ExecuteProcess(cmd=[PY, '-c', 'import time; time.sleep(30)']),
+        IncludeLaunchDescription(LaunchDescriptionSource(LaunchDescription([DeclareLaunchArgument('who')]))),
+    ]))
+    started = time.monotonic()
+    assert service.run() == 1
+    assert time.monotonic() - started < 20
+    assert "Caught exception in launch: " in capsys.readouterr().out

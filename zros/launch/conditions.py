@@ -6,6 +6,7 @@ is not a boolean (`true`/`1`/`false`/`0`) is an error naming where the condition
 """
 from __future__ import annotations
 
+import warnings
 from typing import Any, Callable
 
 from zros.launch.errors import LaunchFileError, Origin
@@ -14,9 +15,28 @@ from zros.launch.origin import origin_here
 from zros.launch.template import SubstitutionError, Text, to_bool
 
 __all__ = ['Condition', 'IfCondition', 'UnlessCondition', 'LaunchConfigurationEquals',
-           'LaunchConfigurationNotEquals']
+           'LaunchConfigurationNotEquals', 'InvalidConditionExpressionError', 'evaluate_condition_expression']
 
 __getattr__ = module_getattr(__name__)
+
+
+class InvalidConditionExpressionError(LaunchFileError):
+    """A condition's expression is not one of true / 1 / false / 0; the message names where the
+    condition was written (launch's error of that name, a ValueError here too)."""
+
+
+def evaluate_condition_expression(context: Any, expression: Any, origin: Origin | None = None) -> bool:
+    """A condition expression's truth: the substitutions performed, then 'true'/'1' or
+    'false'/'0' (case-insensitive, surrounding spaces ignored), as launch evaluates `if` / `unless`.
+
+    Raises:
+        InvalidConditionExpressionError: any other text, the empty one included.
+    """
+    text = Text.of(expression, origin or origin_here('condition'))
+    try:
+        return to_bool(text.perform(context))
+    except SubstitutionError as exc:
+        raise InvalidConditionExpressionError(text.origin, str(exc)) from None
 
 
 class Condition:
@@ -27,9 +47,8 @@ class Condition:
         self._predicate = predicate
 
     def evaluate(self, context: Any) -> bool:
-        if self._predicate is None:
-            raise NotImplementedError(f'{type(self).__name__} must define evaluate(context)')
-        return bool(self._predicate(context))
+        """The predicate's answer; False without one (as launch's bare Condition())."""
+        return False if self._predicate is None else bool(self._predicate(context))
 
     def describe(self) -> str:
         return type(self).__name__
@@ -43,11 +62,7 @@ class IfCondition(Condition):
         self.expression = Text.of(predicate_expression, self.origin)
 
     def evaluate(self, context: Any) -> bool:
-        text = self.expression.perform(context)
-        try:
-            return to_bool(text)
-        except SubstitutionError as exc:
-            raise LaunchFileError(self.expression.origin, str(exc)) from None
+        return evaluate_condition_expression(context, self.expression)
 
     def describe(self) -> str:
         return f'{type(self).__name__}({self.expression})'
@@ -62,18 +77,21 @@ class UnlessCondition(IfCondition):
 
 class LaunchConfigurationEquals(Condition):
     """True when a launch configuration equals `expected_value` as text (an unset one equals
-    only None), as in launch."""
+    only None), as in launch, which deprecates it (a UserWarning) for
+    `IfCondition(EqualsSubstitution(LaunchConfiguration(name), value))`."""
 
     def __init__(self, launch_configuration_name: str, expected_value: Any, *,
                  origin: Origin | None = None) -> None:
         super().__init__(origin=origin)
+        warnings.warn(f'{type(self).__name__} is deprecated, as in launch: use '
+                      f'IfCondition(EqualsSubstitution(LaunchConfiguration(name), value)) (or '
+                      f'NotEqualsSubstitution)', UserWarning, stacklevel=2)
         self.name = launch_configuration_name
         self.expected = None if expected_value is None else Text.of(expected_value, self.origin)
 
     def evaluate(self, context: Any) -> bool:
-        context.note_configuration_read(self.name)
         expected = None if self.expected is None else self.expected.perform(context)
-        return context.configurations.get(self.name) == expected
+        return context.launch_configurations.get(self.name) == expected   # a read, recorded
 
     def describe(self) -> str:
         return f'{type(self).__name__}({self.name!r}, {self.expected})'

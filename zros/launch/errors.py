@@ -10,7 +10,8 @@ from typing import NamedTuple
 
 from zros.errors import ZrosError
 
-__all__ = ['LaunchError', 'LaunchFileError', 'LaunchTypeError', 'ParameterTypeError', 'SubstitutionError', 'Origin']
+__all__ = ['LaunchError', 'LaunchFileError', 'LaunchTypeError', 'ParameterTypeError', 'SubstitutionError', 'ExpressionNameError',
+           'LaunchFileNotFoundError', 'Origin']
 
 
 class LaunchError(ZrosError, RuntimeError):
@@ -21,6 +22,11 @@ class LaunchError(ZrosError, RuntimeError):
 
 class SubstitutionError(LaunchError):
     """A substitution cannot be parsed or evaluated; the caller adds where it was written."""
+
+
+class ExpressionNameError(SubstitutionError, NameError):
+    """A `$(eval)` / PythonExpression uses a name not in its scope (a module not listed); also
+    a NameError, which is what launch's PythonExpression raises."""
 
 
 class Origin(NamedTuple):
@@ -52,6 +58,11 @@ class LaunchFileError(LaunchError, ValueError):
         self.origin = origin
         self.reason = ' '.join(str(reason).split()) if '\n' in str(reason) else str(reason)
         super().__init__(f'{origin}: {self.reason}' if origin is not None else self.reason)
+
+
+class LaunchFileNotFoundError(LaunchFileError, FileNotFoundError):
+    """A launch file (or a file it reads) is not there; also a FileNotFoundError, which is what
+    launch raises for it."""
 
 
 class ParameterTypeError(LaunchFileError, TypeError):

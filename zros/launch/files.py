@@ -13,11 +13,14 @@ import importlib.util
 import os
 import re
 import traceback
-from typing import Any
+from types import ModuleType
+from typing import Any, Callable
 
-from zros.launch.errors import LaunchError, LaunchFileError
+from zros.launch.errors import LaunchError, LaunchFileError, LaunchFileNotFoundError
 
-__all__ = ['load_launch_file', 'read_text', 'launch_file_kind', 'python_error']
+__all__ = ['load_launch_file', 'load_launch_description', 'read_text', 'launch_file_kind', 'python_error',
+           'InvalidPythonLaunchFileError', 'load_python_launch_file_as_module',
+           'get_launch_description_from_python_launch_file']
 
 _CANNOT_IMPORT = re.compile(r"cannot import name '(\w+)' from '([\w.]+)'")
 
@@ -37,7 +40,7 @@ def read_text(path: str, what: str = 'launch file') -> str:
     try:
         data = open(path, 'rb').read()
     except FileNotFoundError:
-        raise LaunchFileError(None, f'{path}: no such {what}') from None
+        raise LaunchFileNotFoundError(None, f'{path}: no such {what}') from None
     except IsADirectoryError:
         raise LaunchFileError(None, f'{path}: is a directory, not a {what}') from None
     except OSError as exc:
@@ -53,40 +56,92 @@ def read_text(path: str, what: str = 'launch file') -> str:
 
 def load_launch_file(path: str, kind: str | None = None) -> list:
     """The actions of a launch file (nothing is resolved or started)."""
+    return load_launch_description(path, kind).entities
+
+
+def load_launch_description(path: str, kind: str | None = None) -> Any:
+    """A launch file's LaunchDescription: a Python file's `generate_launch_description()`, or
+    the parsed YAML / XML (`kind` as `launch_file_kind` names it; None: by the file name)."""
+    if kind is None and not path.lower().endswith(_KNOWN_EXTENSIONS):
+        return _load_any_markup(path)
     kind = kind or launch_file_kind(path)
     if kind == 'python':
-        return _load_python(path, read_text(path)).entities
+        return get_launch_description_from_python_launch_file(path)
     from zros.launch.frontend.formats import XmlParser, YamlParser
     root, parser = (XmlParser if kind == 'xml' else YamlParser).load(path)
-    return parser.parse_description(root).entities
+    return parser.parse_description(root)
+
+
+_KNOWN_EXTENSIONS = ('.py', '.xml', '.launch', '.yaml', '.yml')
+
+
+def _load_any_markup(path: str) -> Any:
+    """A file whose name says no format: YAML, else XML, as launch tries its front ends; an
+    InvalidLaunchFileError naming both failures when neither reads it."""
+    from zros.launch.invalid_launch_file_error import InvalidLaunchFileError
+    errors: list[LaunchFileError] = []
+    for kind in ('yaml', 'xml'):
+        try:
+            return load_launch_description(path, kind)
+        except LaunchFileNotFoundError:
+            raise
+        except LaunchFileError as exc:
+            errors.append(exc)
+    raise InvalidLaunchFileError(f'{os.path.splitext(path)[1] or path}: yaml, xml', likely_errors=errors)
 
 
 # -- Python launch files ------------------------------------------------------------------------
-def _load_python(path: str, text: str) -> Any:
+class InvalidPythonLaunchFileError(LaunchFileError):
+    """A Python file that is no launch file: it has no `generate_launch_description()`, or that
+    returns no LaunchDescription (launch's error of that name)."""
+
+
+def load_python_launch_file_as_module(path: str) -> ModuleType:
+    """Import a Python launch file as a module of its own (under the import hook, so `launch` is
+    zros.launch there); any exception it raises is one `file:line: what` LaunchFileError.
+
+    Raises:
+        LaunchFileNotFoundError: there is no such file (also a FileNotFoundError).
+    """
     from zros.import_hook import install
-    from zros.launch.launch_description import LaunchDescription
+    text = read_text(path)
     install()   # a launch file as ROS 2 writes it: `from launch import ...` is zros.launch itself
     name = 'zros_launch_file_' + hashlib.sha1(os.path.abspath(path).encode()).hexdigest()[:12]
-    spec = importlib.util.spec_from_file_location(name, path)
-    module = importlib.util.module_from_spec(spec)
+    module = importlib.util.module_from_spec(importlib.util.spec_from_file_location(name, path))
+    _run_user_code(path, lambda: exec(compile(text, path, 'exec'), module.__dict__))  # noqa: S102 - the user's file
+    return module
+
+
+def get_launch_description_from_python_launch_file(path: str) -> Any:
+    """The LaunchDescription a Python launch file's `generate_launch_description()` returns.
+
+    Raises:
+        InvalidPythonLaunchFileError: the file defines no such function or it returns no
+            LaunchDescription.
+        LaunchFileNotFoundError: there is no such file.
+    """
+    from zros.launch.launch_description import LaunchDescription
+    generate = getattr(load_python_launch_file_as_module(path), 'generate_launch_description', None)
+    if not callable(generate):
+        raise InvalidPythonLaunchFileError(None, f'{path}: no generate_launch_description() function '
+                                                 '(a Python launch file defines one that returns a LaunchDescription)')
+    description = _run_user_code(path, generate)
+    if not isinstance(description, LaunchDescription):
+        raise InvalidPythonLaunchFileError(None, f'{path}: generate_launch_description() returned '
+                                                 f'{type(description).__name__}, not a LaunchDescription')
+    return description
+
+
+def _run_user_code(path: str, run: Callable[[], Any]) -> Any:
+    """`run()`, code of the user's file `path`; whatever it raises becomes one LaunchFileError line."""
     try:
-        code = compile(text, path, 'exec')
-        exec(code, module.__dict__)  # noqa: S102 - running the user's launch file is the point
-        generate = getattr(module, 'generate_launch_description', None)
-        if not callable(generate):
-            raise LaunchFileError(None, f'{path}: no generate_launch_description() function '
-                                        '(a Python launch file defines one that returns a LaunchDescription)')
-        description = generate()
+        return run()
     except LaunchError:
         raise
     except SyntaxError as exc:
         raise LaunchFileError(None, f'{path}:{exc.lineno or 1}: invalid Python: {exc.msg}') from None
     except Exception as exc:  # noqa: BLE001 - anything the user's file raises becomes one line
         raise python_error(path, exc) from None
-    if not isinstance(description, LaunchDescription):
-        raise LaunchFileError(None, f'{path}: generate_launch_description() returned '
-                                    f'{type(description).__name__}, not a LaunchDescription')
-    return description
 
 
 def _frame_in(path: str, exc: BaseException) -> tuple[int, str]:

@@ -50,23 +50,39 @@ class LaunchDescription(LaunchDescriptionEntity):
     def sub_actions(self) -> list:
         return self.entities
 
-    def get_launch_arguments(self) -> list:
-        """The DeclareLaunchArgument actions, found without resolving anything; each notes in
+    def get_launch_arguments(self, conditional_inclusion: bool = False) -> list:
+        """The DeclareLaunchArgument actions, found without resolving anything (included files
+        too, when their path needs no launch configuration); each notes in
         `_conditionally_included` whether a condition stands above it (launch's flag)."""
+        return [argument for argument, _ in
+                self.get_launch_arguments_with_include_launch_description_actions(conditional_inclusion)]
+
+    def get_launch_arguments_with_include_launch_description_actions(
+            self, conditional_inclusion: bool = False) -> list[tuple[Any, list | None]]:
+        """`get_launch_arguments`, each with the IncludeLaunchDescription actions it is below
+        (None at this description's top level), as launch's check of an include's required
+        arguments wants them. The first declaration of a name wins, and nothing after a
+        ResetLaunchConfigurations is looked at (a command-line value cannot reach it)."""
         from zros.launch.actions.arg import DeclareLaunchArgument
-        found: list = []
-        stack = [(entity, False) for entity in reversed(self._entities)]
-        while stack:
-            entity, conditional = stack.pop()
-            conditional = conditional or entity.condition is not None
-            if isinstance(entity, DeclareLaunchArgument):
-                entity._conditionally_included = conditional
-                found.append(entity)
-            children = [(child, conditional) for child in entity.sub_actions()]
-            children += [(child, True) for _, entities in entity.describe_conditional_sub_entities()
-                         for child in entities]
-            stack.extend(reversed(children))
-        return found
+        from zros.launch.actions.include import IncludeLaunchDescription
+        from zros.launch.actions.arg import ResetLaunchConfigurations
+        found: dict[str, tuple[Any, list | None]] = {}
+
+        def visit(entities: list, conditional: bool, includes: list | None) -> None:
+            for entity in entities:
+                entity_conditional = conditional or entity.condition is not None
+                if isinstance(entity, DeclareLaunchArgument) and entity.name not in found:
+                    entity._conditionally_included = entity_conditional
+                    found[entity.name] = (entity, includes)
+                if isinstance(entity, ResetLaunchConfigurations):
+                    return
+                below = [*(includes or []), entity] if isinstance(entity, IncludeLaunchDescription) else includes
+                visit(entity.describe_sub_entities(), entity_conditional, below)
+                for _, children in entity.describe_conditional_sub_entities():
+                    visit(children, True, below)
+
+        visit(self._entities, conditional_inclusion, None)
+        return list(found.values())
 
     def visit(self, context: Any) -> list:
         return self.entities

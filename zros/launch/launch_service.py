@@ -18,6 +18,7 @@ from typing import Any
 from zros.launch.action import report_completion
 from zros.launch.context import LaunchContext
 from zros.launch.description import walk
+from zros.launch.errors import LaunchError
 from zros.launch.event_handlers.on_include_launch_description import OnIncludeLaunchDescription
 from zros.launch.events.include_launch_description import IncludeLaunchDescription
 from zros.launch.events.process import ProcessExited, ProcessIO, ProcessStarted
@@ -183,6 +184,12 @@ class LaunchService(ProcessObserver):
         context.begin_capture()
         try:
             walk(actions, context)
+        except LaunchError as exc:
+            if self._supervisor is None:
+                raise
+            # as launch: the error is logged and the launch ends with exit code 1
+            self._supervisor.fail('launch', f'Caught exception in launch: {exc}')
+            return
         finally:
             effects = context.end_capture()
         if self._supervisor is not None:

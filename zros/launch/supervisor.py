@@ -259,7 +259,7 @@ class Supervisor:
         self._selector: selectors.BaseSelector | None = None
         self._signals: list[int] = []
         self._shutting_down = False
-        self._failed_start = False
+        self._failed = False
         self._preexec = None
         self._wakeup_read = self._wakeup_write = -1
         self._wakeup_lock = threading.Lock()    # request_shutdown() never writes to a closed fd
@@ -297,7 +297,7 @@ class Supervisor:
                 process.close()
             self._selector.close()
             self.log.close()
-        return 1 if self._failed_start else 0
+        return 1 if self._failed else 0
 
     def _open_hub(self) -> None:
         from zros.context import Context
@@ -523,7 +523,7 @@ class Supervisor:
                 env=self._environment(spec), cwd=spec.cwd, start_new_session=True, preexec_fn=self._preexec)
         except OSError as exc:
             self.log.error(process.name, f'failed to start process: {exc.strerror or exc} (cmd {shown!r})')
-            self._failed_start = True
+            self._failed = True
             if spec.on_exit_shutdown:
                 self.shutdown(f'process[{process.name}] failed to start')
             return
@@ -630,6 +630,13 @@ class Supervisor:
             self._start(process)
 
     # -- shutdown ------------------------------------------------------------------------------
+    def fail(self, name: str, text: str) -> None:
+        """An error the launch cannot go on from (an entity that does not resolve): logged, then
+        a shutdown, and run() returns 1."""
+        self.log.error(name, text)
+        self._failed = True
+        self.shutdown(text)
+
     def shutdown(self, reason: str) -> None:
         """Stop the launch: cancel timers and respawns, SIGINT every process, escalate later."""
         if self._shutting_down:

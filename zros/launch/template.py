@@ -19,18 +19,20 @@ from __future__ import annotations
 
 import ast
 import builtins
+import importlib
 import math
 import os
 import re
 import secrets
 import shlex
 import shutil
+import socket
 import subprocess
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Protocol
 
-from zros.launch.errors import LaunchFileError, Origin, SubstitutionError
+from zros.launch.errors import ExpressionNameError, LaunchFileError, Origin, SubstitutionError
 
 __all__ = [
     'Call', 'Template', 'parse', 'perform', 'is_static', 'describe', 'Text', 'Typed',
@@ -530,7 +532,7 @@ def _env(context: SubstitutionContext, args: list[_Lazy]) -> str:
         return value
     if len(args) > 1:
         return args[1].value()
-    raise SubstitutionError(f"environment variable '{name}' is not set (give a default: "
+    raise SubstitutionError(f"environment variable '{name}' does not exist (give a default: "
                             f"$(env {name} DEFAULT))")
 
 
@@ -571,12 +573,26 @@ def _path_join(context: SubstitutionContext, args: list[str]) -> str:
 
 @substitution('dirname', args=(0, 0), summary='the directory of the current launch file')
 def _dirname(context: SubstitutionContext, args: list[str]) -> str:
-    return os.path.dirname(os.path.abspath(context.current_file))
+    if context.current_file:
+        return os.path.dirname(os.path.abspath(context.current_file))
+    return _launch_file_local(context, 'current_launch_file_directory')
 
 
 @substitution('filename', args=(0, 0), summary='the path of the current launch file')
 def _filename(context: SubstitutionContext, args: list[str]) -> str:
-    return os.path.abspath(context.current_file)
+    if context.current_file:
+        return os.path.abspath(context.current_file)
+    return _launch_file_local(context, 'current_launch_file_path')
+
+
+def _launch_file_local(context: SubstitutionContext, name: str) -> str:
+    """Outside a file zros reads, the launch file is the local that launch's own include sets
+    (`context.extend_locals({'current_launch_file_path': ...})`); with neither, it is an error
+    rather than the working directory."""
+    local = getattr(context, 'get_locals_as_dict', dict)().get(name)
+    if not local:
+        raise SubstitutionError(f'no current launch file: not in a launch file, and no {name} local')
+    return str(local)
 
 
 @substitution('find-pkg-share', args=(1, 1), summary="a package's share directory (see docs/packages.md)")
@@ -609,12 +625,21 @@ def _find_exec(context: SubstitutionContext, args: list[str]) -> str:
 def _file_content(context: SubstitutionContext, args: list[str]) -> str:
     try:
         return Path(args[0]).read_text(encoding='utf-8')
+    except FileNotFoundError:
+        raise SubstitutionError(f'File not found: {args[0]}') from None   # launch's wording
     except OSError as exc:
         raise SubstitutionError(f"cannot read '{args[0]}': {exc.strerror}") from None
 
 
 @substitution('log_dir', 'launch_log_dir', args=(0, 0), summary="this launch's log directory")
 def _log_dir(context: SubstitutionContext, args: list[str]) -> str:
+    if not context.log_dir:
+        # a context made by hand (not by `zros launch`): as launch does, pick this launch's log
+        # directory on first use and create it, so a file can be written there
+        from zros.launch.supervisor import make_log_dir
+        directory = make_log_dir(None)
+        directory.mkdir(parents=True, exist_ok=True)
+        context.log_dir = str(directory)
     return str(context.log_dir)
 
 
@@ -624,9 +649,9 @@ def _anon(context: SubstitutionContext, args: list[str]) -> str:
 
 
 def make_anon_name(name: str) -> str:
-    """`name_<pid>_<random>`, valid as a ROS node name."""
-    clean = re.sub(r'[^A-Za-z0-9_]', '_', name) or 'anon'
-    return f'{clean}_{os.getpid()}_{secrets.token_hex(4)}'
+    """`name_<host>_<pid>_<random number>` (launch's form), valid as a ROS node name."""
+    clean = re.sub(r'[^A-Za-z0-9_]', '_', f'{name}_{socket.gethostname()}')
+    return f'{clean}_{os.getpid()}_{secrets.randbelow(2**63)}'
 
 
 @substitution('command', args=(1, 2),
@@ -645,17 +670,23 @@ def _command(context: SubstitutionContext, args: list[str]) -> str:
         result = subprocess.run(argv, capture_output=True, text=True, timeout=COMMAND_TIMEOUT_S,
                                 env=dict(context.environment), stdin=subprocess.DEVNULL, check=False)
     except FileNotFoundError:
-        raise SubstitutionError(f"$(command): '{argv[0]}' not found") from None
+        raise SubstitutionError(f"$(command): file not found: '{argv[0]}'") from None
+    except OSError as exc:   # not executable, a directory, ...
+        raise SubstitutionError(f"$(command): cannot run '{argv[0]}': {exc.strerror}") from None
     except subprocess.TimeoutExpired:
         raise SubstitutionError(f'$(command {args[0]!r}) did not finish within {COMMAND_TIMEOUT_S:g} s') from None
+    # launch's wording ("executed command failed. Command: ..."), which users and tests match
+    stderr = result.stderr.strip()
     if result.returncode != 0:
-        detail = result.stderr.strip().splitlines()[-1:] or ['no stderr']
-        raise SubstitutionError(f'$(command {args[0]!r}) failed with exit code {result.returncode}: {detail[0]}')
-    if result.stderr and on_stderr == 'fail':
-        raise SubstitutionError(f'$(command {args[0]!r}) wrote to stderr: {result.stderr.strip()[:200]}')
-    if result.stderr and on_stderr == 'warn':
+        detail = stderr.splitlines()[-1:] or ['no stderr']
+        raise SubstitutionError(f'$(command): executed command failed. Command: {args[0]} '
+                                f'(exit code {result.returncode}: {detail[0]})')
+    if stderr and on_stderr == 'fail':
+        raise SubstitutionError(f'$(command): executed command showed stderr output. Command: {args[0]} '
+                                f'(stderr: {stderr[:200]})')
+    if stderr and on_stderr == 'warn':
         import sys
-        print(f'[WARNING] [launch]: $(command {args[0]!r}) wrote to stderr: {result.stderr.strip()}', file=sys.stderr)
+        print(f'[WARNING] [launch]: $(command {args[0]!r}) wrote to stderr: {stderr}', file=sys.stderr)
     output = result.stdout + (result.stderr if on_stderr == 'capture' else '')
     return output.rstrip('\n')
 
@@ -675,24 +706,27 @@ def _or(context: SubstitutionContext, args: list[str]) -> str:
     return _bool_text(any([to_bool(a) for a in args]))
 
 
-def _comparable(text: str) -> Any:
-    lowered = text.strip().lower()
-    if lowered in ('true', 'false'):
-        return lowered == 'true'
+def _is_float(text: str) -> bool:
     try:
-        return float(text)
+        float(text)
     except ValueError:
-        return text
+        return False
+    return True
 
 
 def _equal(left: str, right: str) -> bool:
-    a, b = _comparable(left), _comparable(right)
-    if type(a) is not type(b):
-        return left == right
-    return a == b
+    """launch's equality: as bools when both are true/false/1/0 (any case), as numbers (within
+    math.isclose, so 'nan' equals nothing) when both are numbers, else as text."""
+    a, b = left.lower(), right.lower()
+    if a in (*_TRUE, *_FALSE) and b in (*_TRUE, *_FALSE):
+        return (a in _TRUE) == (b in _TRUE)
+    if _is_float(left) and _is_float(right):
+        return math.isclose(float(left), float(right))
+    return left == right
 
 
-@substitution('equals', args=(2, 2), summary="'true' when both arguments are equal (as bools, numbers or text)")
+@substitution('equals', args=(2, 2),
+              summary="'true' when both arguments are equal (as bools, as numbers within isclose, or as text)")
 def _equals(context: SubstitutionContext, args: list[str]) -> str:
     return _bool_text(_equal(args[0], args[1]))
 
@@ -703,9 +737,15 @@ def _not_equals(context: SubstitutionContext, args: list[str]) -> str:
 
 
 @substitution('if', args=(2, 3), lazy=True,
-              summary='the 2nd argument when the 1st is true, else the 3rd (or empty)')
+              summary='the 2nd argument when the 1st is true (also yes/on), else the 3rd (or empty)')
 def _if(context: SubstitutionContext, args: list[_Lazy]) -> str:
-    if to_bool(args[0].value()):
+    # a typed bool, as launch's IfElseSubstitution reads it: YAML's yes/on/no/off too
+    from zros.launch.utilities.type_utils import coerce_to_type
+    try:
+        condition = coerce_to_type(args[0].value().strip(), bool)
+    except ValueError as exc:
+        raise SubstitutionError(f'$(if): {exc}') from None
+    if condition:
         return args[1].value()
     return args[2].value() if len(args) > 2 else ''
 
@@ -721,14 +761,24 @@ _MATH = {name: getattr(math, name) for name in dir(math) if not name.startswith(
 _FORBIDDEN_NODES = (ast.Lambda, ast.NamedExpr, ast.Await, ast.Yield, ast.YieldFrom)
 
 
-def evaluate_expression(expression: str, modules: str = '') -> str:
-    """Evaluate `expression` like launch's PythonExpression: `math`'s names are in scope (also
-    as `math.x`), as are `true` and `false`; only harmless builtins exist, and no name or
-    attribute may start with '_' (which closes the usual escapes through `__class__` /
-    `__globals__`)."""
-    for module in modules.replace(',', ' ').split():
-        if module != 'math':
-            raise SubstitutionError(f"$(eval): only the 'math' module is available, not '{module}'")
+def evaluate_expression(expression: str, modules: str | None = None) -> str:
+    """Evaluate `expression` like launch's PythonExpression, in a restricted scope.
+
+    Args:
+        modules: the modules in scope, separated by commas or spaces, each under its name; math's
+            names also without the `math.` prefix when math is one of them. None means 'math'
+            (launch's default), '' none at all.
+
+    Only harmless builtins exist, `true` and `false` are names too (launch arguments are spelled
+    that way), and no name or attribute may start with '_' (which closes the usual escapes
+    through `__class__` / `__globals__`).
+
+    Raises:
+        ExpressionNameError: the expression uses a name that is not in scope (also a NameError,
+            as launch's is).
+        SubstitutionError: any other problem: syntax, a forbidden name, a module that cannot be
+            imported, an exception of the expression.
+    """
     try:
         tree = ast.parse(expression.strip(), mode='eval')
     except SyntaxError as exc:
@@ -740,15 +790,30 @@ def evaluate_expression(expression: str, modules: str = '') -> str:
             raise SubstitutionError(f"$(eval {expression!r}): name '{node.id}' is not allowed")
         if isinstance(node, _FORBIDDEN_NODES):
             raise SubstitutionError(f'$(eval {expression!r}): {type(node).__name__.lower()} is not allowed')
-    # `true` / `false` too: launch arguments are usually spelled that way.
-    scope = {'__builtins__': _SAFE_BUILTINS, 'math': math, **_MATH, 'true': True, 'false': False}
+    scope = {'__builtins__': _SAFE_BUILTINS, **_expression_modules(modules), 'true': True, 'false': False}
     try:
         result = eval(compile(tree, '<eval>', 'eval'), scope, {})  # noqa: S307 - restricted above
+    except NameError as exc:
+        raise ExpressionNameError(f'$(eval {expression!r}) failed: NameError: {exc}') from None
     except Exception as exc:  # noqa: BLE001 - any error of the user's expression is reported
         raise SubstitutionError(f'$(eval {expression!r}) failed: {type(exc).__name__}: {exc}') from None
     return str(result)
 
 
-@substitution('eval', args=(1, 2), summary="a Python expression with math's names (2nd argument: 'math')")
+def _expression_modules(modules: str | None) -> dict[str, Any]:
+    """The names `modules` (see evaluate_expression) put in an expression's scope."""
+    scope: dict[str, Any] = {}
+    for name in ('math' if modules is None else modules).replace(',', ' ').split():
+        try:
+            scope[name] = importlib.import_module(name)
+        except ImportError as exc:
+            raise SubstitutionError(f"$(eval): cannot import module '{name}': {exc}") from None
+        if name == 'math':
+            scope.update(_MATH)
+    return scope
+
+
+@substitution('eval', args=(1, 2),
+              summary="a Python expression with math's names (2nd argument: the modules, 'math' by default)")
 def _eval(context: SubstitutionContext, args: list[str]) -> str:
-    return evaluate_expression(args[0], args[1] if len(args) > 1 else '')
+    return evaluate_expression(args[0], args[1] if len(args) > 1 else None)

@@ -10,9 +10,9 @@ from __future__ import annotations
 
 from typing import Any, ClassVar, Iterable
 
-from zros.launch.errors import SubstitutionError
+from zros.launch.errors import LaunchError, SubstitutionError
 from zros.launch.files import module_getattr
-from zros.launch.template import Call, Substitution, Template, to_template
+from zros.launch.template import Call, Substitution, Template, is_static, to_template
 
 __all__ = [
     'Substitution', 'SubstitutionFailure', 'TextSubstitution', 'LaunchConfiguration', 'EnvironmentVariable',
@@ -32,12 +32,13 @@ class _CallSubstitution(Substitution):
     """A substitution that is one call of a registered template function."""
 
     _name = ''
+    _aliases: ClassVar[tuple[str, ...]] = ()   # other `$(...)` names of the same substitution
     _by_name: ClassVar[dict[str, type['_CallSubstitution']]] = {}   # `$(name)` -> its class
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
-        if cls._name:
-            _CallSubstitution._by_name.setdefault(cls._name, cls)
+        for name in filter(None, (cls._name, *cls._aliases)):
+            _CallSubstitution._by_name.setdefault(name, cls)
 
     def __init__(self, *args: Any) -> None:
         self._args: tuple[Template, ...] = tuple(to_template(arg) for arg in args)
@@ -120,14 +121,44 @@ class PathJoinSubstitution(_CallSubstitution):
 
 
 class PythonExpression(_CallSubstitution):
-    """`PythonExpression(['1 + ', LaunchConfiguration('n')])` (`$(eval)`): a Python expression
-    with math's names, evaluated in zros's restricted scope (see docs/launch.md)."""
+    """`PythonExpression(['1 + ', LaunchConfiguration('n')], python_modules=['math'])` (`$(eval)`):
+    a Python expression with the listed modules in scope (math's names also bare), evaluated in
+    zros's restricted scope (see docs/launch.md)."""
 
     _name = 'eval'
 
-    def __init__(self, expression: Any, python_modules: Any = None) -> None:
-        modules = [python_modules] if isinstance(python_modules, str) else list(python_modules or [])
-        super().__init__(expression, *((' '.join(map(str, modules)),) if modules else ()))
+    def __init__(self, expression: Any, python_modules: Any = ('math',)) -> None:
+        modules = [python_modules] if isinstance(python_modules, (str, Substitution)) else list(python_modules)
+        if modules == ['math']:   # the default: `$(eval EXPR)`
+            super().__init__(expression)
+            return
+        separated = [part for index, module in enumerate(modules) for part in ([','] if index else []) + [module]]
+        super().__init__(expression, separated)
+
+    @property
+    def expression(self) -> list[Substitution]:
+        return substitutions_of(self._args[0])
+
+    @property
+    def python_modules(self) -> list[Substitution]:
+        """One substitution per module, as launch keeps them (`$(eval EXPR 'a, b')` has two)."""
+        if len(self._args) < 2:
+            return [TextSubstitution(text='math')]
+        if is_static(self._args[1]):
+            names = ''.join(self._args[1]).replace(',', ' ').split()
+            return [TextSubstitution(text=name) for name in names]
+        return substitutions_of(self._args[1])
+
+    def describe(self) -> str:
+        """launch's spelling, `PythonExpr('ceil(x)', ['math'])` (templates print `$(eval ...)`)."""
+        expression = ' + '.join(_quoted_describe(part) for part in self.expression)
+        modules = ', '.join(_quoted_describe(module) for module in self.python_modules)
+        return f'PythonExpr({expression}, [{modules}])'
+
+
+def _quoted_describe(substitution: Substitution) -> str:
+    """How launch describes a part: literal text in quotes, a substitution by its describe()."""
+    return f"'{substitution.text}'" if isinstance(substitution, TextSubstitution) else substitution.describe()
 
 
 class Command(_CallSubstitution):
@@ -215,7 +246,7 @@ class EqualsSubstitution(_CallSubstitution):
     _name = 'equals'
 
     def __init__(self, left: Any, right: Any) -> None:
-        super().__init__(left, right)
+        super().__init__('' if left is None else left, '' if right is None else right)   # None is ''
 
 
 class NotEqualsSubstitution(EqualsSubstitution):
@@ -230,13 +261,16 @@ class IfElseSubstitution(_CallSubstitution):
     _name = 'if'
 
     def __init__(self, condition: Any, if_value: Any = '', else_value: Any = '') -> None:
+        if if_value == else_value == '':
+            raise LaunchError('IfElseSubstitution: give if_value, else_value or both')   # launch's RuntimeError
         super().__init__(condition, if_value, else_value)
 
 
 class LaunchLogDir(_CallSubstitution):
-    """This run's log directory (`$(log_dir)`)."""
+    """This run's log directory (`$(log_dir)`, also `$(launch_log_dir)`)."""
 
     _name = 'log_dir'
+    _aliases = ('launch_log_dir',)
 
 
 class FileContent(_CallSubstitution):
