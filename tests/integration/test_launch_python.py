@@ -181,7 +181,8 @@ def test_a_python_launch_runs_every_construct(probe: Path, write, tmp_path: Path
     assert time.monotonic() - started < 40, result
     out = result.stdout
     report = reports(out)['/robot/inner/reporter']
-    assert report['params'] == {'from_file': 7, 'rate': 42, 'text': '42', 'mode_text': 'fast', 'home': 'from-launch',
+    # a command's output keeps its newline, as launch's Command does; a str-typed value keeps it too
+    assert report['params'] == {'from_file': 7, 'rate': 42, 'text': '42\n', 'mode_text': 'fast', 'home': 'from-launch',
                                 'nested.deep': True, 'scope_level': 3, 'start_type_description_service': True,
                                 'use_sim_time': False}
     assert report['chatter'] == '/robot/inner/talk'

@@ -687,8 +687,8 @@ def _command(context: SubstitutionContext, args: list[str]) -> str:
     if stderr and on_stderr == 'warn':
         import sys
         print(f'[WARNING] [launch]: $(command {args[0]!r}) wrote to stderr: {stderr}', file=sys.stderr)
-    output = result.stdout + (result.stderr if on_stderr == 'capture' else '')
-    return output.rstrip('\n')
+    # kept as printed, trailing newline too, as launch keeps it (a YAML-typed value ignores it)
+    return result.stdout + (result.stderr if on_stderr == 'capture' else '')
 
 
 @substitution('not', args=(1, 1), summary="'true' when the argument is false")
