@@ -4,7 +4,8 @@ tf2_ros_py and nav2_simple_commander ship pass under `zros python -m pytest`.
     python benchmarks/upstream_tests.py [--interfaces IFACES] SUITE=DIR [SUITE=DIR ...] [--json out.json]
 
 Each DIR is a suite's test folder as fetched at its jazzy commit (nothing is fetched here and
-nothing is copied into zros), for example
+nothing is copied into zros; a checkout or `git archive` keeps the files' modes, which launch's
+command tests need to run their scripts), for example
 `rclpy=rclpy/rclpy/test launch=launch/launch/test launch_xml=launch/launch_xml/test
 launch_yaml=launch/launch_yaml/test launch_ros=launch_ros/test_launch_ros/test
 tf2_ros_py=geometry2/tf2_ros_py/test nav2_simple_commander=nav2/nav2_simple_commander/test`.
