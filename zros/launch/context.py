@@ -88,6 +88,17 @@ class LaunchContext(EventDispatch):
         # nodes started per fully qualified name (launch_ros.utilities.track_node_names), shared
         # with snapshots: a duplicate name anywhere in the launch is one to warn about
         self.node_names: Counter[str] = Counter()
+        self._asyncio_loop: Any = None
+
+    # -- the asyncio loop a launch runs in (launch.LaunchContext.asyncio_loop) -----------------
+    @property
+    def asyncio_loop(self) -> Any:
+        """The asyncio loop of `LaunchService.run_async()` while it runs the launch, else None:
+        zros's launch runs on the supervisor's thread and needs no loop of its own."""
+        return self._asyncio_loop
+
+    def _set_asyncio_loop(self, loop: Any) -> None:
+        self._asyncio_loop = loop
 
     # -- what Python launch code sees (launch.LaunchContext) -----------------------------------
     @property

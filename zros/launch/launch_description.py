@@ -62,7 +62,7 @@ class LaunchDescription(LaunchDescriptionEntity):
             if isinstance(entity, DeclareLaunchArgument):
                 entity._conditionally_included = conditional
                 found.append(entity)
-            children = [(child, conditional) for child in entity.sub_actions()]
+            children = [(child, conditional) for child in entity.describe_sub_entities()]
             children += [(child, True) for _, entities in entity.describe_conditional_sub_entities()
                          for child in entities]
             stack.extend(reversed(children))

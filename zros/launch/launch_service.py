@@ -109,7 +109,12 @@ class LaunchService(ProcessObserver):
     async def run_async(self, *, shutdown_when_idle: bool = True) -> int:
         """`run()` as a coroutine, for `loop.run_until_complete(ls.run_async())`. It runs the
         supervisor to the end on the calling thread, so the asyncio loop waits meanwhile."""
-        return self.run(shutdown_when_idle=shutdown_when_idle)
+        import asyncio
+        self.__context._set_asyncio_loop(asyncio.get_running_loop())
+        try:
+            return self.run(shutdown_when_idle=shutdown_when_idle)
+        finally:
+            self.__context._set_asyncio_loop(None)
 
     # -- the supervisor's thread (ProcessObserver) ---------------------------------------------
     def pump(self) -> None:

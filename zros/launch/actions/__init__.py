@@ -11,7 +11,7 @@ from __future__ import annotations
 from zros.launch.actions.arg import (DeclareLaunchArgument, ResetLaunchConfigurations, SetLaunchConfiguration,
                                      UnsetLaunchConfiguration)
 from zros.launch.actions.env import AppendEnvironmentVariable, SetEnvironmentVariable, UnsetEnvironmentVariable
-from zros.launch.actions.events import RegisterEventHandler
+from zros.launch.actions.events import RegisterEventHandler, UnregisterEventHandler
 from zros.launch.actions.group import GroupAction
 from zros.launch.actions.include import IncludeLaunchDescription
 from zros.launch.actions.log import LogInfo
@@ -31,7 +31,7 @@ __all__ = [
     'IncludeLaunchDescription', 'LogInfo', 'OpaqueFunction', 'PopEnvironment', 'PopLaunchConfigurations',
     'PushEnvironment', 'PushLaunchConfigurations', 'RegisterEventHandler', 'ResetEnvironment',
     'ResetLaunchConfigurations', 'SetEnvironmentVariable', 'SetLaunchConfiguration', 'Shutdown',
-    'TimerAction', 'UnsetEnvironmentVariable', 'UnsetLaunchConfiguration',
+    'TimerAction', 'UnregisterEventHandler', 'UnsetEnvironmentVariable', 'UnsetLaunchConfiguration',
 ]
 
 __getattr__ = module_getattr(__name__)
