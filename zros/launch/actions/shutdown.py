@@ -40,7 +40,8 @@ class EmitEvent(Action):
                                            event.transition.label, self.origin))
             return
         reason = self.reason.perform(context) if self.reason is not None else ''
-        context.emit(ShutdownEffect(reason, self.origin))
+        delivered = bool(self.event.due_to_sigint) and not context.noninteractive
+        context.emit(ShutdownEffect(reason, self.origin, delivered))
 
 
 @launch_tag('shutdown')
