@@ -98,3 +98,28 @@ def test_a_timer_kept_over_shutdown_says_so_in_its_effect():
     walk([TimerAction(period=1.0, actions=[Shutdown()], cancel_on_shutdown=False)], context)
     [timer] = context.effects
     assert isinstance(timer, TimerEffect) and timer.cancel_on_shutdown is False
+
+
+def test_shutdown_on_a_bare_context_is_queued_as_the_event_and_in_a_launch_is_a_plan_point():
+    from zros.launch.description import walk
+    from zros.launch.events import Shutdown as ShutdownEvent
+    from zros.launch.plan import ShutdownEffect
+    bare = LaunchContext()
+    assert Shutdown(reason='by hand').visit(bare) is None
+    event = bare._event_queue.get_nowait()
+    assert isinstance(event, ShutdownEvent) and event.reason == 'by hand'
+    launching = LaunchContext()
+    level = launching.begin_capture()
+    walk([Shutdown(reason='planned')], launching)
+    [effect] = launching.end_capture(level)
+    assert isinstance(effect, ShutdownEffect) and effect.reason == 'planned'
+    assert launching._event_queue.empty()
+
+
+def test_ending_a_capture_by_level_closes_captures_left_open_inside_it():
+    context = LaunchContext()
+    level = context.begin_capture()
+    context.emit('mine')
+    context.begin_capture()   # an action executed by hand, its EndCapture never visited
+    context.emit('lost')
+    assert context.end_capture(level) == ['mine'] and not context.collecting_effects

@@ -203,11 +203,27 @@ class LaunchContext(EventDispatch):
     def emit(self, effect: Any) -> None:
         self._captures[-1].append(effect)
 
-    def begin_capture(self) -> None:
+    def begin_capture(self) -> int:
+        """Collect the effects emitted from now on apart; returns the capture's level."""
         self._captures.append([])
+        return len(self._captures) - 1
 
-    def end_capture(self) -> list:
-        return self._captures.pop()
+    def end_capture(self, level: int | None = None) -> list:
+        """The effects collected since the last `begin_capture()` (or since the one that
+        returned `level`, closing any capture left open inside it: an action that user code
+        executed by hand, without visiting what it returned)."""
+        if level is None:
+            return self._captures.pop()
+        captured = self._captures[level]
+        del self._captures[level:]
+        return captured
+
+    @property
+    def collecting_effects(self) -> bool:
+        """Whether the effects emitted now are collected to be carried out (a launch being
+        resolved or run, a timer's or a handler's actions); not on a context that code uses
+        directly (`Shutdown().visit(LaunchContext())`), where only events reach anyone."""
+        return len(self._captures) > 1
 
     @property
     def effects(self) -> list:
