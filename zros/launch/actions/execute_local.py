@@ -7,15 +7,18 @@ from __future__ import annotations
 
 import os
 import shlex
+import shutil
+from pathlib import Path
 from typing import Any
 
 from zros.launch.action import Action, ActionKwargs
 from zros.launch.descriptions.executable import Executable, full_environment
-from zros.launch.errors import LaunchFileError
+from zros.launch.errors import LaunchFileError, Origin
 from zros.launch.plan import OUTPUT_MODES, ProcessSpec
 from zros.launch.template import Text, Typed, is_static
 
-__all__ = ['ExecuteLocal', 'ExecuteLocalKwargs', 'DEFAULT_SIGTERM_TIMEOUT', 'DEFAULT_SIGKILL_TIMEOUT']
+__all__ = ['ExecuteLocal', 'ExecuteLocalKwargs', 'DEFAULT_SIGTERM_TIMEOUT', 'DEFAULT_SIGKILL_TIMEOUT', 'check_program',
+           'process_label']
 
 DEFAULT_SIGTERM_TIMEOUT = 5.0
 DEFAULT_SIGKILL_TIMEOUT = 5.0
@@ -34,6 +37,26 @@ class ExecuteLocalKwargs(ActionKwargs, total=False):
     shell: Typed | None
     emulate_tty: Typed | None
     on_exit: Any
+
+
+def check_program(program: str, options: dict, context: Any, origin: Origin) -> None:
+    """The program must exist (on PATH, or as a path), so a typo stops the launch up front."""
+    env = dict(context.environment)
+    env.update({k: v for k, v in options['env'] if v is not None})
+    if os.sep in program:
+        path = Path(options['cwd'] or '.') / program if not os.path.isabs(program) else Path(program)
+        ok = path.is_file() and os.access(path, os.X_OK)
+    else:
+        ok = shutil.which(program, path=env.get('PATH')) is not None
+    if not ok:
+        raise LaunchFileError(origin, f"executable '{program}' not found" + ('' if os.sep in program else ' on PATH'))
+
+
+def process_label(text: str) -> str:
+    """A process label usable in output prefixes and log file names."""
+    clean = ''.join(c if c.isalnum() or c in '_.-' else '_' for c in text.strip())
+    return clean or 'process'
+
 
 
 def _output_mode(config: dict, origin: Any) -> str:
@@ -224,7 +247,6 @@ class ExecuteLocal(Action):
         return self.after_start()
 
     def execute(self, context: Any) -> list[Action]:
-        from zros.launch.actions.process import check_program, process_label
         shell = self._shell.perform(context) if self._shell is not None else False
         options = self.process_options(context)
         description = self.process_description

@@ -10,8 +10,6 @@ launch before any process starts.
 """
 from __future__ import annotations
 
-import os
-import shutil
 import sys
 from pathlib import Path
 from typing import Any
@@ -19,7 +17,7 @@ from typing import Any
 from zros.errors import InvalidNameError
 from zros.launch.action import Action, Parser, launch_tag
 from zros.launch.actions.execute_local import (DEFAULT_SIGKILL_TIMEOUT, DEFAULT_SIGTERM_TIMEOUT, ExecuteLocal,
-                                               ExecuteLocalKwargs)
+                                               ExecuteLocalKwargs, check_program, process_label)
 from zros.launch.actions.group import join_namespace
 from zros.launch.descriptions.executable import CommandLine, Executable
 from zros.launch.entity import Entity, Scalar
@@ -30,7 +28,7 @@ from zros.launch.origin import origin_here
 from zros.launch.template import Text, parse, perform
 
 __all__ = ['ExecuteProcess', 'Node', 'CommandLine', 'DEFAULT_SIGTERM_TIMEOUT', 'DEFAULT_SIGKILL_TIMEOUT',
-           'check_program', 'process_label']
+           'check_program', 'process_label']   # (the last two re-exported from execute_local)
 
 class ExecuteKwargs(ExecuteLocalKwargs, total=False):
     cmd: CommandLine
@@ -93,25 +91,6 @@ class ExecuteProcess(ExecuteLocal):
             item.assert_complete()
         kwargs['additional_env'] = env
         return cls, kwargs
-
-
-def check_program(program: str, options: dict, context: Any, origin: Origin) -> None:
-    """The program must exist (on PATH, or as a path), so a typo stops the launch up front."""
-    env = dict(context.environment)
-    env.update({k: v for k, v in options['env'] if v is not None})
-    if os.sep in program:
-        path = Path(options['cwd'] or '.') / program if not os.path.isabs(program) else Path(program)
-        ok = path.is_file() and os.access(path, os.X_OK)
-    else:
-        ok = shutil.which(program, path=env.get('PATH')) is not None
-    if not ok:
-        raise LaunchFileError(origin, f"executable '{program}' not found" + ('' if os.sep in program else ' on PATH'))
-
-
-def process_label(text: str) -> str:
-    """A process label usable in output prefixes and log file names."""
-    clean = ''.join(c if c.isalnum() or c in '_.-' else '_' for c in text.strip())
-    return clean or 'process'
 
 
 # -- node -------------------------------------------------------------------------------------
