@@ -1,5 +1,6 @@
 """`ExecuteProcess` (`executable`) and launch_ros's `Node` (`node`): the actions that become
-processes.
+processes. Both are ExecuteLocal (zros.launch.actions.execute_local) over an Executable made of
+their own arguments.
 
 `Node` is `ExecuteProcess` plus what launch_ros adds: the command is
 `python -m zros run PKG EXEC [args] --ros-args -r __node:=NAME -r __ns:=/NS -r from:=to
