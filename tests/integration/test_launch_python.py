@@ -246,8 +246,8 @@ def test_package_launch_file_on_the_node_path(probe: Path, tmp_path: Path):
 
 # -- errors: one line, file and line, at load time ---------------------------------------------------
 @pytest.mark.parametrize('body, fragments', [
-    ('from zros.launch.actions import ExecuteLocal\n',
-     [':1: zros.launch.actions has no ExecuteLocal; supported: AppendEnvironmentVariable,', 'TimerAction']),
+    ('from zros.launch.actions import OpaqueCoroutine\n',
+     [':1: zros.launch.actions has no OpaqueCoroutine; supported: AppendEnvironmentVariable,', 'TimerAction']),
     ('import launch\nfrom rosbag2_py import SequentialReader\n', [":2: no module named 'rosbag2_py' (a ROS library zros does not provide: no zros.rosbag2_py)"]),
     ('from my_missing_msgs.msg import Thing\n', [":1: no module named 'my_missing_msgs' (no interface package 'my_missing_msgs' here"]),
     ('import my_missing_helpers\n', [":1: no module named 'my_missing_helpers' (not installed in this Python environment)"]),

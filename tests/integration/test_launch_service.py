@@ -107,3 +107,66 @@ def test_an_entity_that_does_not_resolve_ends_the_launch_with_exit_code_1(capsys
     assert service.run() == 1
     assert time.monotonic() - started < 20
     assert "Caught exception in launch: " in capsys.readouterr().out
+
+
+def test_a_timer_kept_over_shutdown_fires_during_it_and_is_a_second_shutdown_event():
+    from zros.launch.actions import Shutdown as ShutdownAction, TimerAction
+    from zros.launch.event_handlers import OnShutdown
+    reasons: list = []
+    service = LaunchService()
+    service.include_launch_description(LaunchDescription([
+        ExecuteProcess(cmd=[PY, '-c', 'import time; time.sleep(30)']),
+        TimerAction(period=0.5, actions=[ShutdownAction(reason='first')]),
+        TimerAction(period=1.5, actions=[ShutdownAction(reason='kept')], cancel_on_shutdown=False),
+        TimerAction(period=1.5, actions=[ShutdownAction(reason='cancelled')]),
+        RegisterEventHandler(OnShutdown(on_shutdown=lambda event, context: reasons.append(event.reason))),
+    ]))
+    assert service.run() == 0
+    assert reasons == ['first', 'kept']
+
+
+def run_until_shutdown_due_to_sigint(noninteractive: bool) -> int:
+    """The exit code of a process whose start emits Shutdown(due_to_sigint=True)."""
+    from zros.launch.actions import EmitEvent
+    from zros.launch.event_handlers import OnProcessExit, OnProcessStart
+    codes: list = []
+    process = ExecuteProcess(cmd=[PY, '-c', 'import time; time.sleep(30)'], sigterm_timeout='1')
+    service = LaunchService(noninteractive=noninteractive)
+    service.include_launch_description(LaunchDescription([
+        process,
+        RegisterEventHandler(OnProcessStart(target_action=process, on_start=[
+            EmitEvent(event=Shutdown(reason='ctrl-c', due_to_sigint=True))])),
+        RegisterEventHandler(OnProcessExit(target_action=process,
+                                           on_exit=lambda event, context: codes.append(event.returncode))),
+    ]))
+    assert service.run() == 0
+    return codes[0]
+
+
+def test_shutdown_due_to_sigint_sends_sigint_only_when_noninteractive():
+    import signal
+    # interactive: the terminal's Ctrl-C is taken to have reached the process; SIGTERM follows
+    assert run_until_shutdown_due_to_sigint(noninteractive=False) == -signal.SIGTERM
+    assert run_until_shutdown_due_to_sigint(noninteractive=True) != -signal.SIGTERM
+
+
+def exit_code_of(process: ExecuteProcess, *before) -> int:
+    codes: list = []
+    from zros.launch.event_handlers import OnProcessExit
+    service = LaunchService()
+    service.include_launch_description(LaunchDescription([
+        *before, process,
+        RegisterEventHandler(OnProcessExit(target_action=process,
+                                           on_exit=lambda event, context: codes.append(event.returncode))),
+    ]))
+    assert service.run() == 0
+    return codes[0]
+
+
+def test_emulate_tty_gives_stdout_and_stderr_terminals_by_argument_or_configuration():
+    from zros.launch.actions import SetLaunchConfiguration
+    probe = [PY, '-c', 'import sys; print("seen"); sys.exit(sys.stdout.isatty() + 2 * sys.stderr.isatty())']
+    assert exit_code_of(ExecuteProcess(cmd=probe)) == 0
+    assert exit_code_of(ExecuteProcess(cmd=probe, emulate_tty=True)) == 3
+    assert exit_code_of(ExecuteProcess(cmd=probe), SetLaunchConfiguration('emulate_tty', 'true')) == 3
+    assert exit_code_of(ExecuteProcess(cmd=probe, emulate_tty=False), SetLaunchConfiguration('emulate_tty', 'true')) == 0

@@ -182,3 +182,41 @@ def test_execution_complete_is_queued_only_when_a_handler_would_take_it(tmp_path
                             quiet, watched], str(tmp_path / 'x.launch.py'))
     queued = [plan.context._event_queue.get_nowait() for _ in range(plan.context._event_queue.qsize())]
     assert [event.action for event in queued] == [watched]
+
+
+def test_unregister_event_handler_takes_a_queue_handler_off_once():
+    from zros.launch import EventHandler, LaunchContext
+    from zros.launch.actions import RegisterEventHandler, UnregisterEventHandler
+    context = LaunchContext()
+    handler = EventHandler(matcher=lambda event: True)
+    RegisterEventHandler(handler).execute(context)
+    assert handler in context.event_handlers
+    UnregisterEventHandler(handler).execute(context)
+    assert handler not in context.event_handlers
+    with pytest.raises(ValueError):
+        UnregisterEventHandler(handler).execute(context)
+
+
+def test_register_event_handler_describes_its_actions_as_conditional():
+    from zros.launch import EventHandler
+    from zros.launch.actions import LogInfo, RegisterEventHandler
+    action = LogInfo(msg='later')
+    register = RegisterEventHandler(EventHandler(matcher=lambda event: True, entities=[action]))
+    assert register.describe_sub_entities() == []
+    [(_, entities)] = register.describe_conditional_sub_entities()
+    assert entities == [action]
+
+
+def test_context_has_the_run_async_loop_only_while_it_runs():
+    import asyncio
+    from zros.launch import LaunchContext, LaunchService
+    assert LaunchContext().asyncio_loop is None
+    seen = []
+    service = LaunchService()
+    service.run = lambda **kwargs: seen.append(service.context.asyncio_loop) or 0
+    loop = asyncio.new_event_loop()
+    try:
+        assert loop.run_until_complete(service.run_async()) == 0
+    finally:
+        loop.close()
+    assert seen == [loop] and service.context.asyncio_loop is None

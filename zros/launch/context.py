@@ -88,6 +88,17 @@ class LaunchContext(EventDispatch):
         # nodes started per fully qualified name (launch_ros.utilities.track_node_names), shared
         # with snapshots: a duplicate name anywhere in the launch is one to warn about
         self.node_names: Counter[str] = Counter()
+        self._asyncio_loop: Any = None
+
+    # -- the asyncio loop a launch runs in (launch.LaunchContext.asyncio_loop) -----------------
+    @property
+    def asyncio_loop(self) -> Any:
+        """The asyncio loop of `LaunchService.run_async()` while it runs the launch, else None:
+        zros's launch runs on the supervisor's thread and needs no loop of its own."""
+        return self._asyncio_loop
+
+    def _set_asyncio_loop(self, loop: Any) -> None:
+        self._asyncio_loop = loop
 
     # -- what Python launch code sees (launch.LaunchContext) -----------------------------------
     @property
@@ -192,11 +203,27 @@ class LaunchContext(EventDispatch):
     def emit(self, effect: Any) -> None:
         self._captures[-1].append(effect)
 
-    def begin_capture(self) -> None:
+    def begin_capture(self) -> int:
+        """Collect the effects emitted from now on apart; returns the capture's level."""
         self._captures.append([])
+        return len(self._captures) - 1
 
-    def end_capture(self) -> list:
-        return self._captures.pop()
+    def end_capture(self, level: int | None = None) -> list:
+        """The effects collected since the last `begin_capture()` (or since the one that
+        returned `level`, closing any capture left open inside it: an action that user code
+        executed by hand, without visiting what it returned)."""
+        if level is None:
+            return self._captures.pop()
+        captured = self._captures[level]
+        del self._captures[level:]
+        return captured
+
+    @property
+    def collecting_effects(self) -> bool:
+        """Whether the effects emitted now are collected to be carried out (a launch being
+        resolved or run, a timer's or a handler's actions); not on a context that code uses
+        directly (`Shutdown().visit(LaunchContext())`), where only events reach anyone."""
+        return len(self._captures) > 1
 
     @property
     def effects(self) -> list:

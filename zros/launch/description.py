@@ -74,7 +74,9 @@ def resolve_actions(actions: list, path: str, *, launch_arguments: dict[str, str
     context = LaunchContext(launch_arguments=launch_arguments, environment=environment, log_dir=log_dir)
     context.known_arguments = {arg.name: arg for arg in declared_arguments(path, launch_arguments, actions=actions)}
     context.enter_file(path, None)
+    level = context.begin_capture()
     walk(actions, context)
+    effects = context.end_capture(level)
     context.leave_file()
     known = (set(context.declared) | set(context.known_arguments) | context.read_configurations
              | set(BUILTIN_CONFIGURATIONS) | _READ_FROM_COMMAND_LINE)
@@ -83,7 +85,7 @@ def resolve_actions(actions: list, path: str, *, launch_arguments: dict[str, str
         declared = ', '.join(context.declared_names()) or 'none'
         raise LaunchError(f"{path}: unknown launch argument '{unknown[0]}' (declared arguments: {declared})")
     arguments = {name: context.configurations.get(name, '') for name in context.declared}
-    return Plan(path, context.effects, arguments=arguments, declared=dict(context.declared), log_dir=log_dir,
+    return Plan(path, effects, arguments=arguments, declared=dict(context.declared), log_dir=log_dir,
                 context=context)
 
 
@@ -151,9 +153,10 @@ class Deferred:
         from zros.launch.actions.group import check_actions
         from zros.launch.actions.opaque import call_user_function
         context = self.context.snapshot()
+        level = context.begin_capture()
         try:
             result = call_user_function(self.function, self.origin, event, context)
             walk(check_actions(result, self.origin), context)
         except LaunchFileError as exc:
             return [LogMessage('ERROR', str(exc), self.origin)]
-        return context.effects
+        return context.end_capture(level)

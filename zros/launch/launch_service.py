@@ -58,6 +58,7 @@ class LaunchService(ProcessObserver):
         self._supervisor: Supervisor | None = None
         self._shutdown_when_idle: bool | None = True
         self._shutting_down = False
+        self._announcing = False      # the supervisor is stopping for a Shutdown event being dispatched
         self._running: dict[str, tuple[int, list[str]]] = {}   # process name -> (pid, argv)
         # The launch's own handler, registered after those already on the context (a resolved
         # file's) so that users' handlers see events first.
@@ -110,7 +111,12 @@ class LaunchService(ProcessObserver):
     async def run_async(self, *, shutdown_when_idle: bool = True) -> int:
         """`run()` as a coroutine, for `loop.run_until_complete(ls.run_async())`. It runs the
         supervisor to the end on the calling thread, so the asyncio loop waits meanwhile."""
-        return self.run(shutdown_when_idle=shutdown_when_idle)
+        import asyncio
+        self.__context._set_asyncio_loop(asyncio.get_running_loop())
+        try:
+            return self.run(shutdown_when_idle=shutdown_when_idle)
+        finally:
+            self.__context._set_asyncio_loop(None)
 
     # -- the supervisor's thread (ProcessObserver) ---------------------------------------------
     def pump(self) -> None:
@@ -132,8 +138,10 @@ class LaunchService(ProcessObserver):
 
     def shutting_down(self, reason: str) -> None:
         """A shutdown the supervisor began itself (Ctrl-C, a Shutdown action, a process's
-        on_exit): the context's handlers see it as a Shutdown event, before the processes stop."""
-        if not self._shutting_down:
+        on_exit) or was asked for again while stopping: the context's handlers see it as a
+        Shutdown event, before the processes stop. Not for the one a Shutdown event began (the
+        handlers have seen that event)."""
+        if not self._announcing:
             self._dispatch(Shutdown(reason=reason, due_to_sigint='SIGINT' in reason))
 
     def started(self, name: str, spec: ProcessSpec, pid: int, cmd: list[str]) -> None:
@@ -171,7 +179,14 @@ class LaunchService(ProcessObserver):
         if isinstance(event, Shutdown):
             self._shutting_down = True
             if self._supervisor is not None:
-                self._supervisor.shutdown(str(event.reason or 'Shutdown event'))
+                # launch's rule: in an interactive launch, a Shutdown due to SIGINT means the
+                # terminal's Ctrl-C already reached the processes; only escalation is left
+                delivered = bool(getattr(event, 'due_to_sigint', False)) and not context.noninteractive
+                self._announcing = True
+                try:
+                    self._supervisor.shutdown(str(event.reason or 'Shutdown event'), sigint_delivered=delivered)
+                finally:
+                    self._announcing = False
 
     def _visit(self, entities: Any) -> None:
         """Resolve `entities` in the context and carry out their effects."""

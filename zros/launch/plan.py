@@ -71,6 +71,7 @@ class ProcessSpec:
     sigterm_timeout: float = 5.0
     sigkill_timeout: float = 5.0
     on_exit_shutdown: bool = False
+    emulate_tty: bool = False                       # stdout and stderr are pseudo-terminals
     origin: Origin | None = None
     node: NodeInfo | None = None
     lifecycle: bool = False                         # started by a LifecycleNode action
@@ -103,14 +104,22 @@ class LogMessage(NamedTuple):
 
 
 class TimerEffect(NamedTuple):
+    """`effects` after `period` seconds [s]. A timer with `cancel_on_shutdown` False still fires
+    while the launch shuts down; then only its log lines and shutdowns are carried out."""
+
     period: float
     effects: list
     origin: Origin | None = None
+    cancel_on_shutdown: bool = True
 
 
 class ShutdownEffect(NamedTuple):
+    """End the launch here. `sigint_delivered`: the Shutdown event said a SIGINT already reached
+    the processes (`due_to_sigint` in an interactive launch), so they are not sent another."""
+
     reason: str
     origin: Origin | None = None
+    sigint_delivered: bool = False
 
 
 class CallEffect(NamedTuple):

@@ -191,6 +191,7 @@ class _Process:
         self.starts = 0
         self.stage = 0            # 0 running normally, 1 SIGINT sent, 2 SIGTERM sent, 3 SIGKILL sent
         self.buffers: dict[int, bytearray] = {}
+        self.streams: tuple[Any, ...] = ()   # what its stdout and stderr are read from
         self.command: list[str] = []
         self.log = open(log_dir / f'{name}.log', 'a', encoding='utf-8') if log_dir is not None else None
 
@@ -395,14 +396,30 @@ class Supervisor:
             elif isinstance(effect, LogMessage):
                 self.log.message(effect.level, 'launch.user', effect.message)
             elif isinstance(effect, TimerEffect):
-                self._schedule(effect.period, 'timer', lambda e=effect: self._run_effects(e.effects))
+                if effect.cancel_on_shutdown:
+                    self._schedule(effect.period, 'timer', lambda e=effect: self._run_effects(e.effects))
+                else:
+                    self._schedule(effect.period, 'kept-timer', lambda e=effect: self._run_kept(e.effects))
             elif isinstance(effect, ShutdownEffect):
-                self.shutdown(effect.reason or 'shutdown requested by the launch file')
+                self.shutdown(effect.reason or 'shutdown requested by the launch file',
+                              sigint_delivered=effect.sigint_delivered)
                 return
             elif isinstance(effect, CallEffect):
                 effect.function()
             elif isinstance(effect, ChangeStateEffect):
                 self._change_state(effect)
+
+    def _run_kept(self, effects: list) -> None:
+        """A timer that shutdown does not cancel: as usual before the shutdown; during it, its
+        log lines are logged and its shutdowns announced again (nothing starts any more)."""
+        if not self._shutting_down:
+            self._run_effects(effects)
+            return
+        for effect in effects:
+            if isinstance(effect, LogMessage):
+                self.log.message(effect.level, 'launch.user', effect.message)
+            elif isinstance(effect, ShutdownEffect):
+                self._announce_shutdown(effect.reason or 'shutdown requested by the launch file')
 
     def _dispatch(self, event: str, process: _Process, code: int | None = None) -> None:
         """Carry out the OnProcessStart / OnProcessExit handlers that watch this process."""
@@ -517,20 +534,30 @@ class Supervisor:
         if spec.env:
             self.log.debug(process.name, 'env: ' + ', '.join(
                 f'{k}={v}' if v is not None else f'unset {k}' for k, v in spec.env))
+        terminals = _open_terminals() if spec.emulate_tty else None
+        outputs = terminals[1] if terminals else (subprocess.PIPE, subprocess.PIPE)
         try:
             popen = subprocess.Popen(
-                process.command, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                process.command, stdin=subprocess.DEVNULL, stdout=outputs[0], stderr=outputs[1],
                 env=self._environment(spec), cwd=spec.cwd, start_new_session=True, preexec_fn=self._preexec)
         except OSError as exc:
+            for fd in [fd for pair in terminals or () for fd in pair]:
+                os.close(fd)
             self.log.error(process.name, f'failed to start process: {exc.strerror or exc} (cmd {shown!r})')
             self._failed = True
             if spec.on_exit_shutdown:
                 self.shutdown(f'process[{process.name}] failed to start')
             return
+        if terminals:   # the child has its ends; the launch reads the other ones
+            for fd in terminals[1]:
+                os.close(fd)
+            process.streams = tuple(os.fdopen(fd, 'rb', buffering=0) for fd in terminals[0])
+        else:
+            process.streams = (popen.stdout, popen.stderr)
         process.popen = popen
         process.starts += 1
         process.stage = 0
-        for stream in (popen.stdout, popen.stderr):
+        for stream in process.streams:
             fd = stream.fileno()
             os.set_blocking(fd, False)
             process.buffers[fd] = bytearray()
@@ -561,13 +588,13 @@ class Supervisor:
             if b'\n' in data:
                 *lines, rest = bytes(buffer).split(b'\n')
                 buffer[:] = rest
-                self._emit(process, stream is process.popen.stderr, lines)
+                self._emit(process, stream is process.streams[1], lines)
 
     def _close_stream(self, process: _Process, stream: Any) -> None:
         fd = stream.fileno()
         rest = process.buffers.pop(fd, b'')
         if rest:
-            self._emit(process, stream is process.popen.stderr, [bytes(rest)])
+            self._emit(process, stream is process.streams[1], [bytes(rest)])
         try:
             self._selector.unregister(fd)
         except (KeyError, ValueError):
@@ -597,7 +624,7 @@ class Supervisor:
             code = process.popen.poll()
             if code is None:
                 continue
-            for stream in (process.popen.stdout, process.popen.stderr):
+            for stream in process.streams:
                 if not stream.closed:
                     self._read(process, stream)
                     if not stream.closed:   # a grandchild still holds the pipe: stop reading it
@@ -637,20 +664,36 @@ class Supervisor:
         self._failed = True
         self.shutdown(text)
 
-    def shutdown(self, reason: str) -> None:
-        """Stop the launch: cancel timers and respawns, SIGINT every process, escalate later."""
+    def shutdown(self, reason: str, *, sigint_delivered: bool = False) -> None:
+        """Stop the launch: cancel timers and respawns, SIGINT every process, escalate later.
+
+        `sigint_delivered`: the caller says a SIGINT already reached every process (launch's
+        Shutdown event `due_to_sigint` in an interactive launch: a terminal's Ctrl-C went to the
+        whole process group), so the processes get SIGTERM after `sigterm_timeout` unless they
+        exit first, and no SIGINT from here.
+        """
         if self._shutting_down:
             return
         self._shutting_down = True
-        self.log.info('launch', f'shutting down: {reason}')
-        self._observer.shutting_down(reason)
-        self._on_shutdown(reason)
-        self._timers = [t for t in self._timers if t[2] == 'escalate']
+        self._announce_shutdown(reason)
+        self._timers = [t for t in self._timers if t[2] in ('escalate', 'kept-timer')]
         heapq.heapify(self._timers)
         self._abandon_transitions()
         for process in self._processes:
-            if process.running:
+            if not process.running:
+                continue
+            if sigint_delivered and process.stage < 1:
+                process.stage = 1
+                self._schedule_escalation(process)
+            else:
                 self._signal(process, signal.SIGINT)
+
+    def _announce_shutdown(self, reason: str) -> None:
+        """Tell the observer's and the launch's OnShutdown handlers (again, for each later
+        shutdown request while stopping)."""
+        self.log.info('launch', f'shutting down: {reason}')
+        self._observer.shutting_down(reason)
+        self._on_shutdown(reason)
 
     def _on_shutdown(self, reason: str) -> None:
         """Carry out the OnShutdown handlers: their messages are logged; nothing starts now."""
@@ -686,10 +729,14 @@ class Supervisor:
                 process.popen.send_signal(signum)
             except (ProcessLookupError, OSError):
                 pass
-        if stage == 1:
+        self._schedule_escalation(process)
+
+    def _schedule_escalation(self, process: _Process) -> None:
+        """The next signal, if the process is still running after its stage's timeout."""
+        if process.stage == 1:
             self._schedule(process.spec.sigterm_timeout, 'escalate',
                            lambda p=process, n=process.starts: self._escalate(p, n, signal.SIGTERM))
-        elif stage == 2:
+        elif process.stage == 2:
             self._schedule(process.spec.sigkill_timeout, 'escalate',
                            lambda p=process, n=process.starts: self._escalate(p, n, signal.SIGKILL))
 
@@ -717,7 +764,7 @@ class Supervisor:
                     process.popen.wait(timeout=5)
                 except subprocess.TimeoutExpired:  # pragma: no cover - SIGKILL does not fail
                     pass
-            for stream in (process.popen.stdout, process.popen.stderr):
+            for stream in process.streams:
                 if stream is not None and not stream.closed:
                     try:
                         self._selector.unregister(stream.fileno())
@@ -764,6 +811,15 @@ class Supervisor:
                     if not stream.closed:
                         self._read(process, stream)
             self._flush_logs()
+
+
+def _open_terminals() -> tuple[tuple[int, int], tuple[int, int]]:
+    """Two pseudo-terminals for `emulate_tty`: ((stdout, stderr) ends the launch reads,
+    (stdout, stderr) ends the child writes), so the child's isatty() is true and its libraries
+    colour and line-buffer their output as in a terminal."""
+    stdout, stdout_child = os.openpty()
+    stderr, stderr_child = os.openpty()
+    return (stdout, stderr), (stdout_child, stderr_child)
 
 
 def _drain(fd: int) -> None:

@@ -449,6 +449,22 @@ class Typed:
     def __str__(self) -> str:
         return str(self.value).lower() if isinstance(self.value, bool) else str(self.value)
 
+    def substitutions(self) -> list[Substitution]:
+        """launch's list-of-substitutions view (`action.sigterm_timeout[0].perform(context)`):
+        a constant as its text, a substituted value as its Text's."""
+        return self.value.substitutions() if isinstance(self.value, Text) else Text((str(self),), self.origin).substitutions()
+
+    def __iter__(self) -> Any:
+        return iter(self.substitutions())
+
+    def __getitem__(self, index: Any) -> Any:
+        return self.substitutions()[index]
+
+    def launch_view(self) -> Any:
+        """What launch's property for such an attribute returns: the constant (`timer.period`
+        is 5.0, `executable.shell` is True), else the list of substitutions that give it."""
+        return self.substitutions() if isinstance(self.value, Text) else self.value
+
     def __bool__(self) -> bool:
         """launch's view of such an attribute: the constant's truth (`if action.prepend:`), and
         true for one a substitution gives, as launch's non-empty list of substitutions is."""

@@ -38,6 +38,8 @@ def _walk(entities: list) -> Iterator[Any]:
     for entity in entities:
         yield entity
         yield from _walk(entity.describe_sub_entities())
+        for _, entities in entity.describe_conditional_sub_entities():
+            yield from _walk(entities)
 
 
 class LaunchTest:

@@ -11,7 +11,8 @@ from __future__ import annotations
 from zros.launch.actions.arg import (DeclareLaunchArgument, ResetLaunchConfigurations, SetLaunchConfiguration,
                                      UnsetLaunchConfiguration)
 from zros.launch.actions.env import AppendEnvironmentVariable, SetEnvironmentVariable, UnsetEnvironmentVariable
-from zros.launch.actions.events import RegisterEventHandler
+from zros.launch.actions.events import RegisterEventHandler, UnregisterEventHandler
+from zros.launch.actions.execute_local import ExecuteLocal
 from zros.launch.actions.group import GroupAction
 from zros.launch.actions.include import IncludeLaunchDescription
 from zros.launch.actions.log import LogInfo
@@ -27,11 +28,11 @@ from zros.launch.files import module_getattr
 from zros.launch.actions import composable as _composable, ros as _ros  # noqa: F401
 
 __all__ = [
-    'AppendEnvironmentVariable', 'DeclareLaunchArgument', 'EmitEvent', 'ExecuteProcess', 'GroupAction',
+    'AppendEnvironmentVariable', 'DeclareLaunchArgument', 'EmitEvent', 'ExecuteLocal', 'ExecuteProcess', 'GroupAction',
     'IncludeLaunchDescription', 'LogInfo', 'OpaqueFunction', 'PopEnvironment', 'PopLaunchConfigurations',
     'PushEnvironment', 'PushLaunchConfigurations', 'RegisterEventHandler', 'ResetEnvironment',
     'ResetLaunchConfigurations', 'SetEnvironmentVariable', 'SetLaunchConfiguration', 'Shutdown',
-    'TimerAction', 'UnsetEnvironmentVariable', 'UnsetLaunchConfiguration',
+    'TimerAction', 'UnregisterEventHandler', 'UnsetEnvironmentVariable', 'UnsetLaunchConfiguration',
 ]
 
 __getattr__ = module_getattr(__name__)

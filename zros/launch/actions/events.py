@@ -1,6 +1,7 @@
 """`RegisterEventHandler`: run actions when a process starts or exits, the launch shuts down,
 or a lifecycle node goes through a transition the launch requested; or register any other
-launch.EventHandler on the running launch's event queue."""
+launch.EventHandler on the running launch's event queue. `UnregisterEventHandler` takes such
+an event-queue handler off again."""
 from __future__ import annotations
 
 from typing import Any
@@ -12,7 +13,7 @@ from zros.launch.event_handler import BaseEventHandler
 from zros.launch.event_handlers import OnProcessExit, OnProcessStart, OnShutdown
 from zros.launch.plan import EventHandlerEffect
 
-__all__ = ['RegisterEventHandler']
+__all__ = ['RegisterEventHandler', 'UnregisterEventHandler']
 
 
 class RegisterEventHandler(Action):
@@ -39,7 +40,21 @@ class RegisterEventHandler(Action):
         return isinstance(self.event_handler, (OnProcessStart, OnProcessExit, OnShutdown, OnStateTransition))
 
     def sub_actions(self) -> list[Action]:
-        return list(getattr(self.event_handler, 'actions', []))
+        """The handler's actions (an EventHandler's `entities`), for zros's static walks."""
+        handler = self.event_handler
+        entities = getattr(handler, 'actions', None)
+        if entities is None:
+            entities = getattr(handler, 'entities', None)
+        if entities is None:
+            return []
+        return [entities] if not isinstance(entities, (list, tuple)) else list(entities)
+
+    def describe_sub_entities(self) -> list[Action]:
+        """None: the handler's actions run only if its event happens (launch's description)."""
+        return []
+
+    def describe_conditional_sub_entities(self) -> list[tuple[str, list[Action]]]:
+        return [(f'on {type(self.event_handler).__name__}', self.sub_actions())]
 
     def execute(self, context: Any) -> list[Action]:
         handler = self.event_handler
@@ -58,3 +73,27 @@ class RegisterEventHandler(Action):
             return EventHandlerEffect(handler.event, handler.target_action, effects, None, handler.origin, transition)
         return [*scoped(handler.actions, self.origin),
                 EndCapture(origin=self.origin, wrap=wrap)]
+
+
+class UnregisterEventHandler(Action):
+    """`UnregisterEventHandler(handler)`: stop offering events to a handler that
+    RegisterEventHandler put on the event queue (a launch.EventHandler, OnExecutionComplete,
+    OnIncludeLaunchDescription, ...). Executing it for a handler that is not registered raises
+    ValueError, as launch does. The process, shutdown and lifecycle handlers are the
+    supervisor's, fixed for the whole launch: unregistering one is an error at this point.
+    """
+
+    def __init__(self, event_handler: Any, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        if not isinstance(event_handler, BaseEventHandler):
+            raise LaunchTypeError(self.origin.with_key('event_handler'),
+                                  f'expected an event handler, got {type(event_handler).__name__}')
+        self.event_handler = event_handler
+
+    def execute(self, context: Any) -> None:
+        if RegisterEventHandler(self.event_handler, origin=self.origin)._supervised():
+            raise LaunchTypeError(self.origin.with_key('event_handler'),
+                                  f'{type(self.event_handler).__name__} handlers stay registered for the whole '
+                                  'launch in zros (only event-queue handlers such as launch.EventHandler '
+                                  'can be unregistered)')
+        context.unregister_event_handler(self.event_handler)

@@ -1,5 +1,6 @@
 """`ExecuteProcess` (`executable`) and launch_ros's `Node` (`node`): the actions that become
-processes.
+processes. Both are ExecuteLocal (zros.launch.actions.execute_local) over an Executable made of
+their own arguments.
 
 `Node` is `ExecuteProcess` plus what launch_ros adds: the command is
 `python -m zros run PKG EXEC [args] --ros-args -r __node:=NAME -r __ns:=/NS -r from:=to
@@ -10,154 +11,52 @@ launch before any process starts.
 """
 from __future__ import annotations
 
-import os
-import shlex
-import shutil
 import sys
 from pathlib import Path
-from typing import Any, NamedTuple
+from typing import Any
 
 from zros.errors import InvalidNameError
-from zros.launch.action import Action, ActionKwargs, Parser, launch_tag
+from zros.launch.action import Action, Parser, launch_tag
+from zros.launch.actions.execute_local import (DEFAULT_SIGKILL_TIMEOUT, DEFAULT_SIGTERM_TIMEOUT, ExecuteLocal,
+                                               ExecuteLocalKwargs, check_program, process_label)
 from zros.launch.actions.group import join_namespace
+from zros.launch.descriptions.executable import CommandLine, Executable
 from zros.launch.entity import Entity, Scalar
 from zros.launch.errors import LaunchFileError, Origin
 from zros.launch.parameters import ParamEntry, param_entries, yaml_param_entries
-from zros.launch.plan import OUTPUT_MODES, GeneratedParams, LogMessage, NodeInfo, ParamsFile, ProcessSpec
-from zros.launch.template import Text, Typed, is_static, parse, perform
+from zros.launch.plan import GeneratedParams, LogMessage, NodeInfo, ParamsFile, ProcessSpec
+from zros.launch.origin import origin_here
+from zros.launch.template import Text, parse, perform
 
-__all__ = ['ExecuteProcess', 'Node', 'CommandLine', 'DEFAULT_SIGTERM_TIMEOUT', 'DEFAULT_SIGKILL_TIMEOUT']
+__all__ = ['ExecuteProcess', 'Node', 'CommandLine', 'DEFAULT_SIGTERM_TIMEOUT', 'DEFAULT_SIGKILL_TIMEOUT',
+           'check_program', 'process_label']   # (the last two re-exported from execute_local)
 
-DEFAULT_SIGTERM_TIMEOUT = 5.0
-DEFAULT_SIGKILL_TIMEOUT = 5.0
-
-
-def _split(text: str, origin: Origin) -> list[str]:
-    try:
-        return shlex.split(text)
-    except ValueError as exc:
-        raise LaunchFileError(origin, f'cannot split {text!r} into arguments: {exc}') from None
-
-
-class CommandLine(NamedTuple):
-    """Arguments as written: YAML gives one string split like a shell would after substitution
-    (`split=True`); Python gives a list whose items are one argument each."""
-
-    parts: tuple[Text, ...]
-    split: bool
-    origin: Origin
-
-    @classmethod
-    def of(cls, value: Any, origin: Origin) -> 'CommandLine':
-        """Python: a list of SomeSubstitutionsType (one argument each); a bare string is split."""
-        if isinstance(value, CommandLine):
-            return value
-        if isinstance(value, (str, Text)):
-            return cls((Text.of(value, origin),), True, origin)
-        try:
-            items = list(value)
-        except TypeError:
-            raise LaunchFileError(origin, f'expected a list of arguments, got {type(value).__name__}') from None
-        return cls(tuple(Text.of(item, origin) for item in items), False, origin)
-
-    @classmethod
-    def yaml(cls, text: Text | None) -> 'CommandLine | None':
-        return None if text is None else cls((text,), True, text.origin)
-
-    def perform(self, context: Any) -> list[str]:
-        out: list[str] = []
-        for part in self.parts:
-            text = part.perform(context)
-            if self.split:
-                out += _split(text, part.origin)
-            else:
-                out.append(text)
-        return out
-
-    def joined(self, context: Any) -> str:
-        """The command line as one string (for `shell=True`)."""
-        return ' '.join(part.perform(context) for part in self.parts)
-
-
-def _environment_pairs(owner: Action, values: Any, key: str) -> list[tuple[Text, Text]]:
-    if values is None:
-        return []
-    items = values.items() if isinstance(values, dict) else values
-    return [(owner._text(name, key), owner._text(value, key)) for name, value in items]
-
-
-class ExecuteKwargs(ActionKwargs, total=False):
+class ExecuteKwargs(ExecuteLocalKwargs, total=False):
     cmd: CommandLine
     name: Text | None
     cwd: Text | None
     prefix: CommandLine | None
-    output: Text | None
-    respawn: Typed | None
-    respawn_delay: Typed | None
-    respawn_max_retries: Typed | None
-    sigterm_timeout: Typed | None
-    sigkill_timeout: Typed | None
-    shell: Typed | None
-    emulate_tty: Typed | None
-    on_exit: Any
     additional_env: list[tuple[Text, Text]]
 
 
 @launch_tag('executable')
-class ExecuteProcess(Action):
-    """`ExecuteProcess(cmd=[...], name, cwd, env, additional_env, shell, output, respawn,
-    respawn_delay, respawn_max_retries, sigterm_timeout, sigkill_timeout, prefix, emulate_tty,
-    on_exit)`; YAML `executable: {cmd, name, cwd, launch-prefix, shell, output, respawn, ...,
-    on_exit: shutdown, env: [{name, value}]}`.
+class ExecuteProcess(ExecuteLocal):
+    """`ExecuteProcess(cmd=[...], name, cwd, env, additional_env, prefix, ...)` plus every
+    ExecuteLocal keyword; YAML `executable: {cmd, name, cwd, launch-prefix, shell, output,
+    respawn, ..., on_exit: shutdown, env: [{name, value}]}`.
 
-    Python's `cmd` is a list with one argument per item; YAML's is one string, split like a
-    shell would after substitution. With `shell=True` the command line is run by /bin/sh.
-    `on_exit` takes actions (or a function of the exit event and context returning actions),
-    run when the process exits, as `RegisterEventHandler(OnProcessExit(...))` would.
+    It is ExecuteLocal over an Executable made of `cmd`, `name`, `cwd`, `env`,
+    `additional_env` and `prefix`. Python's `cmd` is a list with one argument per item; YAML's
+    is one string, split like a shell would after substitution.
     """
 
-    completes_on_exit = True
-
     def __init__(self, *, cmd: Any = None, name: Any = None, cwd: Any = None, env: Any = None,
-                 additional_env: Any = None, shell: Any = None, prefix: Any = None, output: Any = None,
-                 respawn: Any = None, respawn_delay: Any = None, respawn_max_retries: Any = None,
-                 sigterm_timeout: Any = None, sigkill_timeout: Any = None, emulate_tty: Any = None,
-                 on_exit: Any = None, log_cmd: Any = None, cached_output: Any = None, **kwargs: Any) -> None:
-        super().__init__(**kwargs)
-        self.cmd = CommandLine.of(cmd, self.origin.with_key('cmd')) if cmd is not None else None
-        self.label = self._optional_text(name, 'name')
-        self.cwd = self._optional_text(cwd, 'cwd')
-        self.env = _environment_pairs(self, env, 'env') if env is not None else None
-        self.additional_env = _environment_pairs(self, additional_env, 'additional_env')
-        self.shell = self._typed(shell, bool, 'shell')
-        self.prefix = prefix if isinstance(prefix, CommandLine) or prefix is None else CommandLine(
-            (self._text(prefix, 'prefix'),), True, self.origin.with_key('prefix'))
-        self.output = self._optional_text(output, 'output')
-        if self.output is not None and is_static(self.output.template) \
-                and ''.join(self.output.template) not in OUTPUT_MODES:
-            raise LaunchFileError(self.output.origin, f"expected one of {', '.join(OUTPUT_MODES)}, "
-                                                      f"got '{''.join(self.output.template)}'")
-        self.respawn = self._typed(respawn, bool, 'respawn')
-        self.respawn_delay = self._non_negative(self._typed(respawn_delay, float, 'respawn_delay'))
-        self.respawn_max_retries = self._typed(respawn_max_retries, int, 'respawn_max_retries')
-        self.sigterm_timeout = self._non_negative(self._typed(sigterm_timeout, float, 'sigterm_timeout'))
-        self.sigkill_timeout = self._non_negative(self._typed(sigkill_timeout, float, 'sigkill_timeout'))
-        self.emulate_tty = self._typed(emulate_tty, bool, 'emulate_tty')
-        self.log_cmd = self._typed(log_cmd, bool, 'log_cmd')
-        self.cached_output = self._typed(cached_output, bool, 'cached_output')
-        self.on_exit_shutdown, self.on_exit = self._on_exit(on_exit)
-
-    def _on_exit(self, on_exit: Any) -> tuple[bool, Any]:
-        """`on_exit`: a lone Shutdown is the supervisor's own `on_exit: shutdown`; anything
-        else becomes an OnProcessExit handler for this process."""
-        from zros.launch.actions.shutdown import Shutdown
-        if on_exit is None:
-            return False, None
-        actions = [on_exit] if isinstance(on_exit, Action) else on_exit
-        if isinstance(actions, list) and len(actions) == 1 and type(actions[0]) is Shutdown \
-                and actions[0].condition is None and actions[0].reason is None:
-            return True, None
-        return False, actions
+                 additional_env: Any = None, prefix: Any = None, origin: Origin | None = None,
+                 **kwargs: Any) -> None:
+        origin = origin or origin_here(type(self).__name__)
+        description = Executable(cmd=cmd, name=name, cwd=cwd, env=env, additional_env=additional_env,
+                                 prefix=prefix, origin=origin)
+        super().__init__(process_description=description, origin=origin, **kwargs)
 
     # -- parsing -----------------------------------------------------------------------------
     @classmethod
@@ -193,132 +92,6 @@ class ExecuteProcess(Action):
             item.assert_complete()
         kwargs['additional_env'] = env
         return cls, kwargs
-
-    @staticmethod
-    def _non_negative(value: Typed | None) -> Typed | None:
-        if value is not None and not isinstance(value.value, Text) and value.value < 0:
-            raise LaunchFileError(value.origin, f'expected a non-negative number, got {value.value:g}')
-        return value
-
-    # -- resolution --------------------------------------------------------------------------
-    def _number(self, value: Typed | None, default: Any, context: Any) -> Any:
-        if value is None:
-            return default
-        result = value.perform(context)
-        if isinstance(result, float) and result < 0:
-            raise LaunchFileError(value.origin, f'expected a non-negative number, got {result:g}')
-        return result
-
-    def _timeout_default(self, name: str, fallback: float, context: Any) -> float:
-        """launch's rule: the `sigterm_timeout` / `sigkill_timeout` launch configurations are
-        the defaults, so `zros launch f.yaml sigterm_timeout:=10` changes every process."""
-        text = context.configurations.get(name)
-        if text is None:
-            return fallback
-        try:
-            return float(text)
-        except ValueError:
-            raise LaunchFileError(self.origin, f"launch configuration '{name}' must be a number, got '{text}'") from None
-
-    def _environment_changes(self, context: Any) -> dict[str, str | None]:
-        changes = dict(context.environment_changes())
-        if self.env is not None:   # `env=`: the process gets exactly this environment
-            wanted = {name.perform(context): value.perform(context) for name, value in self.env}
-            changes = {name: None for name in os.environ if name not in wanted}
-            changes.update(wanted)
-        for name, value in self.additional_env:
-            changes[name.perform(context)] = value.perform(context)
-        return changes
-
-    def process_options(self, context: Any) -> dict[str, Any]:
-        """ProcessSpec fields common to both actions, resolved."""
-        output = os.environ.get('OVERRIDE_LAUNCH_PROCESS_OUTPUT') or (
-            self.output.perform(context) if self.output is not None else 'log')
-        if output not in OUTPUT_MODES:
-            origin = self.output.origin if self.output is not None else self.origin
-            raise LaunchFileError(origin, f"expected one of {', '.join(OUTPUT_MODES)}, got '{output}'")
-        cwd = self.cwd.perform(context) if self.cwd is not None else None
-        if cwd is not None and not os.path.isdir(cwd):
-            raise LaunchFileError(self.cwd.origin, f"no such directory '{cwd}'")
-        for accepted in (self.emulate_tty, self.log_cmd, self.cached_output):
-            if accepted is not None:   # accepted for compatibility; output is always line-buffered
-                accepted.perform(context)
-        return dict(
-            env=tuple(self._environment_changes(context).items()),
-            cwd=cwd,
-            output=output,
-            respawn=self.respawn.perform(context) if self.respawn is not None else False,
-            respawn_delay=self._number(self.respawn_delay, 0.0, context),
-            respawn_max_retries=self._number(self.respawn_max_retries, -1, context),
-            sigterm_timeout=self._number(self.sigterm_timeout,
-                                         self._timeout_default('sigterm_timeout', DEFAULT_SIGTERM_TIMEOUT, context),
-                                         context),
-            sigkill_timeout=self._number(self.sigkill_timeout,
-                                         self._timeout_default('sigkill_timeout', DEFAULT_SIGKILL_TIMEOUT, context),
-                                         context),
-            on_exit_shutdown=self.on_exit_shutdown,
-            origin=self.origin,
-            source=self,
-        )
-
-    def prefix_args(self, context: Any) -> list[str]:
-        """`prefix` / `launch-prefix` (or the `launch-prefix` configuration, as in launch)."""
-        if self.prefix is not None:
-            return self.prefix.perform(context)
-        configured = context.configurations.get('launch-prefix', '')
-        return _split(configured, self.origin) if configured else []
-
-    def after_start(self) -> list[Action]:
-        """The OnProcessExit handler that `on_exit` asks for, if any."""
-        if self.on_exit is None:
-            return []
-        from zros.launch.actions.events import RegisterEventHandler
-        from zros.launch.event_handlers import OnProcessExit
-        handler = OnProcessExit(target_action=self, on_exit=self.on_exit, origin=self.origin.with_key('on_exit'))
-        return [RegisterEventHandler(handler, origin=self.origin)]
-
-    def execute(self, context: Any) -> list[Action]:
-        if self.cmd is None:
-            raise LaunchFileError(self.origin, "ExecuteProcess needs 'cmd'")
-        shell = self.shell.perform(context) if self.shell is not None else False
-        options = self.process_options(context)
-        prefix = self.prefix_args(context)
-        if shell:
-            text = self.cmd.joined(context)
-            if not text.strip():
-                raise LaunchFileError(self.cmd.origin, 'empty command')
-            head = (*prefix, '/bin/sh', '-c', text)
-            first = text.split()[:1] or ['sh']
-            shell_text = shlex.join(prefix) + ' ' + text if prefix else text
-        else:
-            argv = self.cmd.perform(context)
-            if not argv:
-                raise LaunchFileError(self.cmd.origin, 'empty command')
-            check_program(argv[0], options, context, self.cmd.origin)
-            head = (*prefix, *argv)
-            first, shell_text = argv, None
-        label = self.label.perform(context) if self.label is not None else os.path.basename(first[0])
-        context.emit(ProcessSpec(label=_label(label), cmd_head=tuple(head), shell_text=shell_text, **options))
-        return self.after_start()
-
-
-def check_program(program: str, options: dict, context: Any, origin: Origin) -> None:
-    """The program must exist (on PATH, or as a path), so a typo stops the launch up front."""
-    env = dict(context.environment)
-    env.update({k: v for k, v in options['env'] if v is not None})
-    if os.sep in program:
-        path = Path(options['cwd'] or '.') / program if not os.path.isabs(program) else Path(program)
-        ok = path.is_file() and os.access(path, os.X_OK)
-    else:
-        ok = shutil.which(program, path=env.get('PATH')) is not None
-    if not ok:
-        raise LaunchFileError(origin, f"executable '{program}' not found" + ('' if os.sep in program else ' on PATH'))
-
-
-def _label(text: str) -> str:
-    """A process label usable in output prefixes and log file names."""
-    clean = ''.join(c if c.isalnum() or c in '_.-' else '_' for c in text.strip())
-    return clean or 'process'
 
 
 # -- node -------------------------------------------------------------------------------------
@@ -376,7 +149,7 @@ class Node(ExecuteProcess):
         self.node_name = self._optional_text(name, 'name')
         self.namespace = self._optional_text(namespace, 'namespace')
         if exec_name is not None:
-            self.label = self._text(exec_name, 'exec_name')
+            self.process_description.name = self._text(exec_name, 'exec_name')
         self.arguments = CommandLine.of(arguments, self.origin.with_key('arguments')) if arguments is not None else None
         self.ros_arguments = (CommandLine.of(ros_arguments, self.origin.with_key('ros_arguments'))
                               if ros_arguments is not None else None)
@@ -465,14 +238,13 @@ class Node(ExecuteProcess):
         params = self.param_sources(context, fqn)
         user_args = self.arguments.perform(context) if self.arguments is not None else []
         tail = self.ros_arguments.perform(context) if self.ros_arguments is not None else []
-        head = [*self.prefix_args(context), *program, *user_args]
+        head = [*self.process_description.prefix_args(context, executable), *program, *user_args]
         if ros or params or tail:
             head += ['--ros-args', *ros]
-        label = self.label.perform(context) if self.label is not None else os.path.basename(executable)
-        context.emit(ProcessSpec(label=_label(label), cmd_head=tuple(head), params=tuple(params),
-                                 cmd_tail=tuple(tail), node=NodeInfo(package, executable, name, namespace),
-                                 **options))
-        return self.after_start()
+        label = self.process_description.label(context, executable)
+        return self.emit_process(context, ProcessSpec(
+            label=process_label(label), cmd_head=tuple(head), params=tuple(params), cmd_tail=tuple(tail),
+            node=NodeInfo(package, executable, name, namespace), **options))
 
     # -- parameters ----------------------------------------------------------------------------
     def param_sources(self, context: Any, fqn: str) -> list:

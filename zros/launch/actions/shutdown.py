@@ -21,7 +21,11 @@ class ShutdownKwargs(ActionKwargs, total=False):
 class EmitEvent(Action):
     """`EmitEvent(event=...)`. zros's launch knows two events: `launch.events.Shutdown` (every
     process is stopped: SIGINT, then SIGTERM, then SIGKILL) and
-    `launch_ros.events.lifecycle.ChangeState` (zros.launch.lifecycle)."""
+    `launch_ros.events.lifecycle.ChangeState` (zros.launch.lifecycle).
+
+    In a launch, a Shutdown is a point of the plan (the supervisor stops the launch there and
+    then tells the handlers); executed on a context nothing collects effects from, it is
+    queued as the event, as launch does."""
 
     def __init__(self, *, event: Any, **kwargs: Any) -> None:
         from zros.launch.lifecycle import ChangeState
@@ -40,7 +44,11 @@ class EmitEvent(Action):
                                            event.transition.label, self.origin))
             return
         reason = self.reason.perform(context) if self.reason is not None else ''
-        context.emit(ShutdownEffect(reason, self.origin))
+        if not context.collecting_effects:   # launch's way: the event, for whoever drains the queue
+            context.emit_event_sync(ShutdownEvent(reason=reason, due_to_sigint=self.event.due_to_sigint))
+            return
+        delivered = bool(self.event.due_to_sigint) and not context.noninteractive
+        context.emit(ShutdownEffect(reason, self.origin, delivered))
 
 
 @launch_tag('shutdown')

@@ -27,15 +27,25 @@ class TimerAction(Action):
     The actions are resolved with everything else before the launch starts (so their errors
     stop the launch before any process runs) and carried out when the timer fires. Their
     configuration changes are scoped to the timer. A timer that has not fired when the launch
-    shuts down is cancelled.
+    shuts down is cancelled, unless `cancel_on_shutdown` is false: then it fires all the same,
+    and its log lines and shutdowns are carried out (a second Shutdown event for the handlers).
     """
 
     def __init__(self, *, period: Any, actions: Iterable[Action], cancel_on_shutdown: Any = None,
                  **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        self.period = self._typed(period, float, 'period')
+        self._period = self._typed(period, float, 'period')
         self.actions = check_actions(actions, self.origin.with_key('actions'))
-        self.cancel_on_shutdown = self._typed(cancel_on_shutdown, bool, 'cancel_on_shutdown')
+        self._cancel_on_shutdown = self._typed(cancel_on_shutdown, bool, 'cancel_on_shutdown')
+
+    @property
+    def period(self) -> Any:
+        """launch's view: the period [s] as a float, or the substitutions that give it."""
+        return self._period.launch_view()
+
+    @property
+    def cancel_on_shutdown(self) -> Any:
+        return True if self._cancel_on_shutdown is None else self._cancel_on_shutdown.launch_view()
 
     @classmethod
     def parse(cls, entity: Entity, parser: Parser) -> tuple[type[Action], TimerKwargs]:
@@ -49,10 +59,12 @@ class TimerAction(Action):
         return self.actions
 
     def execute(self, context: Any) -> list[Action]:
-        period = self.period.perform(context)
+        period = self._period.perform(context)
         if period < 0:
-            raise LaunchFileError(self.period.origin, f'expected a non-negative period, got {period:g}')
+            raise LaunchFileError(self._period.origin, f'expected a non-negative period, got {period:g}')
+        cancel = self._cancel_on_shutdown.perform(context) if self._cancel_on_shutdown is not None else True
         context.begin_capture()
         return [*scoped(self.actions, self.origin),
-                EndCapture(origin=self.origin, wrap=lambda effects: TimerEffect(period, effects, self.origin))]
+                EndCapture(origin=self.origin,
+                           wrap=lambda effects: TimerEffect(period, effects, self.origin, cancel))]
 
