@@ -17,13 +17,14 @@ Mapping to Zenoh (see docs/protocol.md):
 from __future__ import annotations
 
 import enum
+import warnings
 from dataclasses import dataclass, replace
 from typing import Any
 
 from zros.duration import Duration
 
 __all__ = [
-    'HistoryPolicy', 'ReliabilityPolicy', 'DurabilityPolicy', 'LivelinessPolicy', 'QoSPolicyKind',
+    'QoSPolicyEnum', 'HistoryPolicy', 'ReliabilityPolicy', 'DurabilityPolicy', 'LivelinessPolicy', 'QoSPolicyKind',
     'qos_policy_name_from_kind', 'qos_incompatibilities',
     'QoSProfile', 'QoSPresetProfiles', 'Duration', 'InvalidQoSProfileException',
     'qos_profile_default', 'qos_profile_sensor_data', 'qos_profile_services_default',
@@ -33,7 +34,30 @@ __all__ = [
 ]
 
 
-class HistoryPolicy(enum.IntEnum):
+class QoSPolicyEnum(enum.IntEnum):
+    """Base of the policy enums: their members by short, lower-case name, as `zros topic pub
+    --qos-reliability best_effort` and rclpy's `short_keys()` spell them."""
+
+    @classmethod
+    def short_keys(cls) -> list[str]:
+        """Every member's name in lower case, in definition order (`['system_default', ...]`)."""
+        return [name.lower() for name in cls.__members__]
+
+    @classmethod
+    def get_from_short_key(cls, name: str) -> int:
+        """The value of the member named `name`, in any case.
+
+        :raises KeyError: If no member has that name.
+        """
+        return cls[name.upper()].value
+
+    @property
+    def short_key(self) -> str:
+        """This member's name in lower case."""
+        return self.name.lower()
+
+
+class HistoryPolicy(QoSPolicyEnum):
     """How many samples a reader keeps: the last `depth` (KEEP_LAST) or all (KEEP_ALL).
 
     zros bounds KEEP_ALL queues at KEEP_ALL_DEPTH, since a Python process has finite memory.
@@ -44,7 +68,7 @@ class HistoryPolicy(enum.IntEnum):
     UNKNOWN = 3
 
 
-class ReliabilityPolicy(enum.IntEnum):
+class ReliabilityPolicy(QoSPolicyEnum):
     """RELIABLE retransmits and blocks a publisher that is ahead; BEST_EFFORT drops.
 
     zros maps these onto Zenoh's reliability and congestion control (BLOCK or DROP).
@@ -56,7 +80,7 @@ class ReliabilityPolicy(enum.IntEnum):
     BEST_AVAILABLE = 4
 
 
-class DurabilityPolicy(enum.IntEnum):
+class DurabilityPolicy(QoSPolicyEnum):
     """TRANSIENT_LOCAL lets a late subscriber receive the last `depth` samples; VOLATILE does not.
 
     zros keeps those samples in a Zenoh advanced publisher's cache.
@@ -68,7 +92,7 @@ class DurabilityPolicy(enum.IntEnum):
     BEST_AVAILABLE = 4
 
 
-class LivelinessPolicy(enum.IntEnum):
+class LivelinessPolicy(QoSPolicyEnum):
     """How a publisher shows it is alive: AUTOMATIC (while its node runs) or MANUAL_BY_TOPIC (by
     publishing or calling `assert_liveliness()` within every lease).
     """
@@ -116,24 +140,59 @@ KEEP_ALL_DEPTH = 100_000
 
 
 class InvalidQoSProfileException(ValueError):
-    """A QoS profile whose settings contradict each other (KEEP_LAST with a depth of 0)."""
+    """A QoS profile that does not say how much history to keep (neither a history nor a depth,
+    or KEEP_LAST without a depth)."""
 
 
-@dataclass
+#: The depth of the ROS default profile, which a profile that does not set one gets.
+DEFAULT_DEPTH = 10
+
+
+@dataclass(init=False)
 class QoSProfile:
-    """A ROS 2 QoS profile. `QoSProfile(depth=10)` is the ROS default profile. The durations
-    (zros.duration.Duration, as rclpy's) are 0 for 'not set': no deadline, infinite lifespan
-    and lease. Profiles compare by value and, being mutable, are not hashable (as rclpy's)."""
+    """A ROS 2 QoS profile. `QoSProfile(depth=10)` is the ROS default profile. As in rclpy, a
+    profile must say how much history it keeps: a `depth` (KEEP_LAST is then implied), or a
+    `history` (KEEP_LAST still needs a depth), so that nobody gets a queue length they did not
+    choose. The durations (zros.duration.Duration, as rclpy's) are 0 for 'not set': no deadline,
+    infinite lifespan and lease. Profiles compare by value and, being mutable, are not hashable
+    (as rclpy's)."""
 
-    history: HistoryPolicy = HistoryPolicy.KEEP_LAST
-    depth: int = 10
-    reliability: ReliabilityPolicy = ReliabilityPolicy.RELIABLE
-    durability: DurabilityPolicy = DurabilityPolicy.VOLATILE
-    liveliness: LivelinessPolicy = LivelinessPolicy.AUTOMATIC
-    deadline: Duration = Duration()
-    lifespan: Duration = Duration()
-    liveliness_lease_duration: Duration = Duration()
-    avoid_ros_namespace_conventions: bool = False
+    history: HistoryPolicy
+    depth: int
+    reliability: ReliabilityPolicy
+    durability: DurabilityPolicy
+    liveliness: LivelinessPolicy
+    deadline: Duration
+    lifespan: Duration
+    liveliness_lease_duration: Duration
+    avoid_ros_namespace_conventions: bool
+
+    def __init__(self, *, history: HistoryPolicy | int | None = None, depth: int | None = None,
+                 reliability: ReliabilityPolicy | int = ReliabilityPolicy.RELIABLE,
+                 durability: DurabilityPolicy | int = DurabilityPolicy.VOLATILE,
+                 liveliness: LivelinessPolicy | int = LivelinessPolicy.AUTOMATIC,
+                 deadline: Duration = Duration(), lifespan: Duration = Duration(),
+                 liveliness_lease_duration: Duration = Duration(),
+                 avoid_ros_namespace_conventions: bool = False) -> None:
+        """Raises InvalidQoSProfileException when neither `history` nor `depth` is given, or
+        `history` is KEEP_LAST and `depth` is not; ValueError for a value of the wrong kind."""
+        if history is None:
+            if depth is None:
+                raise InvalidQoSProfileException('a QoS profile needs a history, a depth or both')
+            history = HistoryPolicy.KEEP_LAST
+        elif depth is None:
+            if history == HistoryPolicy.KEEP_LAST:
+                raise InvalidQoSProfileException('a QoS profile with KEEP_LAST history needs a depth')
+            depth = DEFAULT_DEPTH
+        self.history = history    # before depth: the depth's check depends on it
+        self.depth = depth
+        self.reliability = reliability
+        self.durability = durability
+        self.liveliness = liveliness
+        self.deadline = deadline
+        self.lifespan = lifespan
+        self.liveliness_lease_duration = liveliness_lease_duration
+        self.avoid_ros_namespace_conventions = avoid_ros_namespace_conventions
 
     def __setattr__(self, name: str, value: object) -> None:
         # Plain ints are accepted for the policies, as rclpy does, and SYSTEM_DEFAULT becomes
@@ -143,18 +202,21 @@ class QoSProfile:
             value = policy(value)
             if value == policy.SYSTEM_DEFAULT:
                 value = _SYSTEM_DEFAULTS[name]
-        elif name == 'depth' and (isinstance(value, bool) or not isinstance(value, int) or value < 0):
-            raise ValueError(f'QoS depth must be greater than or equal to zero, got {value!r}')
+        elif name == 'depth':
+            if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+                raise ValueError(f'QoS depth must be greater than or equal to zero, got {value!r}')
+            if value == 0 and self.history == HistoryPolicy.KEEP_LAST:
+                warnings.warn("A zero depth with KEEP_LAST doesn't make sense; no data could be stored. "
+                              f'zros keeps the default depth ({DEFAULT_DEPTH}) instead', UserWarning, stacklevel=2)
         object.__setattr__(self, name, value)
-
-    def __post_init__(self) -> None:
-        if self.history == HistoryPolicy.KEEP_LAST and self.depth == 0:
-            raise InvalidQoSProfileException('QoS depth must be > 0 with KEEP_LAST history')
 
     @property
     def queue_depth(self) -> int:
-        """Length of the per-subscription queue this profile asks for."""
-        return KEEP_ALL_DEPTH if self.history == HistoryPolicy.KEEP_ALL else self.depth
+        """Length of the per-subscription queue this profile asks for (KEEP_LAST with a depth of
+        0 means the system default, as in ROS: the default depth)."""
+        if self.history == HistoryPolicy.KEEP_ALL:
+            return KEEP_ALL_DEPTH
+        return self.depth or DEFAULT_DEPTH
 
     def to_token(self) -> str:
         """Compact text for liveliness tokens: `R|B : V|T : L<depth>|A`, then only what is
@@ -162,7 +224,7 @@ class QoSProfile:
         liveliness, `:E<ns>` liveliness lease duration."""
         rel = 'B' if self.reliability == ReliabilityPolicy.BEST_EFFORT else 'R'
         dur = 'T' if self.durability == DurabilityPolicy.TRANSIENT_LOCAL else 'V'
-        hist = 'A' if self.history == HistoryPolicy.KEEP_ALL else f'L{self.depth}'
+        hist = 'A' if self.history == HistoryPolicy.KEEP_ALL else f'L{self.queue_depth}'
         parts = [rel, dur, hist]
         for tag, value in (('D', self.deadline), ('S', self.lifespan)):
             if value.nanoseconds > 0:
@@ -179,10 +241,13 @@ class QoSProfile:
 
         :param text: The token text.
         :return: The profile; the default profile if the text is malformed (a foreign token must
-            not break graph queries).
+            not break graph queries; so is an empty text, what a bag without QoS records holds).
         """
         try:
             rel, dur, hist, *extra = text.split(':')
+            depth = 0 if hist == 'A' else int(hist[1:])
+            if hist != 'A' and depth < 1:
+                raise ValueError(f'a KEEP_LAST token needs a depth of 1 or more: {hist}')
             durations = {'D': 'deadline', 'S': 'lifespan', 'E': 'liveliness_lease_duration'}
             optional: dict[str, Any] = {durations[item[0]]: Duration(nanoseconds=int(item[1:]))
                         for item in extra if item[:1] in durations}
@@ -190,12 +255,12 @@ class QoSProfile:
                 reliability=ReliabilityPolicy.BEST_EFFORT if rel == 'B' else ReliabilityPolicy.RELIABLE,
                 durability=DurabilityPolicy.TRANSIENT_LOCAL if dur == 'T' else DurabilityPolicy.VOLATILE,
                 history=HistoryPolicy.KEEP_ALL if hist == 'A' else HistoryPolicy.KEEP_LAST,
-                depth=0 if hist == 'A' else int(hist[1:]),
+                depth=depth,
                 liveliness=LivelinessPolicy.MANUAL_BY_TOPIC if 'M' in extra else LivelinessPolicy.AUTOMATIC,
                 **optional,
             )
         except (ValueError, IndexError):
-            return cls()
+            return cls(depth=DEFAULT_DEPTH)
 
 
 _POLICIES: dict[str, Any] = {'history': HistoryPolicy, 'reliability': ReliabilityPolicy,
