@@ -32,6 +32,7 @@ from zros.subscription import Subscription, SubscriptionCallback
 from zros.guard_condition import GuardCondition
 from zros.timer import Rate, Timer, timer_lists_changed
 from zros.time_source import TimeSource
+from zros.topic_endpoint_info import TopicEndpointInfo
 from zros.type_description_service import TypeDescriptionService
 
 if TYPE_CHECKING:
@@ -678,21 +679,27 @@ class Node:
         """
         return len(endpoints(self._graph_entities(), EntityKind.SUBSCRIPTION, self.resolve_topic_name(topic_name)))
 
-    def get_publishers_info_by_topic(self, topic_name: str) -> list[Entity]:
+    def get_publishers_info_by_topic(self, topic_name: str, no_mangle: bool = False) -> list[TopicEndpointInfo]:
         """Describe every publisher on a topic: node, type, QoS (what `zros topic info -v` prints).
 
         :param topic_name: The topic name, resolved against this node.
-        :return: The publishers' graph records (zros.graph.Entity).
+        :param no_mangle: Accepted for rclpy's signature: zros names are never mangled.
+        :return: One TopicEndpointInfo per publisher.
         """
-        return endpoints(self._graph_entities(), EntityKind.PUBLISHER, self.resolve_topic_name(topic_name))
+        return self._endpoints_info(EntityKind.PUBLISHER, topic_name)
 
-    def get_subscriptions_info_by_topic(self, topic_name: str) -> list[Entity]:
+    def get_subscriptions_info_by_topic(self, topic_name: str, no_mangle: bool = False) -> list[TopicEndpointInfo]:
         """Describe every subscription on a topic: node, type, QoS.
 
         :param topic_name: The topic name, resolved against this node.
-        :return: The subscriptions' graph records (zros.graph.Entity).
+        :param no_mangle: Accepted for rclpy's signature: zros names are never mangled.
+        :return: One TopicEndpointInfo per subscription.
         """
-        return endpoints(self._graph_entities(), EntityKind.SUBSCRIPTION, self.resolve_topic_name(topic_name))
+        return self._endpoints_info(EntityKind.SUBSCRIPTION, topic_name)
+
+    def _endpoints_info(self, kind: str, topic_name: str) -> list[TopicEndpointInfo]:
+        found = endpoints(self._graph_entities(), kind, self.resolve_topic_name(topic_name))
+        return [TopicEndpointInfo.from_entity(entity) for entity in found]
 
     def wait_for_node(self, fully_qualified_node_name: str, timeout: float) -> bool:
         """Wait until a node is in the graph (woken by graph changes, not by polling).

@@ -29,7 +29,7 @@ __all__ = [
     'QoSProfile', 'QoSPresetProfiles', 'Duration', 'InvalidQoSProfileException',
     'qos_profile_default', 'qos_profile_sensor_data', 'qos_profile_services_default',
     'qos_profile_parameters', 'qos_profile_parameter_events', 'qos_profile_system_default',
-    'qos_profile_action_status_default', 'qos_profile_best_available',
+    'qos_profile_action_status_default', 'qos_profile_best_available', 'qos_profile_unknown',
     'qos_check_compatible', 'QoSCompatibility', 'to_profile',
 ]
 
@@ -276,6 +276,9 @@ qos_profile_parameter_events = QoSProfile(depth=1000)
 qos_profile_system_default = QoSProfile(depth=10)
 qos_profile_action_status_default = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 qos_profile_best_available = QoSProfile(depth=10)
+#: What an endpoint's QoS is when nothing is known of it (rmw's qos_profile_unknown).
+qos_profile_unknown = QoSProfile(history=HistoryPolicy.UNKNOWN, depth=0, reliability=ReliabilityPolicy.UNKNOWN,
+                                 durability=DurabilityPolicy.UNKNOWN, liveliness=LivelinessPolicy.UNKNOWN)
 
 
 class QoSPresetProfiles(enum.Enum):
@@ -288,6 +291,7 @@ class QoSPresetProfiles(enum.Enum):
     SYSTEM_DEFAULT = qos_profile_system_default
     ACTION_STATUS_DEFAULT = qos_profile_action_status_default
     BEST_AVAILABLE = qos_profile_best_available
+    UNKNOWN = qos_profile_unknown
 
     @classmethod
     def get_from_short_key(cls, name: str) -> QoSProfile:

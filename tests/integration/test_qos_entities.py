@@ -28,7 +28,7 @@ def test_profiles_are_mutable_as_rclpys_and_entities_keep_a_copy(context):
 
 def test_profiles_reach_the_graph(context):
     """The QoS a publisher asked for is what the graph (and `topic info -v`) shows."""
-    from zros.graph import EntityKind
+    from zros.topic_endpoint_info import TopicEndpointTypeEnum
     from zros.node import Node
     from interfaces.std_msgs.msg import String
     node = Node('qos_node', context=context)
@@ -39,7 +39,9 @@ def test_profiles_reach_the_graph(context):
     assert context.graph.wait_for(lambda es: sum(e.name == '/q' for e in es) == 2, 5.0)
     pubs = node.get_publishers_info_by_topic('/q')
     subs = node.get_subscriptions_info_by_topic('/q')
-    assert [QoSProfile.from_token(e.qos) for e in pubs] == \
+    assert [e.qos_profile for e in pubs] == \
         [QoSProfile(depth=3, reliability=BEST_EFFORT, durability=TRANSIENT_LOCAL)]
-    assert [e.qos for e in subs] == ['R:V:A']
-    assert pubs[0].kind == EntityKind.PUBLISHER
+    assert [e.qos_profile.to_token() for e in subs] == ['R:V:A']
+    assert pubs[0].endpoint_type == TopicEndpointTypeEnum.PUBLISHER
+    assert 'Endpoint type: SUBSCRIPTION' in str(subs[0]) and len(set(map(tuple, (pubs[0].endpoint_gid,
+                                                                                  subs[0].endpoint_gid)))) == 2

@@ -201,7 +201,7 @@ def test_qos_overrides_read_from_parameters_at_creation(context, tmp_path):
     assert node.get_parameter('qos_overrides./chatter.publisher.durability').value == 'volatile'
     assert node.describe_parameter('qos_overrides./chatter.publisher.depth').read_only
     assert node.count_publishers('chatter') == 1
-    graph_qos = QoSProfile.from_token(node.get_publishers_info_by_topic('/chatter')[0].qos)
+    graph_qos = node.get_publishers_info_by_topic('/chatter')[0].qos_profile
     assert (graph_qos.reliability, graph_qos.depth) == (ReliabilityPolicy.BEST_EFFORT, 3)
     sub = node.create_subscription(String, 'chatter', lambda m: None, 10,
                                    qos_overriding_options=QoSOverridingOptions.with_default_policies(entity_id='fast'))

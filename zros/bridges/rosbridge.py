@@ -270,7 +270,7 @@ class ClientSession:
         and volatile. Deep enough for a burst: what a slow client cannot take is dropped by its
         send queue, counted."""
         from zros.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
-        offers = [QoSProfile.from_token(e.qos) for e in self.bridge.node.get_publishers_info_by_topic(topic) if e.qos]
+        offers = [info.qos_profile for info in self.bridge.node.get_publishers_info_by_topic(topic)]
         reliable = not offers or all(q.reliability == ReliabilityPolicy.RELIABLE for q in offers)
         latched = bool(offers) and all(q.durability == DurabilityPolicy.TRANSIENT_LOCAL for q in offers)
         return QoSProfile(depth=_SUBSCRIPTION_DEPTH,
