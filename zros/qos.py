@@ -1,9 +1,9 @@
 """Quality of service: the ROS 2 profiles and what they mean on Zenoh.
 
 A profile is plain data, mutable as rclpy's (`qos.reliability = BEST_EFFORT` is common in
-ROS 2 code; every assignment is checked and normalised as construction is). A publisher or
-subscription copies its profile when it is made (`to_profile`), so changing a profile later
-changes only what is made from it next. The profile is written into a liveliness token
+ROS 2 code; every assignment is checked as construction is). A publisher or subscription
+copies its profile when it is made (`to_profile`, which also resolves SYSTEM_DEFAULT policies
+to the values zros uses), so changing a profile later changes only what is made from it next. The profile is written into a liveliness token
 (`to_token` / `from_token`), which is how `zros topic info -v` and the incompatibility check
 (and the incompatible-QoS events of zros.event_handler) learn what the other side asked for.
 
@@ -195,13 +195,11 @@ class QoSProfile:
         self.avoid_ros_namespace_conventions = avoid_ros_namespace_conventions
 
     def __setattr__(self, name: str, value: object) -> None:
-        # Plain ints are accepted for the policies, as rclpy does, and SYSTEM_DEFAULT becomes
-        # the value zros actually uses, so tokens and comparisons are exact.
+        # Plain ints are accepted for the policies, as rclpy does. SYSTEM_DEFAULT stays as given
+        # (rclpy compares and prints it so); an entity resolves it when it copies the profile.
         policy = _POLICIES.get(name)
         if policy is not None:
             value = policy(value)
-            if value == policy.SYSTEM_DEFAULT:
-                value = _SYSTEM_DEFAULTS[name]
         elif name == 'depth':
             if isinstance(value, bool) or not isinstance(value, int) or value < 0:
                 raise ValueError(f'QoS depth must be greater than or equal to zero, got {value!r}')
@@ -273,7 +271,9 @@ qos_profile_sensor_data = QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST
 qos_profile_services_default = QoSProfile(depth=10)
 qos_profile_parameters = QoSProfile(depth=1000)
 qos_profile_parameter_events = QoSProfile(depth=1000)
-qos_profile_system_default = QoSProfile(depth=10)
+qos_profile_system_default = QoSProfile(
+    history=HistoryPolicy.SYSTEM_DEFAULT, depth=0, reliability=ReliabilityPolicy.SYSTEM_DEFAULT,
+    durability=DurabilityPolicy.SYSTEM_DEFAULT, liveliness=LivelinessPolicy.SYSTEM_DEFAULT)
 qos_profile_action_status_default = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 qos_profile_best_available = QoSProfile(depth=10)
 #: What an endpoint's QoS is when nothing is known of it (rmw's qos_profile_unknown).
@@ -305,10 +305,15 @@ class QoSPresetProfiles(enum.Enum):
 
 
 def to_profile(qos: 'QoSProfile | int') -> QoSProfile:
-    """The profile an entity keeps: a copy of `qos`, or, as rclpy accepts a depth where a
-    profile is expected, KEEP_LAST with that depth."""
+    """The profile an entity keeps: a copy of `qos` with each SYSTEM_DEFAULT policy replaced by
+    the value zros uses (RELIABLE, VOLATILE, KEEP_LAST, AUTOMATIC), or, as rclpy accepts a depth
+    where a profile is expected, KEEP_LAST with that depth."""
     if isinstance(qos, QoSProfile):
-        return replace(qos)
+        changes: dict[str, Any] = {name: resolved for name, resolved in _SYSTEM_DEFAULTS.items()
+                                   if getattr(qos, name) == _POLICIES[name].SYSTEM_DEFAULT}
+        if 'history' in changes and qos.depth == 0:
+            changes['depth'] = DEFAULT_DEPTH     # the system default depth, as queue_depth has it
+        return replace(qos, **changes)
     if isinstance(qos, bool) or not isinstance(qos, int):
         raise TypeError(f'expected a QoSProfile or an int depth, got {type(qos).__name__}')
     return replace(qos_profile_default, depth=qos)
@@ -322,7 +327,9 @@ class QoSCompatibility(enum.IntEnum):
 
 
 def qos_incompatibilities(publisher: QoSProfile, subscription: QoSProfile) -> list[tuple[QoSPolicyKind, str]]:
-    """Every DDS request/offer rule the pair breaks, as (policy, rmw's reason text)."""
+    """Every DDS request/offer rule the pair breaks, as (policy, rmw's reason text). A
+    SYSTEM_DEFAULT policy breaks none (qos_check_compatible doubts it); entities' profiles have
+    none left (to_profile resolves them)."""
     found = []
     if (publisher.reliability == ReliabilityPolicy.BEST_EFFORT
             and subscription.reliability == ReliabilityPolicy.RELIABLE):
@@ -354,9 +361,33 @@ def qos_check_compatible(publisher: QoSProfile, subscription: QoSProfile) -> tup
     """The DDS request/offer rules ROS 2 reports (rclpy.qos.qos_check_compatible).
 
     zros still delivers across such pairs where Zenoh can, but reports them so that a ROS 2
-    user sees the same warnings (and `zros doctor` can list them).
+    user sees the same warnings (and `zros doctor` can list them). A pair that only matches
+    because of a SYSTEM_DEFAULT policy is a WARNING, as in ROS: the code may run on a middleware
+    whose default is another.
     """
     found = qos_incompatibilities(publisher, subscription)
     if found:
         return QoSCompatibility.ERROR, ' '.join(reason for _, reason in found)
+    possible = _system_default_doubts(publisher, subscription)
+    if possible:
+        return QoSCompatibility.WARNING, ' '.join(possible)
     return QoSCompatibility.OK, ''
+
+
+# policy attribute, the publisher's value and the subscription's value that break the rule
+_OFFER_RULES = (('reliability', ReliabilityPolicy.BEST_EFFORT, ReliabilityPolicy.RELIABLE),
+                ('durability', DurabilityPolicy.VOLATILE, DurabilityPolicy.TRANSIENT_LOCAL),
+                ('liveliness', LivelinessPolicy.AUTOMATIC, LivelinessPolicy.MANUAL_BY_TOPIC))
+
+
+def _system_default_doubts(publisher: QoSProfile, subscription: QoSProfile) -> list[str]:
+    """rmw's warnings: a rule that a SYSTEM_DEFAULT policy on one side might break."""
+    doubts = []
+    for name, offered, requested in _OFFER_RULES:
+        pub, sub = getattr(publisher, name), getattr(subscription, name)
+        default = type(pub).SYSTEM_DEFAULT
+        if pub == default and sub == requested:
+            doubts.append(f'WARNING: Publisher {name} is SYSTEM_DEFAULT and subscription is {sub.name};')
+        elif pub == offered and sub == default:
+            doubts.append(f'WARNING: Publisher {name} is {pub.name} and subscription is SYSTEM_DEFAULT;')
+    return doubts

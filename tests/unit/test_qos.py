@@ -47,7 +47,8 @@ def test_presets():
     assert qos_profile_sensor_data.durability == VOLATILE
     assert qos_profile_parameters.depth == 1000 and qos_profile_parameters.reliability == RELIABLE
     assert qos_profile_services_default.reliability == RELIABLE
-    assert qos_profile_system_default.history == HistoryPolicy.KEEP_LAST
+    assert qos_profile_system_default.history == HistoryPolicy.SYSTEM_DEFAULT
+    assert to_profile(qos_profile_system_default) == qos_profile_default
     assert qos_profile_action_status_default.durability == TRANSIENT_LOCAL
     assert QoSPresetProfiles.SENSOR_DATA.value is qos_profile_sensor_data
     assert QoSPresetProfiles.get_from_short_key('sensor_data') is qos_profile_sensor_data
@@ -56,13 +57,23 @@ def test_presets():
         QoSPresetProfiles.get_from_short_key('nope')
 
 
-def test_plain_ints_and_system_default_are_normalised():
+def test_plain_ints_are_policies_and_entities_resolve_system_default():
     profile = QoSProfile(reliability=2, durability=1, history=1, depth=4)
     assert (profile.reliability, profile.durability) == (BEST_EFFORT, TRANSIENT_LOCAL)
     assert isinstance(profile.reliability, ReliabilityPolicy)
     system = QoSProfile(history=HistoryPolicy.SYSTEM_DEFAULT, reliability=ReliabilityPolicy.SYSTEM_DEFAULT,
                         durability=DurabilityPolicy.SYSTEM_DEFAULT, liveliness=LivelinessPolicy.SYSTEM_DEFAULT)
-    assert system == QoSProfile(depth=10)
+    assert system != QoSProfile(depth=10) and system.reliability == ReliabilityPolicy.SYSTEM_DEFAULT
+    assert to_profile(system) == QoSProfile(depth=10) and system.to_token() == 'R:V:L10'
+
+
+def test_a_match_that_rests_on_a_system_default_is_a_warning():
+    reliable = QoSProfile(depth=1, reliability=RELIABLE)
+    assert qos_check_compatible(qos_profile_system_default, reliable)[0] == QoSCompatibility.WARNING
+    best_effort = QoSProfile(depth=1, reliability=BEST_EFFORT)
+    compatibility, reason = qos_check_compatible(best_effort, qos_profile_system_default)
+    assert compatibility == QoSCompatibility.WARNING and 'SYSTEM_DEFAULT' in reason
+    assert qos_check_compatible(qos_profile_system_default, qos_profile_system_default)[0] == QoSCompatibility.OK
 
 
 @pytest.mark.parametrize('kwargs', [dict(depth=-1), dict(depth=1.5), dict(reliability=99)])
@@ -137,3 +148,14 @@ def test_reliability_reason_names_the_policies():
 def test_a_negative_depth_is_refused_in_rclpys_words():
     with pytest.raises(ValueError, match='must be greater than or equal to zero'):
         QoSProfile(depth=-1)
+
+
+def test_override_parameters_spell_policies_as_rclpy():
+    from zros.qos import Duration, QoSPolicyKind, qos_profile_unknown
+    from zros.qos_overriding_options import _get_qos_policy_parameter
+    profile = QoSProfile(depth=7, liveliness=LivelinessPolicy.SYSTEM_DEFAULT, deadline=Duration(seconds=1))
+    assert _get_qos_policy_parameter(profile, QoSPolicyKind.LIVELINESS) == 'system_default'
+    assert _get_qos_policy_parameter(profile, QoSPolicyKind.DEADLINE) == 1_000_000_000
+    assert _get_qos_policy_parameter(profile, QoSPolicyKind.DEPTH) == 7
+    with pytest.raises(ValueError):
+        _get_qos_policy_parameter(qos_profile_unknown, QoSPolicyKind.RELIABILITY)
