@@ -965,7 +965,7 @@ class Node:
                 sec, nsec = divmod(time_ns, 1_000_000_000)
                 log = Log(level=int(severity), name=name, msg=message, file=file, function=function, line=line)
                 log.stamp.sec, log.stamp.nanosec = sec, nsec
-                self._rosout.publish(log)
+                self._rosout._send(log)
             except Exception:  # noqa: BLE001 - logging must never raise into user code
                 pass
         self._rosout_sink = sink
