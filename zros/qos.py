@@ -184,13 +184,9 @@ class QoSProfile:
             if history == HistoryPolicy.KEEP_LAST:
                 raise InvalidQoSProfileException('a QoS profile with KEEP_LAST history needs a depth')
             depth = DEFAULT_DEPTH
-        self.history = history    # before depth: the depth's check depends on it
-        self.depth = depth
-        self.reliability = reliability
-        self.durability = durability
-        self.liveliness = liveliness
-        self.deadline = deadline
-        self.lifespan = lifespan
+        self.history, self.depth = history, depth    # in this order: the depth's check reads the history
+        self.reliability, self.durability, self.liveliness = reliability, durability, liveliness
+        self.deadline, self.lifespan = deadline, lifespan
         self.liveliness_lease_duration = liveliness_lease_duration
         self.avoid_ros_namespace_conventions = avoid_ros_namespace_conventions
 
