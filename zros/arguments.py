@@ -15,7 +15,11 @@ __all__ = ['RosArgs', 'parse_ros_args', 'remove_ros_args', 'RosArgsError', 'Unkn
 
 
 class RosArgsError(RCLError, ValueError):
-    """Malformed `--ros-args` section (rclpy's `RCLInvalidROSArgsError`)."""
+    """Malformed `--ros-args` section (rclpy's `RCLInvalidROSArgsError`); the message starts as
+    rcl's does, 'Failed to parse ROS arguments: '."""
+
+    def __init__(self, detail: str) -> None:
+        super().__init__(f'Failed to parse ROS arguments: {detail}')
 
 
 class UnknownRosArgsError(RosArgsError):

@@ -115,7 +115,9 @@ def expand_topic_name(name: str, node_name: str, namespace: str, kind: str = 'to
     Follows rcl_expand_topic_name: `~` is the node's fully qualified name, `{node}` and `{ns}`
     substitutions are supported, relative names go under the namespace.
     """
-    if not isinstance(name, str) or not name:
+    if not isinstance(name, str):
+        raise TypeError(f'{kind} must be a str, got {type(name).__name__}')   # as rclpy's C binding
+    if not name:
         raise _invalid(kind, f'{kind} must not be empty (a non-empty string)')
     original = name
     if '{' in name or '}' in name:

@@ -311,7 +311,7 @@ def to_profile(qos: 'QoSProfile | int') -> QoSProfile:
             changes['depth'] = DEFAULT_DEPTH     # the system default depth, as queue_depth has it
         return replace(qos, **changes)
     if isinstance(qos, bool) or not isinstance(qos, int):
-        raise TypeError(f'expected a QoSProfile or an int depth, got {type(qos).__name__}')
+        raise TypeError(f'Expected QoSProfile or int (a depth), but received {type(qos).__name__}')
     return replace(qos_profile_default, depth=qos)
 
 

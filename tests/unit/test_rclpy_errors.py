@@ -18,6 +18,11 @@ def test_unknown_ros_args_are_all_listed_in_one_error():
     assert "['typo', '--other']" in str(info.value)
 
 
+def test_ros_args_errors_read_as_rcl_writes_them():
+    with pytest.raises(RosArgsError, match=r"^Failed to parse ROS arguments: .*'not-a-remap'"):
+        parse_ros_args(['--ros-args', '-r', 'not-a-remap'])
+
+
 def test_ros_args_errors_are_runtime_errors_as_in_rclpy():
     assert issubclass(RosArgsError, RCLError) and issubclass(RCLError, RuntimeError)
     assert issubclass(RosArgsError, ValueError)   # what zros code caught before
