@@ -44,8 +44,20 @@ def ok(*, context: Context | None = None) -> bool:
 
 
 def shutdown(*, context: Context | None = None, uninstall_handlers: bool | None = None) -> None:
-    """Shut the context down (a second call is harmless). Signal handlers are uninstalled with
-    the default context unless `uninstall_handlers` is False."""
+    """Shut the context down. Signal handlers are uninstalled with the default context unless
+    `uninstall_handlers` is False.
+
+    Raises:
+        RuntimeError: The context is not initialized, or was shut down already (as rclpy; after a
+            signal shut it down the call is harmless). `try_shutdown` never raises.
+    """
+    ctx = context or get_default_context()
+    ctx.check_can_shut_down()
+    try_shutdown(context=ctx, uninstall_handlers=uninstall_handlers)
+
+
+def try_shutdown(*, context: Context | None = None, uninstall_handlers: bool | None = None) -> None:
+    """Shut the context down if it is up; a context already shut down is left as it is."""
     global _global_executor
     ctx = context or get_default_context()
     if _global_executor is not None and (context is None or _global_executor.context is ctx):
@@ -54,9 +66,6 @@ def shutdown(*, context: Context | None = None, uninstall_handlers: bool | None 
     ctx.shutdown()
     if uninstall_handlers or (uninstall_handlers is None and ctx is get_default_context()):
         uninstall_signal_handlers()
-
-
-try_shutdown = shutdown
 
 
 def create_node(node_name: str, **kwargs: Any) -> 'Node':

@@ -8,13 +8,23 @@ from __future__ import annotations
 import argparse
 from dataclasses import dataclass, field
 
-from zros.errors import CliError, ZrosError
+from zros.errors import CliError, RCLError
 
-__all__ = ['RosArgs', 'parse_ros_args', 'remove_ros_args', 'RosArgsError', 'NodeArgumentParser']
+__all__ = ['RosArgs', 'parse_ros_args', 'remove_ros_args', 'RosArgsError', 'UnknownRosArgsError',
+           'NodeArgumentParser']
 
 
-class RosArgsError(ZrosError, ValueError):
-    """Malformed `--ros-args` section."""
+class RosArgsError(RCLError, ValueError):
+    """Malformed `--ros-args` section (rclpy's `RCLInvalidROSArgsError`); the message starts as
+    rcl's does, 'Failed to parse ROS arguments: '."""
+
+    def __init__(self, detail: str) -> None:
+        super().__init__(f'Failed to parse ROS arguments: {detail}')
+
+
+class UnknownRosArgsError(RosArgsError):
+    """A `--ros-args` section holds arguments ROS does not know; the message lists them all, as
+    `['unknown']`, so that one run shows every typo (rclpy's `UnknownROSArgsError`)."""
 
 
 @dataclass
@@ -65,6 +75,7 @@ def remove_ros_args(args: list[str] | None) -> list[str]:
 def parse_ros_args(argv: list[str]) -> RosArgs:
     """Parse every `--ros-args` section of argv; raise RosArgsError naming the bad argument."""
     result = RosArgs()
+    unknown: list[str] = []
     for section in _sections(argv)[1]:
         i = 0
         while i < len(section):
@@ -74,7 +85,9 @@ def parse_ros_args(argv: list[str]) -> RosArgs:
                 i += 1
                 continue
             if flag not in _FLAGS_WITH_VALUE:
-                raise RosArgsError(f"unknown ROS argument '{flag}'")
+                unknown.append(flag)
+                i += 1
+                continue
             if i + 1 >= len(section):
                 raise RosArgsError(f"ROS argument '{flag}' needs a value")
             value = section[i + 1]
@@ -99,6 +112,8 @@ def parse_ros_args(argv: list[str]) -> RosArgs:
                 result.log_levels.append((logger, level))
             elif flag in ('-e', '--enclave'):
                 result.enclave = value
+    if unknown:
+        raise UnknownRosArgsError(f'unknown ROS arguments: {unknown}')
     return result
 
 

@@ -28,6 +28,7 @@ from zros.errors import DecodeError, ServiceCallError
 from zros.graph import EntityKind
 from zros.message import Srv, SrvRequestT, SrvResponseT, deserialize, serialize
 from zros.qos import QoSProfile
+from zros.service_introspection import REQUEST_SENT, RESPONSE_RECEIVED, Introspectable, call_origin
 from zros.task import Future
 from zros.wire import AttachmentWriter, max_message_size
 
@@ -44,7 +45,7 @@ _NO_TIMEOUT = 86_400.0
 SERVER_WAIT_SEC = 10.0
 
 
-class Client(NodeEntity, Generic[SrvRequestT, SrvResponseT]):
+class Client(Introspectable, NodeEntity, Generic[SrvRequestT, SrvResponseT]):
     """Calls one service; made by `Node.create_client`.
 
     Generic in the service type: `call` and `call_async` take its Request and give its
@@ -137,19 +138,28 @@ class Client(NodeEntity, Generic[SrvRequestT, SrvResponseT]):
             raise RuntimeError(f"client of '{self.srv_name}' has been destroyed")
 
     def _send(self, request: Any, timeout_sec: float | None, handler: Any = None,
-              parameters: str = '') -> tuple[float, Any]:
+              parameters: str = '', stamp: bytes | None = None) -> tuple[float, Any]:
         """Issue the Zenoh get for `request`, already `_check`ed by the caller: (timeout used,
         reply receiver or None).
 
         With no handler, Zenoh's default FIFO channel holds the replies for the caller.
-        `parameters` go in the selector (`key?parameters`) for servers that read them."""
+        `parameters` go in the selector (`key?parameters`) for servers that read them. `stamp`
+        is the attachment, when the caller needs to know the call's sequence number first."""
         import zenoh
         timeout = _NO_TIMEOUT if timeout_sec is None else max(0.001, timeout_sec)
+        stamp = stamp or self._stamp()
+        if self._introspection is not None:
+            self._introspection.record(REQUEST_SENT, call_origin(stamp), request=request)
         receiver = self._node.context.session.get(
             f'{self._key}?{parameters}' if parameters else self._key, handler,
-            payload=serialize(request), attachment=self._stamp(),
+            payload=serialize(request), attachment=stamp,
             timeout=timeout, consolidation=zenoh.ConsolidationMode.NONE)
         return timeout, receiver
+
+    def _received(self, origin: tuple[bytes, int], outcome: Any) -> None:
+        """Introspection's last step of a call: its response arrived (a failed call has none)."""
+        if self._introspection is not None and not isinstance(outcome, Exception):
+            self._introspection.record(RESPONSE_RECEIVED, origin, response=outcome)
 
     def _outcome(self, reply: Any, started: float, response_type: type | None = None) -> Any:
         """The response in a reply (a `response_type`, by default this service's Response), or
@@ -211,7 +221,9 @@ class Client(NodeEntity, Generic[SrvRequestT, SrvResponseT]):
 
         def send() -> None:
             left = timeout - (time.monotonic() - future._started)
-            self._send(request, max(0.001, left), zenoh.handlers.Callback(future._arrive, on_done))
+            stamp = self._stamp()
+            future._origin = call_origin(stamp)   # before the reply can arrive
+            self._send(request, max(0.001, left), zenoh.handlers.Callback(future._arrive, on_done), stamp=stamp)
 
         routed = self._route()
         if routed.is_set() or self._ever_routed:
@@ -256,13 +268,15 @@ class Client(NodeEntity, Generic[SrvRequestT, SrvResponseT]):
         routed = self._route()
         if not self._ever_routed and not routed.wait(min(timeout, SERVER_WAIT_SEC)):
             raise self._no_server(started, timeout)
+        stamp = self._stamp()
         _, receiver = self._send(request, max(0.001, timeout - (time.monotonic() - started)),
-                                 parameters=parameters)
+                                 parameters=parameters, stamp=stamp)
         replies = iter(receiver)
         for response_type in response_types:
             reply = next(replies, None)
             outcome = (self._no_answer(started, timeout) if reply is None
                        else self._outcome(reply, started, response_type))
+            self._received(call_origin(stamp), outcome)
             if isinstance(outcome, Exception):
                 raise outcome
             yield outcome
@@ -288,6 +302,7 @@ class _ReplyFuture(Future[Any]):
         super().__init__(node=client._node)
         self._client = client
         self._started = started
+        self._origin = (bytes(16), 0)   # the call's (client gid, sequence), for introspection
         self._reply: Any = None
         self._decode_lock = threading.Lock()
 
@@ -296,6 +311,8 @@ class _ReplyFuture(Future[Any]):
             return
         self._reply = reply
         self.set_result(None)
+        if self._client._introspection is not None:
+            self._decode()   # the response is received now, whether or not anyone reads it
 
     def _decode(self) -> None:
         with self._decode_lock:
@@ -303,6 +320,7 @@ class _ReplyFuture(Future[Any]):
             if reply is None:
                 return  # decoded by another thread meanwhile
             outcome = self._client._outcome(reply, self._started)
+            self._client._received(self._origin, outcome)
             if isinstance(outcome, Exception):
                 self._exception = outcome
             else:

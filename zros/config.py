@@ -58,7 +58,7 @@ import socket
 import sys
 from dataclasses import dataclass, field, replace
 
-from zros.errors import ZrosError
+from zros.errors import RCLError, ZrosError
 
 __all__ = ['SessionSettings', 'settings_from_env', 'security_config_file', 'HUB_BASE_PORT', 'open_session', 'build_config',
            'validate_endpoint', 'DISCOVERY_MODES', 'SETTINGS_ENV', 'SESSION_OPTIONS', 'add_session_options',
@@ -257,7 +257,7 @@ def settings_from_env(env: os._Environ | dict | None = None, *, domain_id: int |
     else:
         reasons['domain_id'] = 'argument'
     if not 0 <= domain_id <= 232:
-        raise ZrosError(f'domain id must be within 0-232, got {domain_id}')
+        raise RCLError(f'domain id must be within 0-232, got {domain_id}')
 
     config_file = (env.get('ZROS_CONFIG') or '').strip() or None
     secure = False

@@ -82,6 +82,10 @@ class Context:
                 raise RuntimeError('Context.init() must only be called once')
             self._provisional = provisional
             argv = list(sys.argv if args is None else args)
+            for arg in argv:
+                # Arguments travel as UTF-8 (to nodes, launch files and the graph); an undecodable
+                # one (PEP 383 surrogates from a wrong locale) fails here, as in rclpy.
+                arg.encode('utf-8')
             parsed = parse_ros_args(argv)
             for logger, level in parsed.log_levels:
                 set_logger_level(logger, severity_from_string(level))
@@ -209,6 +213,22 @@ class Context:
     @property
     def domain_id(self) -> int:
         return self.settings.domain_id
+
+    def get_domain_id(self) -> int:
+        """The ROS domain id this context's session was opened for (rclpy's Context.get_domain_id)."""
+        return self.domain_id
+
+    def check_can_shut_down(self) -> None:
+        """rclpy.shutdown()'s precondition: the context is initialized, or a signal has shut it down
+        (the program's own shutdown that follows is expected and harmless).
+
+        Raises:
+            RuntimeError: The context was never initialized, or was shut down already.
+        """
+        with self._lock:
+            if not self._ok and not self._stop_requested:
+                raise RuntimeError('Context must be initialized before it can be shut down '
+                                   '(use try_shutdown() to shut it down only if it is up)')
 
     @property
     def is_hub(self) -> bool:

@@ -16,6 +16,7 @@ __all__ = [
     'MessageTypeError',
     'DecodeError',
     'NotInitializedError',
+    'RCLError',
     'CliError',
     'ServiceCallError',
     'with_suggestion',
@@ -69,6 +70,11 @@ class DecodeError(ZrosError):
 
 class NotInitializedError(ZrosError, RuntimeError):
     """An operation needs `zros.init()` to have been called first."""
+
+
+class RCLError(ZrosError, RuntimeError):
+    """A request ROS refuses: a lifecycle transition the current state does not offer, a domain id
+    out of range... (rclpy raises `_rclpy.RCLError`, a RuntimeError, in these cases; hence the name)."""
 
 
 class CliError(ZrosError):

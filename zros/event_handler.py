@@ -37,7 +37,7 @@ __all__ = [
     'QoSLivelinessChangedInfo', 'QoSLivelinessLostInfo', 'QoSMessageLostInfo', 'QoSRequestedIncompatibleQoSInfo',
     'QoSOfferedIncompatibleQoSInfo', 'QoSSubscriptionMatchedInfo', 'QoSPublisherMatchedInfo',
     'IncompatibleTypeInfo', 'UnsupportedEventTypeError', 'attach_event_callbacks', 'report_incompatible_qos',
-    'graph_changed',
+    'report_incompatible_type', 'same_type', 'graph_changed',
 ]
 
 
@@ -174,12 +174,13 @@ class _Callbacks:
         self.use_default_callbacks = use_default_callbacks
 
     def create_event_handlers(self, callback_group: 'CallbackGroup', parent: Any, topic_name: str) -> list[EventHandler]:
-        """One handler per callback given, plus the default incompatible-QoS warning."""
+        """One handler per callback given, plus, unless `use_default_callbacks` is False, the
+        default warnings of incompatible QoS and of incompatible types (as rclpy)."""
         handlers = []
         for name, event_type in self._EVENTS.items():
             callback = getattr(self, name)
-            if callback is None and name == 'incompatible_qos' and self.use_default_callbacks:
-                callback = _default_incompatible_qos(parent, topic_name)
+            if callback is None and self.use_default_callbacks and name in _DEFAULT_CALLBACKS:
+                callback = _DEFAULT_CALLBACKS[name](parent, topic_name)
             if callback is not None:
                 handlers.append(EventHandler(callback_group=callback_group, callback=callback,
                                              event_type=event_type, parent=parent))
@@ -226,6 +227,17 @@ def _default_incompatible_qos(parent: Any, topic: str) -> Callable[[QoSRequested
         other = getattr(getattr(parent, '_event_tracker', None), 'last_incompatible', None)
         parent._node.get_logger().warn(_incompatible_text(parent, topic, info.last_policy_kind, other))
     return warn
+
+
+def _default_incompatible_type(parent: Any, topic: str) -> Callable[[IncompatibleTypeInfo], None]:
+    def warn(info: IncompatibleTypeInfo) -> None:
+        # Samples of another type do not decode as this one's and are dropped.
+        parent._node.get_logger().warn(f"Incompatible type on topic '{topic}', no messages will be sent to it.")
+    return warn
+
+
+# event name -> the factory of the callback a handler gets when the user gives none
+_DEFAULT_CALLBACKS = {'incompatible_qos': _default_incompatible_qos, 'incompatible_type': _default_incompatible_type}
 
 
 def _incompatible_text(parent: Any, topic: str, policy: QoSPolicyKind, other: Entity | None) -> str:
@@ -296,7 +308,8 @@ class _Tracker:
         self.matched_total = 0
         self.foreign: set[tuple] = set()
         self.last_incompatible: Entity | None = None
-        self.graph_events = any(self._handler(n) for n in ('MATCHED', 'LIVELINESS_CHANGED', 'INCOMPATIBLE_TYPE'))
+        # Types are compared by the node's QoS monitor as it walks the endpoints of the topic.
+        self.graph_events = any(self._handler(n) for n in ('MATCHED', 'LIVELINESS_CHANGED'))
         entity._event_tracker = self
         if self.deadline_s or self.lease_s or self._handler('MESSAGE_LOST'):
             entity._events = self
@@ -368,17 +381,12 @@ class _Tracker:
     def graph_changed(self, entities: list[Entity]) -> None:
         mine = self.entity.handle
         other_kind = EntityKind.PUBLISHER if mine.kind == EntityKind.SUBSCRIPTION else EntityKind.SUBSCRIPTION
-        same, foreign = set(), set()
-        for e in entities:
-            if e.kind == other_kind and e.name == mine.name:
-                key = (e.zid, e.node_id, e.entity_id)
-                (same if (e.type, e.type_hash) == (mine.type, mine.type_hash) else foreign).add(key)
+        same = {(e.zid, e.node_id, e.entity_id) for e in entities
+                if e.kind == other_kind and e.name == mine.name and same_type(mine, e)}
         with self._lock:
             before, self.matched = self.matched, same
             added = len(same - before)
             self.matched_total += added
-            new_foreign = foreign - self.foreign
-            self.foreign |= foreign
         change = len(same) - len(before)
         handler = self._handler('MATCHED')
         if handler is not None and same != before:
@@ -386,9 +394,18 @@ class _Tracker:
         handler = self._handler('LIVELINESS_CHANGED')
         if handler is not None and change:
             handler._fire(QoSLivelinessChangedInfo(len(same), 0, change, 0))
+
+    def incompatible_type(self, other: Entity) -> None:
+        """The QoS monitor found `other`, an endpoint of the other side with another type."""
+        key = (other.zid, other.node_id, other.entity_id)
+        with self._lock:
+            if key in self.foreign:
+                return
+            self.foreign.add(key)
+            total = len(self.foreign)
         handler = self._handler('INCOMPATIBLE_TYPE')
-        if handler is not None and new_foreign:
-            handler._fire(IncompatibleTypeInfo(len(self.foreign), len(new_foreign)))
+        if handler is not None:
+            handler._fire(IncompatibleTypeInfo(total, 1))
 
     def incompatible_qos(self, policy: QoSPolicyKind, other: Entity) -> None:
         handler = self._handler('INCOMPATIBLE_QOS')
@@ -420,6 +437,19 @@ def report_incompatible_qos(entity: Any, policy: QoSPolicyKind, other: Entity) -
         entity._node.get_logger().warn(_incompatible_text(entity, entity.topic_name, policy, other))
     else:
         tracker.incompatible_qos(policy, other)
+
+
+def same_type(mine: Entity, other: Entity) -> bool:
+    """Whether two endpoints of a topic exchange messages: the same type and definition."""
+    return (mine.type, mine.type_hash) == (other.type, other.type_hash)
+
+
+def report_incompatible_type(entity: Any, other: Entity) -> None:
+    """`other`, an endpoint of the other side of `entity`'s topic, has another type (found by the
+    node's QoS monitor): counted, and the incompatible-type handler, if any, fires once for it."""
+    tracker = getattr(entity, '_event_tracker', None)
+    if tracker is not None:
+        tracker.incompatible_type(other)
 
 
 def graph_changed(entity: Any, entities: list[Entity]) -> None:

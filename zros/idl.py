@@ -221,6 +221,20 @@ def parse_service(text: str, package: str, name: str, *, source: str = '<string>
     )
 
 
+def service_event_spec(service: ServiceSpec) -> MessageSpec:
+    """The `pkg/srv/Name_Event` message that service introspection publishes for a service:
+    what happened (service_msgs/ServiceEventInfo) and, when contents are introspected, the
+    request or the response (rosidl generates it beside Request and Response)."""
+    full_name = f'{service.full_name}_Event'
+    fields = (
+        Field('info', FieldType('service_msgs/msg/ServiceEventInfo')),
+        Field('request', FieldType(service.request.full_name, array='bounded', array_size=1)),
+        Field('response', FieldType(service.response.full_name, array='bounded', array_size=1)),
+    )
+    text = '\n'.join(f'{field.type} {field.name}' for field in fields) + '\n'
+    return MessageSpec(full_name=full_name, fields=fields, constants=(), text=text, source=service.source)
+
+
 def parse_action(text: str, package: str, name: str, *, source: str = '<string>') -> ActionSpec:
     """Parse an .action text: goal, result and feedback separated by two `---` lines."""
     _check_interface_name(package, name, source)

@@ -634,14 +634,36 @@ def make_message_class(spec: MessageSpec, resolve: Callable[[str], type]) -> typ
     return cls
 
 
-def make_service_class(spec: ServiceSpec, request: type, response: type) -> type:
-    """A service type is a holder of its Request and Response classes, as in rclpy."""
-    return type(spec.full_name.split('/')[-1], (), {
+def make_service_class(spec: ServiceSpec, request: type, response: type,
+                       event: Callable[[], type] | None = None) -> type:
+    """A service type is a holder of its Request and Response classes, as in rclpy, and of its
+    Event message (service introspection's), which `event` builds on first use: few programs
+    introspect, and the event needs service_msgs."""
+    namespace = {
         '__module__': f'interfaces.{spec.full_name.split("/")[0]}.srv',
         '_TYPE': spec.full_name, '_SPEC': spec, 'Request': request, 'Response': response,
         '_HASH': hashlib.sha256(f'{request._HASH};{response._HASH}'.encode()).hexdigest()[:16],
         '__doc__': spec.text,
-    })
+    }
+    if event is not None:
+        namespace['Event'] = _BuiltOnFirstUse(event)
+    return type(spec.full_name.split('/')[-1], (), namespace)
+
+
+class _BuiltOnFirstUse:
+    """A class attribute whose value is built the first time it is read (thread-safe)."""
+
+    def __init__(self, build: Callable[[], Any]) -> None:
+        self._build = build
+        self._value: Any = None
+        self._lock = threading.Lock()
+
+    def __get__(self, instance: Any, owner: type) -> Any:
+        if self._value is None:
+            with self._lock:
+                if self._value is None:
+                    self._value = self._build()
+        return self._value
 
 
 def make_action_class(spec: ActionSpec, goal: type, result: type, feedback: type) -> type:

@@ -33,8 +33,7 @@ from zros.guard_condition import GuardCondition
 from zros.timer import Rate, Timer, timer_lists_changed
 from zros.time_source import TimeSource
 from zros.type_description_service import TypeDescriptionService
-from zros.topic_endpoint_info import TopicEndpointInfo, TopicEndpointTypeEnum
-from zros.type_hash import TypeHash
+from zros.topic_endpoint_info import TopicEndpointInfo
 from zros.type_support import is_message_type, is_service_type
 
 if TYPE_CHECKING:
@@ -703,27 +702,23 @@ class Node:
         """Describe every publisher on a topic: node, type, QoS (what `zros topic info -v` prints).
 
         :param topic_name: The topic name, resolved against this node.
-        :param no_mangle: Accepted for rclpy's signature; zros names are never mangled.
+        :param no_mangle: Accepted for rclpy's signature: zros names are never mangled.
         :return: One TopicEndpointInfo per publisher.
         """
-        return self._endpoint_infos(EntityKind.PUBLISHER, topic_name)
+        return self._endpoints_info(EntityKind.PUBLISHER, topic_name)
 
     def get_subscriptions_info_by_topic(self, topic_name: str, no_mangle: bool = False) -> list[TopicEndpointInfo]:
         """Describe every subscription on a topic: node, type, QoS.
 
         :param topic_name: The topic name, resolved against this node.
-        :param no_mangle: Accepted for rclpy's signature; zros names are never mangled.
+        :param no_mangle: Accepted for rclpy's signature: zros names are never mangled.
         :return: One TopicEndpointInfo per subscription.
         """
-        return self._endpoint_infos(EntityKind.SUBSCRIPTION, topic_name)
+        return self._endpoints_info(EntityKind.SUBSCRIPTION, topic_name)
 
-    def _endpoint_infos(self, kind: str, topic_name: str) -> list[TopicEndpointInfo]:
-        endpoint_type = (TopicEndpointTypeEnum.PUBLISHER if kind == EntityKind.PUBLISHER
-                         else TopicEndpointTypeEnum.SUBSCRIPTION)
-        return [TopicEndpointInfo(node_name=e.node_name, node_namespace=e.namespace, topic_type=e.type,
-                                  topic_type_hash=TypeHash.from_string(e.type_hash), endpoint_type=endpoint_type,
-                                  endpoint_gid=_endpoint_gid(e), qos_profile=QoSProfile.from_token(e.qos))
-                for e in endpoints(self._graph_entities(), kind, self.resolve_topic_name(topic_name))]
+    def _endpoints_info(self, kind: str, topic_name: str) -> list[TopicEndpointInfo]:
+        found = endpoints(self._graph_entities(), kind, self.resolve_topic_name(topic_name))
+        return [TopicEndpointInfo.from_entity(entity) for entity in found]
 
     def wait_for_node(self, fully_qualified_node_name: str, timeout: float) -> bool:
         """Wait until a node is in the graph (woken by graph changes, not by polling).
@@ -1003,7 +998,7 @@ class Node:
                 sec, nsec = divmod(time_ns, 1_000_000_000)
                 log = Log(level=int(severity), name=name, msg=message, file=file, function=function, line=line)
                 log.stamp.sec, log.stamp.nanosec = sec, nsec
-                self._rosout.publish(log)
+                self._rosout._send(log)
             except Exception:  # noqa: BLE001 - logging must never raise into user code
                 pass
         self._rosout_sink = sink
@@ -1058,15 +1053,6 @@ def _pace_rate() -> None:
 def _type(name: str) -> type:
     from zros.typesupport import get_type
     return get_type(name)
-
-
-def _endpoint_gid(entity: Entity) -> list[int]:
-    """An endpoint's unique id as rclpy lists a GID: its session's id, node and entity numbers."""
-    try:
-        session = bytes.fromhex(entity.zid if len(entity.zid) % 2 == 0 else '0' + entity.zid)
-    except ValueError:
-        session = entity.zid.encode()
-    return list(session + entity.node_id.to_bytes(4, 'big') + entity.entity_id.to_bytes(4, 'big'))
 
 
 def _require_service_type(srv_type: Any) -> None:

@@ -1,9 +1,9 @@
 """Quality of service: the ROS 2 profiles and what they mean on Zenoh.
 
 A profile is plain data, mutable as rclpy's (`qos.reliability = BEST_EFFORT` is common in
-ROS 2 code; every assignment is checked and normalised as construction is). A publisher or
-subscription copies its profile when it is made (`to_profile`), so changing a profile later
-changes only what is made from it next. The profile is written into a liveliness token
+ROS 2 code; every assignment is checked as construction is). A publisher or subscription
+copies its profile when it is made (`to_profile`, which also resolves SYSTEM_DEFAULT policies
+to the values zros uses), so changing a profile later changes only what is made from it next. The profile is written into a liveliness token
 (`to_token` / `from_token`), which is how `zros topic info -v` and the incompatibility check
 (and the incompatible-QoS events of zros.event_handler) learn what the other side asked for.
 
@@ -17,23 +17,47 @@ Mapping to Zenoh (see docs/protocol.md):
 from __future__ import annotations
 
 import enum
+import warnings
 from dataclasses import dataclass, replace
 from typing import Any
 
 from zros.duration import Duration
 
 __all__ = [
-    'HistoryPolicy', 'ReliabilityPolicy', 'DurabilityPolicy', 'LivelinessPolicy', 'QoSPolicyKind',
+    'QoSPolicyEnum', 'HistoryPolicy', 'ReliabilityPolicy', 'DurabilityPolicy', 'LivelinessPolicy', 'QoSPolicyKind',
     'qos_policy_name_from_kind', 'qos_incompatibilities',
     'QoSProfile', 'QoSPresetProfiles', 'Duration', 'InvalidQoSProfileException',
     'qos_profile_default', 'qos_profile_sensor_data', 'qos_profile_services_default',
     'qos_profile_parameters', 'qos_profile_parameter_events', 'qos_profile_system_default',
-    'qos_profile_action_status_default', 'qos_profile_best_available',
+    'qos_profile_action_status_default', 'qos_profile_best_available', 'qos_profile_unknown',
     'qos_check_compatible', 'QoSCompatibility', 'to_profile',
 ]
 
 
-class HistoryPolicy(enum.IntEnum):
+class QoSPolicyEnum(enum.IntEnum):
+    """Base of the policy enums: their members by short, lower-case name, as `zros topic pub
+    --qos-reliability best_effort` and rclpy's `short_keys()` spell them."""
+
+    @classmethod
+    def short_keys(cls) -> list[str]:
+        """Every member's name in lower case, in definition order (`['system_default', ...]`)."""
+        return [name.lower() for name in cls.__members__]
+
+    @classmethod
+    def get_from_short_key(cls, name: str) -> int:
+        """The value of the member named `name`, in any case.
+
+        :raises KeyError: If no member has that name.
+        """
+        return cls[name.upper()].value
+
+    @property
+    def short_key(self) -> str:
+        """This member's name in lower case."""
+        return self.name.lower()
+
+
+class HistoryPolicy(QoSPolicyEnum):
     """How many samples a reader keeps: the last `depth` (KEEP_LAST) or all (KEEP_ALL).
 
     zros bounds KEEP_ALL queues at KEEP_ALL_DEPTH, since a Python process has finite memory.
@@ -44,7 +68,7 @@ class HistoryPolicy(enum.IntEnum):
     UNKNOWN = 3
 
 
-class ReliabilityPolicy(enum.IntEnum):
+class ReliabilityPolicy(QoSPolicyEnum):
     """RELIABLE retransmits and blocks a publisher that is ahead; BEST_EFFORT drops.
 
     zros maps these onto Zenoh's reliability and congestion control (BLOCK or DROP).
@@ -56,7 +80,7 @@ class ReliabilityPolicy(enum.IntEnum):
     BEST_AVAILABLE = 4
 
 
-class DurabilityPolicy(enum.IntEnum):
+class DurabilityPolicy(QoSPolicyEnum):
     """TRANSIENT_LOCAL lets a late subscriber receive the last `depth` samples; VOLATILE does not.
 
     zros keeps those samples in a Zenoh advanced publisher's cache.
@@ -68,7 +92,7 @@ class DurabilityPolicy(enum.IntEnum):
     BEST_AVAILABLE = 4
 
 
-class LivelinessPolicy(enum.IntEnum):
+class LivelinessPolicy(QoSPolicyEnum):
     """How a publisher shows it is alive: AUTOMATIC (while its node runs) or MANUAL_BY_TOPIC (by
     publishing or calling `assert_liveliness()` within every lease).
     """
@@ -116,45 +140,77 @@ KEEP_ALL_DEPTH = 100_000
 
 
 class InvalidQoSProfileException(ValueError):
-    """A QoS profile whose settings contradict each other (KEEP_LAST with a depth of 0)."""
+    """A QoS profile that does not say how much history to keep (neither a history nor a depth,
+    or KEEP_LAST without a depth)."""
 
 
-@dataclass
+#: The depth of the ROS default profile, which a profile that does not set one gets.
+DEFAULT_DEPTH = 10
+
+
+@dataclass(init=False)
 class QoSProfile:
-    """A ROS 2 QoS profile. `QoSProfile(depth=10)` is the ROS default profile. The durations
-    (zros.duration.Duration, as rclpy's) are 0 for 'not set': no deadline, infinite lifespan
-    and lease. Profiles compare by value and, being mutable, are not hashable (as rclpy's)."""
+    """A ROS 2 QoS profile. `QoSProfile(depth=10)` is the ROS default profile. As in rclpy, a
+    profile must say how much history it keeps: a `depth` (KEEP_LAST is then implied), or a
+    `history` (KEEP_LAST still needs a depth), so that nobody gets a queue length they did not
+    choose. The durations (zros.duration.Duration, as rclpy's) are 0 for 'not set': no deadline,
+    infinite lifespan and lease. Profiles compare by value and, being mutable, are not hashable
+    (as rclpy's)."""
 
-    history: HistoryPolicy = HistoryPolicy.KEEP_LAST
-    depth: int = 10
-    reliability: ReliabilityPolicy = ReliabilityPolicy.RELIABLE
-    durability: DurabilityPolicy = DurabilityPolicy.VOLATILE
-    liveliness: LivelinessPolicy = LivelinessPolicy.AUTOMATIC
-    deadline: Duration = Duration()
-    lifespan: Duration = Duration()
-    liveliness_lease_duration: Duration = Duration()
-    avoid_ros_namespace_conventions: bool = False
+    history: HistoryPolicy
+    depth: int
+    reliability: ReliabilityPolicy
+    durability: DurabilityPolicy
+    liveliness: LivelinessPolicy
+    deadline: Duration
+    lifespan: Duration
+    liveliness_lease_duration: Duration
+    avoid_ros_namespace_conventions: bool
+
+    def __init__(self, *, history: HistoryPolicy | int | None = None, depth: int | None = None,
+                 reliability: ReliabilityPolicy | int = ReliabilityPolicy.RELIABLE,
+                 durability: DurabilityPolicy | int = DurabilityPolicy.VOLATILE,
+                 liveliness: LivelinessPolicy | int = LivelinessPolicy.AUTOMATIC,
+                 deadline: Duration = Duration(), lifespan: Duration = Duration(),
+                 liveliness_lease_duration: Duration = Duration(),
+                 avoid_ros_namespace_conventions: bool = False) -> None:
+        """Raises InvalidQoSProfileException when neither `history` nor `depth` is given, or
+        `history` is KEEP_LAST and `depth` is not; ValueError for a value of the wrong kind."""
+        if history is None:
+            if depth is None:
+                raise InvalidQoSProfileException('a QoS profile needs a history, a depth or both')
+            history = HistoryPolicy.KEEP_LAST
+        elif depth is None:
+            if history == HistoryPolicy.KEEP_LAST:
+                raise InvalidQoSProfileException('a QoS profile with KEEP_LAST history needs a depth')
+            depth = DEFAULT_DEPTH
+        self.history, self.depth = history, depth    # in this order: the depth's check reads the history
+        self.reliability, self.durability, self.liveliness = reliability, durability, liveliness
+        self.deadline, self.lifespan = deadline, lifespan
+        self.liveliness_lease_duration = liveliness_lease_duration
+        self.avoid_ros_namespace_conventions = avoid_ros_namespace_conventions
 
     def __setattr__(self, name: str, value: object) -> None:
-        # Plain ints are accepted for the policies, as rclpy does, and SYSTEM_DEFAULT becomes
-        # the value zros actually uses, so tokens and comparisons are exact.
+        # Plain ints are accepted for the policies, as rclpy does. SYSTEM_DEFAULT stays as given
+        # (rclpy compares and prints it so); an entity resolves it when it copies the profile.
         policy = _POLICIES.get(name)
         if policy is not None:
             value = policy(value)
-            if value == policy.SYSTEM_DEFAULT:
-                value = _SYSTEM_DEFAULTS[name]
-        elif name == 'depth' and (isinstance(value, bool) or not isinstance(value, int) or value < 0):
-            raise ValueError(f'QoS depth must be greater than or equal to zero, got {value!r}')
+        elif name == 'depth':
+            if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+                raise ValueError(f'QoS depth must be greater than or equal to zero, got {value!r}')
+            if value == 0 and self.history == HistoryPolicy.KEEP_LAST:
+                warnings.warn("A zero depth with KEEP_LAST doesn't make sense; no data could be stored. "
+                              f'zros keeps the default depth ({DEFAULT_DEPTH}) instead', UserWarning, stacklevel=2)
         object.__setattr__(self, name, value)
-
-    def __post_init__(self) -> None:
-        if self.history == HistoryPolicy.KEEP_LAST and self.depth == 0:
-            raise InvalidQoSProfileException('QoS depth must be > 0 with KEEP_LAST history')
 
     @property
     def queue_depth(self) -> int:
-        """Length of the per-subscription queue this profile asks for."""
-        return KEEP_ALL_DEPTH if self.history == HistoryPolicy.KEEP_ALL else self.depth
+        """Length of the per-subscription queue this profile asks for (KEEP_LAST with a depth of
+        0 means the system default, as in ROS: the default depth)."""
+        if self.history == HistoryPolicy.KEEP_ALL:
+            return KEEP_ALL_DEPTH
+        return self.depth or DEFAULT_DEPTH
 
     def to_token(self) -> str:
         """Compact text for liveliness tokens: `R|B : V|T : L<depth>|A`, then only what is
@@ -162,7 +218,7 @@ class QoSProfile:
         liveliness, `:E<ns>` liveliness lease duration."""
         rel = 'B' if self.reliability == ReliabilityPolicy.BEST_EFFORT else 'R'
         dur = 'T' if self.durability == DurabilityPolicy.TRANSIENT_LOCAL else 'V'
-        hist = 'A' if self.history == HistoryPolicy.KEEP_ALL else f'L{self.depth}'
+        hist = 'A' if self.history == HistoryPolicy.KEEP_ALL else f'L{self.queue_depth}'
         parts = [rel, dur, hist]
         for tag, value in (('D', self.deadline), ('S', self.lifespan)):
             if value.nanoseconds > 0:
@@ -179,10 +235,13 @@ class QoSProfile:
 
         :param text: The token text.
         :return: The profile; the default profile if the text is malformed (a foreign token must
-            not break graph queries).
+            not break graph queries; so is an empty text, what a bag without QoS records holds).
         """
         try:
             rel, dur, hist, *extra = text.split(':')
+            depth = 0 if hist == 'A' else int(hist[1:])
+            if hist != 'A' and depth < 1:
+                raise ValueError(f'a KEEP_LAST token needs a depth of 1 or more: {hist}')
             durations = {'D': 'deadline', 'S': 'lifespan', 'E': 'liveliness_lease_duration'}
             optional: dict[str, Any] = {durations[item[0]]: Duration(nanoseconds=int(item[1:]))
                         for item in extra if item[:1] in durations}
@@ -190,12 +249,12 @@ class QoSProfile:
                 reliability=ReliabilityPolicy.BEST_EFFORT if rel == 'B' else ReliabilityPolicy.RELIABLE,
                 durability=DurabilityPolicy.TRANSIENT_LOCAL if dur == 'T' else DurabilityPolicy.VOLATILE,
                 history=HistoryPolicy.KEEP_ALL if hist == 'A' else HistoryPolicy.KEEP_LAST,
-                depth=0 if hist == 'A' else int(hist[1:]),
+                depth=depth,
                 liveliness=LivelinessPolicy.MANUAL_BY_TOPIC if 'M' in extra else LivelinessPolicy.AUTOMATIC,
                 **optional,
             )
         except (ValueError, IndexError):
-            return cls()
+            return cls(depth=DEFAULT_DEPTH)
 
 
 _POLICIES: dict[str, Any] = {'history': HistoryPolicy, 'reliability': ReliabilityPolicy,
@@ -208,9 +267,14 @@ qos_profile_sensor_data = QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST
 qos_profile_services_default = QoSProfile(depth=10)
 qos_profile_parameters = QoSProfile(depth=1000)
 qos_profile_parameter_events = QoSProfile(depth=1000)
-qos_profile_system_default = QoSProfile(depth=10)
+qos_profile_system_default = QoSProfile(
+    history=HistoryPolicy.SYSTEM_DEFAULT, depth=0, reliability=ReliabilityPolicy.SYSTEM_DEFAULT,
+    durability=DurabilityPolicy.SYSTEM_DEFAULT, liveliness=LivelinessPolicy.SYSTEM_DEFAULT)
 qos_profile_action_status_default = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 qos_profile_best_available = QoSProfile(depth=10)
+#: What an endpoint's QoS is when nothing is known of it (rmw's qos_profile_unknown).
+qos_profile_unknown = QoSProfile(history=HistoryPolicy.UNKNOWN, depth=0, reliability=ReliabilityPolicy.UNKNOWN,
+                                 durability=DurabilityPolicy.UNKNOWN, liveliness=LivelinessPolicy.UNKNOWN)
 
 
 class QoSPresetProfiles(enum.Enum):
@@ -223,6 +287,7 @@ class QoSPresetProfiles(enum.Enum):
     SYSTEM_DEFAULT = qos_profile_system_default
     ACTION_STATUS_DEFAULT = qos_profile_action_status_default
     BEST_AVAILABLE = qos_profile_best_available
+    UNKNOWN = qos_profile_unknown
 
     @classmethod
     def get_from_short_key(cls, name: str) -> QoSProfile:
@@ -236,12 +301,17 @@ class QoSPresetProfiles(enum.Enum):
 
 
 def to_profile(qos: 'QoSProfile | int') -> QoSProfile:
-    """The profile an entity keeps: a copy of `qos`, or, as rclpy accepts a depth where a
-    profile is expected, KEEP_LAST with that depth."""
+    """The profile an entity keeps: a copy of `qos` with each SYSTEM_DEFAULT policy replaced by
+    the value zros uses (RELIABLE, VOLATILE, KEEP_LAST, AUTOMATIC), or, as rclpy accepts a depth
+    where a profile is expected, KEEP_LAST with that depth."""
     if isinstance(qos, QoSProfile):
-        return replace(qos)
+        changes: dict[str, Any] = {name: resolved for name, resolved in _SYSTEM_DEFAULTS.items()
+                                   if getattr(qos, name) == _POLICIES[name].SYSTEM_DEFAULT}
+        if 'history' in changes and qos.depth == 0:
+            changes['depth'] = DEFAULT_DEPTH     # the system default depth, as queue_depth has it
+        return replace(qos, **changes)
     if isinstance(qos, bool) or not isinstance(qos, int):
-        raise TypeError(f'Expected QoSProfile or int (a history depth), got {type(qos).__name__}')
+        raise TypeError(f'Expected QoSProfile or int (a depth), but received {type(qos).__name__}')
     return replace(qos_profile_default, depth=qos)
 
 
@@ -253,7 +323,9 @@ class QoSCompatibility(enum.IntEnum):
 
 
 def qos_incompatibilities(publisher: QoSProfile, subscription: QoSProfile) -> list[tuple[QoSPolicyKind, str]]:
-    """Every DDS request/offer rule the pair breaks, as (policy, rmw's reason text)."""
+    """Every DDS request/offer rule the pair breaks, as (policy, rmw's reason text). A
+    SYSTEM_DEFAULT policy breaks none (qos_check_compatible doubts it); entities' profiles have
+    none left (to_profile resolves them)."""
     found = []
     if (publisher.reliability == ReliabilityPolicy.BEST_EFFORT
             and subscription.reliability == ReliabilityPolicy.RELIABLE):
@@ -285,9 +357,33 @@ def qos_check_compatible(publisher: QoSProfile, subscription: QoSProfile) -> tup
     """The DDS request/offer rules ROS 2 reports (rclpy.qos.qos_check_compatible).
 
     zros still delivers across such pairs where Zenoh can, but reports them so that a ROS 2
-    user sees the same warnings (and `zros doctor` can list them).
+    user sees the same warnings (and `zros doctor` can list them). A pair that only matches
+    because of a SYSTEM_DEFAULT policy is a WARNING, as in ROS: the code may run on a middleware
+    whose default is another.
     """
     found = qos_incompatibilities(publisher, subscription)
     if found:
         return QoSCompatibility.ERROR, ' '.join(reason for _, reason in found)
+    possible = _system_default_doubts(publisher, subscription)
+    if possible:
+        return QoSCompatibility.WARNING, ' '.join(possible)
     return QoSCompatibility.OK, ''
+
+
+# policy attribute, the publisher's value and the subscription's value that break the rule
+_OFFER_RULES = (('reliability', ReliabilityPolicy.BEST_EFFORT, ReliabilityPolicy.RELIABLE),
+                ('durability', DurabilityPolicy.VOLATILE, DurabilityPolicy.TRANSIENT_LOCAL),
+                ('liveliness', LivelinessPolicy.AUTOMATIC, LivelinessPolicy.MANUAL_BY_TOPIC))
+
+
+def _system_default_doubts(publisher: QoSProfile, subscription: QoSProfile) -> list[str]:
+    """rmw's warnings: a rule that a SYSTEM_DEFAULT policy on one side might break."""
+    doubts = []
+    for name, offered, requested in _OFFER_RULES:
+        pub, sub = getattr(publisher, name), getattr(subscription, name)
+        default = type(pub).SYSTEM_DEFAULT
+        if pub == default and sub == requested:
+            doubts.append(f'WARNING: Publisher {name} is SYSTEM_DEFAULT and subscription is {sub.name};')
+        elif pub == offered and sub == default:
+            doubts.append(f'WARNING: Publisher {name} is {pub.name} and subscription is SYSTEM_DEFAULT;')
+    return doubts

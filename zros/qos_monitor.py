@@ -1,5 +1,6 @@
-"""Watches the graph for one node's publishers and subscriptions: incompatible QoS pairs (each
-reported once, as ROS 2 does) and the matches that the QoS events of zros.event_handler report.
+"""Watches the graph for one node's publishers and subscriptions: incompatible QoS pairs and
+endpoints of another type (each reported once, as ROS 2 does), and the matches that the QoS
+events of zros.event_handler report.
 
 ROS 2 (DDS) silently matches nothing across an incompatible pair and tells the user in a
 warning. Zenoh still connects the two, so zros delivers the messages; the warning says that
@@ -10,7 +11,7 @@ from __future__ import annotations
 import threading
 from typing import TYPE_CHECKING, Any
 
-from zros.event_handler import graph_changed, report_incompatible_qos
+from zros.event_handler import graph_changed, report_incompatible_qos, report_incompatible_type, same_type
 from zros.graph import Entity, EntityKind
 from zros.qos import QoSProfile, qos_incompatibilities
 
@@ -46,7 +47,10 @@ class QoSMonitor:
             for other in others:
                 if other.name == mine.name and {mine.kind, other.kind} == {EntityKind.PUBLISHER,
                                                                            EntityKind.SUBSCRIPTION}:
-                    self._compare(endpoint, mine, other)
+                    if same_type(mine, other):
+                        self._compare(endpoint, mine, other)
+                    else:
+                        report_incompatible_type(endpoint, other)
             graph_changed(endpoint, others)
 
     def _compare(self, endpoint: Any, mine: Entity, other: Entity) -> None:

@@ -15,7 +15,7 @@ file) replaces it, so the QoS of a compiled-in topic can be changed without edit
 """
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import fields, replace
 from typing import TYPE_CHECKING, Any, Callable, Iterable
 
 from zros.duration import Duration
@@ -29,6 +29,8 @@ if TYPE_CHECKING:
 
 __all__ = ['QoSOverridingOptions', 'QosCallbackResult',  # noqa: F822 - QosCallbackResult comes from __getattr__ 'QosCallbackType', 'InvalidQosOverridesError',
            'declare_qos_parameters', 'parameter_events_overriding_options']
+# rclpy's private helpers `_declare_qos_parameters` and `_get_qos_policy_parameter` are defined
+# here too: tests and tools written for rclpy call them.
 
 
 class InvalidQosOverridesError(ZrosError):
@@ -118,7 +120,7 @@ def declare_qos_parameters(entity_type: type, node: 'Node', topic: str, qos: QoS
         descriptor = ParameterDescriptor(description=f'{attribute} for {kind} `{topic}` with id `{options.entity_id}`',
                                          read_only=True)
         try:
-            param = node.declare_parameter(name, _parameter_value(getattr(qos, attribute)), descriptor)
+            param = node.declare_parameter(name, _get_qos_policy_parameter(qos, policy), descriptor)
         except ParameterAlreadyDeclaredException:
             param = node.get_parameter(name)
         changes[attribute] = _policy_value(policy, param.value, name)
@@ -135,8 +137,26 @@ def declare_qos_parameters(entity_type: type, node: 'Node', topic: str, qos: QoS
     return overridden
 
 
-def _parameter_value(value: Any) -> Any:
+def _declare_qos_parameters(entity_type: type, node: 'Node', topic_name: str, qos: QoSProfile,
+                            options: QoSOverridingOptions) -> None:
+    """rclpy's form of `declare_qos_parameters`: the overridden values are written into `qos`
+    itself (the caller's profile), instead of into a copy that is returned."""
+    overridden = declare_qos_parameters(entity_type, node, topic_name, qos, options)
+    for field in fields(QoSProfile):
+        setattr(qos, field.name, getattr(overridden, field.name))
+
+
+def _get_qos_policy_parameter(qos: QoSProfile, policy: QoSPolicyKind) -> Any:
+    """The parameter value one policy of `qos` is declared with: a policy's lower-case name
+    (`'best_effort'`), a duration's nanoseconds, the depth itself.
+
+    Raises:
+        ValueError: The policy is UNKNOWN, which no parameter can say.
+    """
+    value = getattr(qos, QoSPolicyKind(policy).name.lower())
     if isinstance(value, (HistoryPolicy, ReliabilityPolicy, DurabilityPolicy, LivelinessPolicy)):
+        if value.name == 'UNKNOWN':
+            raise ValueError(f'the QoS profile has an UNKNOWN {QoSPolicyKind(policy).name.lower()} policy')
         return value.name.lower()
     if isinstance(value, Duration):
         return value.nanoseconds

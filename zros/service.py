@@ -19,6 +19,7 @@ from zros.errors import DecodeError
 from zros.graph import EntityKind
 from zros.message import Srv, SrvRequestT, SrvResponseT, deserialize, serialize
 from zros.qos import QoSProfile
+from zros.service_introspection import REQUEST_RECEIVED, RESPONSE_SENT, Introspectable, call_origin
 from zros.wire import describe_type, foreign_protocol, max_request_size, mismatch_reason, read_header, type_tail
 
 if TYPE_CHECKING:
@@ -75,7 +76,7 @@ class DeferredResponse:
             query.drop()
 
 
-class Service(QueuedEntity, Generic[SrvRequestT, SrvResponseT]):
+class Service(Introspectable, QueuedEntity, Generic[SrvRequestT, SrvResponseT]):
     """Answers one service; made by `Node.create_service`.
 
     It owns a Zenoh queryable on the service's key; requests wait in a queue and the callback
@@ -179,6 +180,8 @@ class Service(QueuedEntity, Generic[SrvRequestT, SrvResponseT]):
         except DecodeError as exc:
             self._refuse(query, str(exc))
             return None
+        if self._introspection is not None:
+            self._introspection.record(REQUEST_RECEIVED, call_origin(attachment), request=request)
         try:
             response = self.callback(request, self.srv_type.Response())
         except Exception as exc:  # noqa: BLE001 - report to the client and keep serving
@@ -218,6 +221,10 @@ class Service(QueuedEntity, Generic[SrvRequestT, SrvResponseT]):
             query.reply_err(text.encode())
             return None
         query.reply(query.key_expr, serialize(response))
+        if self._introspection is not None:
+            attachment = query.attachment
+            self._introspection.record(RESPONSE_SENT, call_origin(attachment.to_bytes() if attachment else b''),
+                                       response=response)
         return self._follow_up(query, response) if self._follow_up is not None else None
 
     def _release(self) -> None:

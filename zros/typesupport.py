@@ -73,7 +73,7 @@ def normalize_type_name(name: str) -> str:
     if len(parts) == 2 and all(parts):
         for kind in KINDS:
             base = parts[1]
-            for suffix in ('_Request', '_Response', '_Goal', '_Result', '_Feedback'):
+            for suffix in ('_Request', '_Response', '_Event', '_Goal', '_Result', '_Feedback'):
                 if base.endswith(suffix) and kind != 'msg':
                     base = base[:-len(suffix)]
             if interface_file(parts[0], kind, base):
@@ -120,13 +120,14 @@ def _build(full: str) -> Any:
         spec = _load_spec(package, kind, name)
         cls = make_message_class(spec, get_message)
     elif kind == 'srv':
-        for suffix, attr in (('_Request', 'Request'), ('_Response', 'Response')):
+        for suffix, attr in (('_Request', 'Request'), ('_Response', 'Response'), ('_Event', 'Event')):
             if name.endswith(suffix):
                 cls = getattr(get_type(f'{package}/srv/{name[:-len(suffix)]}'), attr)
                 _cache[full] = cls
                 return cls
         spec = _load_spec(package, kind, name)
-        cls = make_service_class(spec, _message_part(spec.request), _message_part(spec.response))
+        cls = make_service_class(spec, _message_part(spec.request), _message_part(spec.response),
+                                 event=lambda spec=spec: _message_part(idl.service_event_spec(spec)))
     else:
         for suffix in ('_Goal', '_Result', '_Feedback'):
             if name.endswith(suffix):

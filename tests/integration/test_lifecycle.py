@@ -93,6 +93,25 @@ def test_lifecycle_node_callbacks_publisher_and_events(make_context, spin_for, c
         camera.trigger_activate()
 
 
+def test_log_lines_reach_rosout_without_the_public_publish(make_context):
+    """A lifecycle publisher's drop warning (any log line) goes to /rosout through the node's own
+    channel: what replaces Publisher.publish (a wrapper, a mock) sees only the program's messages."""
+    from unittest import mock
+
+    from interfaces.std_msgs.msg import String
+    from zros.publisher import Publisher
+    node = LifecycleNode('quiet', context=make_context(), enable_communication_interface=False)
+    with mock.patch.object(Publisher, 'publish') as publish:
+        pub = node.create_lifecycle_publisher(String, 'q', 10)
+        pub.publish(String(data='inactive'))        # warns, and the warning goes to /rosout
+        node.get_logger().info('a line')
+        publish.assert_not_called()
+        node.trigger_configure()
+        node.trigger_activate()
+        pub.publish(String(data='active'))
+        publish.assert_called_once()
+
+
 def test_cli_walks_a_node_through_its_states(spawn, zros_cli):
     spawn.node('lifecycle', 'lifecycle_talker').wait_for_output('', timeout=1)
     wait_until(lambda: zros_cli('lifecycle', 'nodes').stdout.split() == ['/lc_talker'], 20,

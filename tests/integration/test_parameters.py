@@ -99,7 +99,7 @@ def test_parameter_event_qos_overrides_as_rclcpp_nodes_declare_them(context):
     assert all(like_cpp.describe_parameter(name).read_only for name in names)
     events = wait_until(lambda: [e for e in like_cpp.get_publishers_info_by_topic('/parameter_events')
                                  if e.node_name == 'like_rclcpp'], 5, message='the node\'s /parameter_events publisher')
-    assert events[0].qos == 'R:V:L20'   # QoSProfile.to_token(): reliable, volatile, keep last 20
+    assert events[0].qos_profile.to_token() == 'R:V:L20'   # QoSProfile.to_token(): reliable, volatile, keep last 20
     refused = like_cpp.set_parameters([Parameter(names[0], value=5)])[0]
     assert not refused.successful and 'read-only' in refused.reason
 

@@ -176,6 +176,32 @@ def test_default_callbacks_warn_and_can_be_turned_off(spinning, spawn, wait_for)
         zlog.remove_sink(sink)
 
 
+def test_an_endpoint_of_another_type_fires_incompatible_type_once_and_warns_by_default(spinning, wait_for):
+    from interfaces.std_msgs.msg import Int32, String
+    import zros.logging as zlog
+    lines = []
+
+    def sink(severity, name, message, *rest):
+        lines.append(message)
+    zlog.add_sink(sink)
+    try:
+        events = Events()
+        pub = spinning.create_publisher(String, 'mixed', 10)
+        assert len(pub.event_handlers) == 2      # the default incompatible QoS and type warnings
+        sub = spinning.create_subscription(Int32, 'mixed', lambda m: None, 10, event_callbacks=SubscriptionEventCallbacks(
+            incompatible_type=events.incompatible_type, use_default_callbacks=False))
+        assert len(sub.event_handlers) == 1
+        wait_for(lambda: events.of('incompatible_type'), timeout=10, message='the String publisher')
+        assert events.of('incompatible_type')[0].total_count == 1
+        wait_for(lambda: any("Incompatible type on topic '/mixed'" in line for line in lines), timeout=10,
+                 message="the publisher's default warning")
+        spinning.create_publisher(String, 'unrelated', 10)          # another graph change
+        assert spinning.context.graph.wait_for(lambda es: any(e.name == '/unrelated' for e in es), 5.0)
+        assert len(events.of('incompatible_type')) == 1
+    finally:
+        zlog.remove_sink(sink)
+
+
 # -- overrides ----------------------------------------------------------------------------------
 def test_qos_overrides_read_from_parameters_at_creation(context, tmp_path):
     from interfaces.std_msgs.msg import String
@@ -201,7 +227,7 @@ def test_qos_overrides_read_from_parameters_at_creation(context, tmp_path):
     assert node.get_parameter('qos_overrides./chatter.publisher.durability').value == 'volatile'
     assert node.describe_parameter('qos_overrides./chatter.publisher.depth').read_only
     assert node.count_publishers('chatter') == 1
-    graph_qos = QoSProfile.from_token(node.get_publishers_info_by_topic('/chatter')[0].qos)
+    graph_qos = node.get_publishers_info_by_topic('/chatter')[0].qos_profile
     assert (graph_qos.reliability, graph_qos.depth) == (ReliabilityPolicy.BEST_EFFORT, 3)
     sub = node.create_subscription(String, 'chatter', lambda m: None, 10,
                                    qos_overriding_options=QoSOverridingOptions.with_default_policies(entity_id='fast'))

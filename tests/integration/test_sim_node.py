@@ -164,7 +164,7 @@ def test_topics_types_qos_and_services_are_the_robots(sim: Harness) -> None:
     wait_until(lambda: graph() == (expected_topics, expected_services), 10,
                message=lambda: f'the robot\'s topics and services; got {graph()}')
     scan = node.get_publishers_info_by_topic('/scan')[0]
-    assert scan.node_name == 'gazebo' and scan.qos.startswith('R:V:')      # reliable, volatile
+    assert scan.node_name == 'gazebo' and scan.qos_profile.to_token().startswith('R:V:')      # reliable, volatile
     assert any(e.kind == EntityKind.NODE and e.node_fqn == '/gazebo' for e in node.context.graph.entities())
 
 

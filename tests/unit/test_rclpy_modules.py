@@ -79,4 +79,4 @@ def test_parameter_values_from_text_and_qos_errors():
     assert get_parameter_value(' ').string_value == ' '
     assert get_parameter_value('[1, a]').string_value == '[1, a]'
     with pytest.raises(InvalidQoSProfileException):
-        QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=0)
+        QoSProfile(history=HistoryPolicy.KEEP_LAST)

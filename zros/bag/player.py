@@ -117,7 +117,7 @@ class Player:
             except Exception as exc:  # noqa: BLE001 - an unknown type skips that topic
                 self._log(f"[WARN] not playing '{info.name}': {exc}")
                 continue
-            recorded = QoSProfile.from_token(info.qos) if info.qos else QoSProfile()
+            recorded = QoSProfile.from_token(info.qos)
             qos = QoSProfile(depth=max(recorded.queue_depth, 10) if recorded.history == HistoryPolicy.KEEP_LAST else 10,
                              reliability=recorded.reliability,
                              durability=recorded.durability if recorded.durability == DurabilityPolicy.TRANSIENT_LOCAL

@@ -35,7 +35,7 @@ def qos_token_to_rosbag2(token: str) -> Any:
     from rosbags.interfaces import Qos, QosDurability, QosHistory, QosLiveliness, QosReliability, QosTime
 
     from zros.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
-    profile = QoSProfile.from_token(token) if token else QoSProfile()
+    profile = QoSProfile.from_token(token)
     infinite = QosTime(*_INFINITE)
     return Qos(QosHistory.KEEP_ALL if profile.history == HistoryPolicy.KEEP_ALL else QosHistory.KEEP_LAST,
                profile.depth,

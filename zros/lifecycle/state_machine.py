@@ -12,6 +12,8 @@ from __future__ import annotations
 import enum
 from typing import NamedTuple
 
+from zros.errors import RCLError
+
 __all__ = ['LifecycleState', 'TransitionCallbackReturn', 'TransitionDescription', 'LifecycleStateMachine',
            'STATES', 'PUBLIC_TRANSITIONS', 'RESULT_TRANSITIONS', 'TransitionError', 'public_transition',
            'successful_steps']
@@ -40,8 +42,8 @@ class TransitionDescription(NamedTuple):
     goal: LifecycleState
 
 
-class TransitionError(Exception):
-    """A transition that the current state does not offer."""
+class TransitionError(RCLError):
+    """A transition that the current state does not offer (what rclpy raises as `_rclpy.RCLError`)."""
 
 
 UNKNOWN = LifecycleState('unknown', 0)
@@ -112,6 +114,11 @@ class LifecycleStateMachine:
 
     def __init__(self) -> None:
         self.current = UNCONFIGURED
+
+    @property
+    def current_state(self) -> tuple[int, str]:
+        """The current state as `(state_id, label)`, the pair rclpy's state machine reports."""
+        return self.current.state_id, self.current.label
 
     def available_transitions(self) -> list[TransitionDescription]:
         return [t for t in PUBLIC_TRANSITIONS + RESULT_TRANSITIONS if t.start == self.current]
