@@ -239,7 +239,7 @@ def _incompatible_text(parent: Any, topic: str, policy: QoSPolicyKind, other: En
 
 
 def _is_subscription(entity: Any) -> bool:
-    return entity.handle.kind == EntityKind.SUBSCRIPTION
+    return entity.graph_entity.kind == EntityKind.SUBSCRIPTION
 
 
 # -- what makes the events fire -------------------------------------------------------------------
@@ -366,7 +366,7 @@ class _Tracker:
 
     # the node's graph listener (a Zenoh thread)
     def graph_changed(self, entities: list[Entity]) -> None:
-        mine = self.entity.handle
+        mine = self.entity.graph_entity
         other_kind = EntityKind.PUBLISHER if mine.kind == EntityKind.SUBSCRIPTION else EntityKind.SUBSCRIPTION
         same, foreign = set(), set()
         for e in entities:

@@ -12,6 +12,7 @@ from zros.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup, 
 from zros.clock import ROSClock
 from zros.context import Context, get_default_context
 from zros.errors import NotInitializedError
+from zros.handle import Handle, HandleOwner
 from zros.graph import Entity, EntityKind, endpoints, entity_token, names_and_types, node_names_and_namespaces
 from zros.logging import RcutilsLogger, add_sink, get_logger, remove_sink
 from zros.message import MsgT, Srv, SrvRequestT, SrvResponseT
@@ -40,7 +41,7 @@ if TYPE_CHECKING:
 __all__ = ['Node']
 
 
-class Node:
+class Node(HandleOwner):
     """A participant in the ROS graph, as rclpy.node.Node: the factory and owner of its entities.
 
     Create publishers, subscriptions, services, clients, timers and parameters through its
@@ -111,6 +112,7 @@ class Node:
         self._node_id = self._context.next_id()
         self._zid = str(self._context.session.info.zid())
         self._destroyed = False
+        self._handle = Handle(f"node '{self._name}'")
         self._node_entity = Entity(EntityKind.NODE, self._zid, self._node_id, 0, self._namespace, self._name)
         self._node_token = self._declare_token(self._node_entity)
         self._context._register_node(self)
@@ -125,9 +127,10 @@ class Node:
         events_qos = declare_qos_parameters(
             Publisher, self, '/parameter_events', qos_profile_parameter_events,
             parameter_events_overriding_options() if parameter_event_qos_overrides else None)
-        self._parameters.attach_event_publisher(
-            Publisher(self, _type('rcl_interfaces/msg/ParameterEvent'), '/parameter_events',
-                      events_qos, self._default_callback_group))
+        events = Publisher(self, _type('rcl_interfaces/msg/ParameterEvent'), '/parameter_events',
+                           events_qos, self._default_callback_group)
+        self._entities.append(events)   # listed in `publishers`, as rclpy lists its own
+        self._parameters.attach_event_publisher(events)
         # Declares use_sim_time and follows it: with it, ROS time, timers and rates follow /clock.
         self._time_source = TimeSource(node=self)
         self._time_source.attach_clock(self._clock)
@@ -966,10 +969,14 @@ class Node:
 
     # -- teardown ----------------------------------------------------------------------------
     def destroy_node(self) -> None:
-        """Undeclare every entity and the node's token; calling it twice is harmless."""
+        """Undeclare every entity and the node's token (once no `with node.handle:` block holds
+        the node); calling it twice is harmless."""
         if self._destroyed:
             return
         self._destroyed = True
+        self._handle.destroy_when_not_in_use(self._teardown)
+
+    def _teardown(self) -> None:
         if self._executor is not None:
             self._executor.remove_node(self)
         if self._rosout_sink is not None:
