@@ -13,13 +13,15 @@ the group until the coroutine ends (zros.task).
 """
 from __future__ import annotations
 
+import collections
 import inspect
 import os
 import queue
 import threading
 import time
+import warnings
 from concurrent.futures import ThreadPoolExecutor
-from typing import TYPE_CHECKING, Any, Callable
+from typing import TYPE_CHECKING, Any, Callable, Iterator
 
 from zros.subscription import Subscription
 from zros.task import Future, Task
@@ -96,6 +98,9 @@ class Executor:
         self._backlog: dict[int, list[Any]] = {}    # id(group) -> work waiting for that group
         self._backlog_lock = threading.Lock()
         self._timer_blocked = False   # a due timer was passed over because its group was busy
+        # Tasks made by create_task that have not run yet: taken newest first, before other work,
+        # as rclpy's executor yields its tasks (a task made to await an earlier one runs first).
+        self._new_tasks: collections.deque[Task[Any]] = collections.deque()
         self._context._register_executor(self)
 
     @property
@@ -163,7 +168,8 @@ class Executor:
         :return: The Task, a Future of the callback's return value.
         """
         task: Task[Any] = Task(callback, args, kwargs, executor=self)
-        self._queue.put(task)
+        self._new_tasks.append(task)
+        self.wake()
         return task
 
     def _next_timer(self) -> tuple[Any, int | None]:
@@ -197,6 +203,11 @@ class Executor:
         deadline = None if timeout_sec is None else time.monotonic() + max(0.0, timeout_sec)
         while True:
             self._check_context()
+            if self._new_tasks:
+                try:
+                    return self._new_tasks.pop()
+                except IndexError:   # another pool thread took it
+                    pass
             timer, wait_ns = self._next_timer()
             if timer is not None:
                 return timer
@@ -284,6 +295,8 @@ class Executor:
         if nodes is not None:
             raise NotImplementedError('wait_for_ready_callbacks(nodes=...) is not supported: add only '
                                       'those nodes to this executor')
+        if self._is_shutdown:
+            raise ShutdownException()
         item = self._wait_for_work(timeout_sec, condition)
         if item is None:
             if self._is_shutdown:
@@ -292,6 +305,14 @@ class Executor:
                 raise ConditionReachedException()
             raise TimeoutException()
         return Task(self._run_item, (item,), executor=self), item, getattr(item, '_node', None)
+
+    def _wait_for_ready_callbacks(self, timeout_sec: float | None = None, nodes: list | None = None,
+                                  condition: Callable[[], bool] | None = None
+                                  ) -> Iterator[tuple[Task, Any, Any]]:
+        """rclpy's generator form of `wait_for_ready_callbacks`, which executors written for
+        rclpy iterate: each `next()` waits for one more piece of work, with the same exceptions."""
+        while True:
+            yield self.wait_for_ready_callbacks(timeout_sec, nodes, condition)
 
     # -- spinning ----------------------------------------------------------------------
     def spin_once(self, timeout_sec: float | None = None) -> None:
@@ -456,7 +477,11 @@ class MultiThreadedExecutor(Executor):
             except (AttributeError, OSError):
                 num_threads = os.cpu_count() or 2
         self._num_threads = max(1, num_threads)
-        self._pool = ThreadPoolExecutor(max_workers=self._num_threads, thread_name_prefix='zros-exec')
+        if self._num_threads == 1:
+            warnings.warn('MultiThreadedExecutor with one thread runs callbacks one at a time: '
+                          'use a SingleThreadedExecutor instead', UserWarning, stacklevel=2)
+        # Named as rclpy names it (code written for rclpy reads `_executor._max_workers`).
+        self._executor = ThreadPoolExecutor(max_workers=self._num_threads, thread_name_prefix='zros-exec')
         self._errors: queue.SimpleQueue = queue.SimpleQueue()
 
     @property
@@ -467,7 +492,7 @@ class MultiThreadedExecutor(Executor):
     def _dispatch(self, item: Any) -> None:
         self._raise_pending_error()
         try:
-            self._pool.submit(self._run_safely, item)
+            self._executor.submit(self._run_safely, item)
         except RuntimeError:
             # shutdown() closed the pool after spin took this item: a shut-down executor runs
             # nothing more, so the item is dropped rather than raised out of spin.
@@ -503,7 +528,7 @@ class MultiThreadedExecutor(Executor):
         :return: ``True`` if the executor stopped within the timeout.
         """
         result = super().shutdown(timeout_sec)
-        self._pool.shutdown(wait=timeout_sec is None or timeout_sec > 0, cancel_futures=True)
+        self._executor.shutdown(wait=timeout_sec is None or timeout_sec > 0, cancel_futures=True)
         return result
 
 
