@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING, Any, Callable, Iterator
 from zros.subscription import Subscription
 from zros.task import Future, Task
 from zros.timer import timer_lists_version
+from zros.waitable import POLL_PERIOD, WaitSet, waitable_lists_version
 
 if TYPE_CHECKING:
     from zros.node import Node
@@ -72,6 +73,23 @@ class _Completion:
 _COMPLETION = _Completion()
 
 
+class _WaitableRun:
+    """One run of a ready user waitable (zros.waitable): take its data, then execute it; an
+    `async def execute` comes back as a coroutine, which `_run_item` runs as a task."""
+
+    def __init__(self, waitable: Any, node: Any) -> None:
+        self.callback_group = waitable.callback_group
+        self._node = node
+        self._waitable = waitable
+
+    def _execute(self) -> Any:
+        waitable = self._waitable
+        waitable._executor_event = False
+        with waitable:
+            taken = waitable.take_data()
+        return waitable.execute(taken)
+
+
 class Executor:
     """Base executor: the queue of ready work, timers and nodes. Subclasses decide where work
     runs; a user subclass overrides `spin_once` and takes work from `wait_for_ready_callbacks`.
@@ -95,6 +113,8 @@ class Executor:
         self._idle = False   # blocked on its queue, or just woken from it: no callback running
         self._timers_key: tuple[int, int] | None = None
         self._timers: list = []
+        self._waitables_key: tuple[int, int] | None = None
+        self._waitables: list[tuple[Any, Any]] = []   # (waitable, its node)
         self._backlog: dict[int, list[Any]] = {}    # id(group) -> work waiting for that group
         self._backlog_lock = threading.Lock()
         self._timer_blocked = False   # a due timer was passed over because its group was busy
@@ -196,12 +216,37 @@ class Executor:
                 soonest = remaining
         return None, soonest
 
+    def _node_waitables(self) -> list[tuple[Any, Any]]:
+        """The waitables of this executor's nodes, rebuilt only when some list changed."""
+        key = (waitable_lists_version(), self._nodes_version)
+        if key != self._waitables_key:
+            self._waitables = [(w, node) for node in self.get_nodes() for w in node.waitables]
+            self._waitables_key = key
+        return self._waitables
+
+    def _ready_waitable(self) -> _WaitableRun | None:
+        """Ask each waitable whose group is free whether it is ready (zros.waitable's contract)."""
+        for waitable, node in self._waitables:
+            group = waitable.callback_group
+            if waitable._executor_event or (group is not None and not group.can_execute(waitable)):
+                continue
+            wait_set = WaitSet()
+            with waitable:
+                waitable.add_to_wait_set(wait_set)
+                ready = waitable.is_ready(wait_set)
+            if ready:
+                waitable._executor_event = True
+                return _WaitableRun(waitable, node)
+        return None
+
     def _wait_for_work(self, timeout_sec: float | None, until: Callable[[], bool] | None = None) -> Any:
         """Next piece of work, or None when the timeout passes, the executor stops or `until()`
         holds. A bare wake-up (a node added, a group freed) only re-checks those, as rclpy's
         guard conditions do: it never ends the wait with nothing done."""
         deadline = None if timeout_sec is None else time.monotonic() + max(0.0, timeout_sec)
         while True:
+            if self._is_shutdown:
+                return None
             self._check_context()
             if self._new_tasks:
                 try:
@@ -212,6 +257,11 @@ class Executor:
             if timer is not None:
                 return timer
             wait = _MAX_WAIT if wait_ns is None else min(_MAX_WAIT, wait_ns / 1e9)
+            if self._node_waitables():
+                run = self._ready_waitable()
+                if run is not None:
+                    return run
+                wait = min(wait, POLL_PERIOD)
             if deadline is not None:
                 wait = min(wait, max(0.0, deadline - time.monotonic()))
             try:
@@ -237,7 +287,8 @@ class Executor:
         return self._is_shutdown
 
     def _check_context(self) -> None:
-        if not self._context.ok():
+        # An executor shut down before its context stops quietly, whichever its spin sees first.
+        if not self._context.ok() and not self._is_shutdown:
             raise ExternalShutdownException()
 
     # -- running work ----------------------------------------------------------------------

@@ -34,6 +34,7 @@ from zros.guard_condition import GuardCondition
 from zros.timer import Rate, Timer, timer_lists_changed
 from zros.time_source import TimeSource
 from zros.type_description_service import TypeDescriptionService
+from zros.waitable import Waitable, waitable_lists_changed
 
 if TYPE_CHECKING:
     from zros.qos_monitor import QoSMonitor
@@ -107,6 +108,7 @@ class Node(HandleOwner):
         self._unseen_completions = 0
         self._entities: list[Any] = []
         self._timers: list[Timer] = []
+        self._waitables: list[Waitable] = []
         self._tokens: dict[int, Any] = {}
         self._qos_monitor: QoSMonitor | None = None
         self._node_id = self._context.next_id()
@@ -127,8 +129,8 @@ class Node(HandleOwner):
         events_qos = declare_qos_parameters(
             Publisher, self, '/parameter_events', qos_profile_parameter_events,
             parameter_events_overriding_options() if parameter_event_qos_overrides else None)
-        events = Publisher(self, _type('rcl_interfaces/msg/ParameterEvent'), '/parameter_events',
-                           events_qos, self._default_callback_group)
+        events: Publisher[Any] = Publisher(self, _type('rcl_interfaces/msg/ParameterEvent'), '/parameter_events',
+                                           events_qos, self._default_callback_group)
         self._entities.append(events)   # listed in `publishers`, as rclpy lists its own
         self._parameters.attach_event_publisher(events)
         # Declares use_sim_time and follows it: with it, ROS time, timers and rates follow /clock.
@@ -534,6 +536,30 @@ class Node(HandleOwner):
     def timers(self) -> Iterable[Timer]:
         """The node's timers (a new list each time)."""
         return list(self._timers)
+
+    @property
+    def waitables(self) -> Iterable[Waitable]:
+        """The waitables added with `add_waitable` (a new list each time)."""
+        return list(self._waitables)
+
+    def add_waitable(self, waitable: Waitable) -> None:
+        """Have the node's executor poll and run a user-defined waitable (zros.waitable).
+
+        :param waitable: An instance of a Waitable subclass.
+        """
+        self._waitables.append(waitable)
+        waitable_lists_changed()
+        if self._executor is not None:
+            self._executor.wake()
+
+    def remove_waitable(self, waitable: Waitable) -> None:
+        """Stop polling a waitable given to `add_waitable`.
+
+        :param waitable: The waitable.
+        :raises ValueError: If it was not added.
+        """
+        self._waitables.remove(waitable)
+        waitable_lists_changed()
 
     def _own_endpoint_objects(self) -> list[Publisher[Any] | Subscription[Any]]:
         return [e for e in list(self._entities) if isinstance(e, (Publisher, Subscription))]
@@ -985,6 +1011,9 @@ class Node(HandleOwner):
             self._qos_monitor.close()
         for entity in list(self._entities):
             self._destroy_entity(entity)
+        if self._waitables:
+            self._waitables.clear()
+            waitable_lists_changed()
         if self._rosout is not None:
             self._rosout.destroy()
             self._rosout = None
