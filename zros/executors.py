@@ -306,7 +306,7 @@ class Executor:
             if group is not None and (pending is None or not inspect.iscoroutine(pending)):
                 self._leave_group(group, item)
         if pending is not None and inspect.iscoroutine(pending):
-            Task(pending, executor=self, node=getattr(item, '_node', None), callback_group=group)()
+            Task(pending, executor=self, node=getattr(item, '_node', None), callback_group=group)._execute()
 
     def _park(self, group: Any, item: Any) -> None:
         with self._backlog_lock:
