@@ -8,7 +8,7 @@ __all__ = ['ParameterException', 'ParameterNotDeclaredException', 'ParameterAlre
            'InvalidParameterException', 'InvalidParameterValueException', 'InvalidParameterTypeException',
            'ParameterImmutableException', 'ParameterUninitializedException', 'InvalidServiceNameException',
            'InvalidTopicNameException', 'InvalidNodeNameException', 'InvalidNamespaceException',
-           'ROSInterruptException', 'NotInitializedException', 'InvalidHandle']
+           'ROSInterruptException', 'NotInitializedException', 'InvalidHandle', 'NoTypeSupportImportedException']
 
 
 
@@ -65,3 +65,10 @@ class ROSInterruptException(ZrosError):
 
     def __init__(self) -> None:
         super().__init__('zros was shut down while sleeping')
+
+
+class NoTypeSupportImportedException(ZrosError):
+    """A type in rclpy's generated shape could not load its type support (zros.type_support)."""
+
+    def __init__(self) -> None:
+        super().__init__('no type_support imported')

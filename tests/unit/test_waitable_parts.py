@@ -1,10 +1,11 @@
-"""The pure parts of zros.waitable, callback groups' rclpy-named bracket and type_support's check."""
+"""The pure parts of zros.waitable, callback groups' rclpy-named bracket and type_support's checks."""
 from __future__ import annotations
 
 import pytest
 
 from zros.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
-from zros.type_support import check_for_type_support
+from zros.exceptions import NoTypeSupportImportedException
+from zros.type_support import check_for_type_support, check_is_valid_msg_type, check_is_valid_srv_type
 from zros.waitable import NumberOfEntities, Waitable, WaitSet
 
 
@@ -76,3 +77,25 @@ def test_type_support_is_checked_by_being_an_interface_class():
     check_for_type_support(Trigger)
     with pytest.raises(AttributeError, match='no type support'):
         check_for_type_support(dict)
+    check_is_valid_msg_type(String)
+    check_is_valid_srv_type(Trigger)
+    with pytest.raises(RuntimeError, match='might be a service'):
+        check_is_valid_msg_type(Trigger)
+    with pytest.raises(RuntimeError, match='might be a message'):
+        check_is_valid_srv_type(String)
+
+
+class _NeverLoads(type):
+    """A metaclass in rclpy's generated shape whose type support never loads."""
+
+    _TYPE_SUPPORT = None
+
+    @classmethod
+    def __import_type_support__(cls):
+        pass
+
+
+def test_a_type_in_rclpys_shape_without_support_is_refused():
+    unsupported = _NeverLoads('Unsupported', (), {})
+    with pytest.raises(NoTypeSupportImportedException):
+        check_for_type_support(unsupported)
