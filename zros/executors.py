@@ -10,6 +10,10 @@ How one piece of work runs (`_run_item`): it takes its callback group, or waits 
 backlog while another callback holds it (the backlog goes back on the queue when the group is
 left); it runs; a callback that returns a coroutine (`async def`) continues as a Task that keeps
 the group until the coroutine ends (zros.task).
+
+Where work comes from, in the order it is taken: tasks made by `create_task` that have not run
+yet (newest first, as rclpy yields its tasks), due timers, the user waitables of the nodes
+(zros.waitable, asked in turn whenever the executor looks for work), then the queue.
 """
 from __future__ import annotations
 
