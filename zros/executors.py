@@ -115,9 +115,8 @@ class Executor:
         self._nodes_version = 0
         self._batch = 1
         self._idle = False   # blocked on its queue, or just woken from it: no callback running
-        self._timers_key: tuple[int, int] | None = None
+        self._timers_key: tuple[int, int, int] | None = None   # the lists below are of this version
         self._timers: list = []
-        self._waitables_key: tuple[int, int] | None = None
         self._waitables: list[tuple[Any, Any]] = []   # (waitable, its node)
         self._backlog: dict[int, list[Any]] = {}    # id(group) -> work waiting for that group
         self._backlog_lock = threading.Lock()
@@ -198,10 +197,13 @@ class Executor:
 
     def _next_timer(self) -> tuple[Any, int | None]:
         """(due timer or None, ns until the next real-time timer is due or None). Timers on
-        simulated time do not count in the wait: /clock updates wake the executor."""
-        key = (timer_lists_version(), self._nodes_version)
+        simulated time do not count in the wait: /clock updates wake the executor. Also brings
+        the list of the nodes' waitables up to date."""
+        key = (timer_lists_version(), waitable_lists_version(), self._nodes_version)
         if key != self._timers_key:
-            self._timers = [t for node in self.get_nodes() for t in node._timers_snapshot()]
+            nodes = self.get_nodes()
+            self._timers = [t for node in nodes for t in node._timers_snapshot()]
+            self._waitables = [(w, node) for node in nodes for w in node.waitables]
             self._timers_key = key
         soonest = None
         for timer in self._timers:
@@ -219,14 +221,6 @@ class Executor:
             elif not timer._on_sim_time and (soonest is None or remaining < soonest):
                 soonest = remaining
         return None, soonest
-
-    def _node_waitables(self) -> list[tuple[Any, Any]]:
-        """The waitables of this executor's nodes, rebuilt only when some list changed."""
-        key = (waitable_lists_version(), self._nodes_version)
-        if key != self._waitables_key:
-            self._waitables = [(w, node) for node in self.get_nodes() for w in node.waitables]
-            self._waitables_key = key
-        return self._waitables
 
     def _ready_waitable(self) -> _WaitableRun | None:
         """Ask each waitable whose group is free whether it is ready (zros.waitable's contract)."""
@@ -261,7 +255,7 @@ class Executor:
             if timer is not None:
                 return timer
             wait = _MAX_WAIT if wait_ns is None else min(_MAX_WAIT, wait_ns / 1e9)
-            if self._node_waitables():
+            if self._waitables:   # (brought up to date by _next_timer)
                 run = self._ready_waitable()
                 if run is not None:
                     return run
