@@ -12,6 +12,7 @@ from interfaces.std_srvs.srv import Trigger
 
 
 def _entities(node):
+    """One entity of each kind with a handle, by kind, with the node's destroy for it."""
     return {
         'publisher': (node.create_publisher(String, 'out', 1), node.destroy_publisher),
         'subscription': (node.create_subscription(String, 'in', lambda msg: None, 1), node.destroy_subscription),
@@ -24,11 +25,11 @@ def _entities(node):
 
 def test_every_entity_handle_is_invalid_after_its_destroy(context):
     node = Node('handles', context=context)
-    for kind, (entity, destroy) in _entities(node).items():
+    for entity, destroy in _entities(node).values():
         with entity.handle:
             pass
         destroy(entity)
-        with pytest.raises(InvalidHandle):
+        with pytest.raises(InvalidHandle, match='has been destroyed'):
             with entity.handle:
                 pass
 
