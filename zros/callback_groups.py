@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import threading
+import weakref
 
 __all__ = ['CallbackGroup', 'MutuallyExclusiveCallbackGroup', 'ReentrantCallbackGroup']
 
@@ -19,8 +20,18 @@ class CallbackGroup:
 
     def has_entity(self, entity: object) -> bool:
         """Whether `entity` (a timer, subscription, service, client ...) runs in this group: the
-        group its node gave it when it was created."""
-        return getattr(entity, 'callback_group', None) is self
+        group its node gave it when it was created, or one it was added to with `add_entity`."""
+        if getattr(entity, 'callback_group', None) is self:
+            return True
+        added = self.__dict__.get('_added')
+        return added is not None and entity in added
+
+    def add_entity(self, entity: object) -> None:
+        """Count `entity` in this group (rclpy's registration; a Waitable does it for itself).
+
+        :param entity: Any object that can be weakly referenced; the group does not keep it alive.
+        """
+        self.__dict__.setdefault('_added', weakref.WeakSet()).add(entity)
 
     def try_enter(self, entity: object = None) -> bool:
         """Take the group for `entity`'s callback if it may run now; the executor calls this.
@@ -92,6 +103,10 @@ class MutuallyExclusiveCallbackGroup(CallbackGroup):
         """
         return not self._busy
 
+    # rclpy's names for the bracket, which this group implements directly.
+    beginning_execution = try_enter
+    ending_execution = leave
+
 
 class ReentrantCallbackGroup(CallbackGroup):
     """Any number of the group's callbacks may run in parallel."""
@@ -118,3 +133,6 @@ class ReentrantCallbackGroup(CallbackGroup):
         :return: ``True``.
         """
         return True
+
+    beginning_execution = try_enter
+    ending_execution = leave

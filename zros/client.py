@@ -339,4 +339,4 @@ class _ReplyFuture(Future[Any]):
 
 
 class ServiceCallTimeout(ServiceCallError, TimeoutError):
-    """`Client.call` with a timeout raises this (rclpy raises TimeoutError)."""
+    """`Client.call` with a timeout raises this (rclpy's `call` returns None; docs/porting.md)."""

@@ -26,6 +26,7 @@ from zros.allocator import tune as tune_allocator
 from zros.arguments import RosArgs, parse_ros_args
 from zros.config import SessionSettings, open_session, settings_from_env
 from zros.errors import NotInitializedError
+from zros.handle import Handle
 from zros.logging import set_logger_level, severity_from_string
 
 __all__ = ['Context', 'get_default_context', 'initialized_contexts', 'exit_process']
@@ -58,6 +59,7 @@ class Context:
         self._closed = threading.Event()
         self._closed.set()
         self._withdrawn: list = []   # declarations the session's close withdraws (see the module doc)
+        self._handle: Handle | None = None
 
     # -- life cycle ----------------------------------------------------------------------
     def init(self, args: list[str] | None = None, *, domain_id: int | None = None,
@@ -94,6 +96,7 @@ class Context:
             self._session, self._is_hub = open_session(settings, mesh=mesh, connect_wait=connect_wait)
             self._settings, self._args, self._argv = settings, parsed, argv
             self._graph = None
+            self._handle = Handle('context')
             self._closed.clear()
             self._ok = True
             self._stop_requested = False
@@ -184,8 +187,18 @@ class Context:
 
     def destroy(self) -> None:
         """Release the context (rclpy's Context.destroy): zros holds nothing beyond what
-        `shutdown()` closes, so this shuts it down if it is still up."""
-        self.shutdown()
+        `shutdown()` closes, so this shuts it down if it is still up, once no `with
+        context.handle:` block holds it. Its handle is invalid from now on."""
+        if self._handle is None:
+            self.shutdown()
+        else:
+            self._handle.destroy_when_not_in_use(self.shutdown)
+
+    @property
+    def handle(self) -> Handle | None:
+        """rclpy's opaque handle of the context (zros.handle): None until the first `init()`,
+        valid until `destroy()`; it stands for the context's Zenoh session."""
+        return self._handle
 
     def __enter__(self) -> 'Context':
         """`with Context() as ctx:` initializes it (with default arguments) unless it is

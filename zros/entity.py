@@ -1,8 +1,11 @@
 """What publishers, subscriptions, services and clients have in common: a graph entry that
-announces them and a Zenoh handle they own, both released by one idempotent `destroy()`."""
+announces them and a Zenoh handle they own, both released by one idempotent `destroy()`, and
+the opaque `handle` (zros.handle) that rclpy code holds them by."""
 from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
+
+from zros.handle import Handle, HandleOwner
 
 if TYPE_CHECKING:
     from zros.graph import Entity
@@ -11,7 +14,7 @@ if TYPE_CHECKING:
 __all__ = ['NodeEntity', 'QueuedEntity']
 
 
-class NodeEntity:
+class NodeEntity(HandleOwner):
     """Base class; subclasses set `_zenoh` (the declared publisher/subscriber/queryable or None)
     and may extend `_release()` for their own clean-up."""
 
@@ -21,16 +24,22 @@ class NodeEntity:
         self._node = node
         self._entity = node._declare_entity(kind, name, iface_type, qos)
         self._destroyed = False
+        self._handle = Handle(f"{kind} '{name}'")
 
     @property
-    def handle(self) -> 'Entity':
+    def graph_entity(self) -> 'Entity':
         """The graph record of this entity (what `zros node info` lists)."""
         return self._entity
 
     def destroy(self) -> None:
+        """Leave the graph and release the Zenoh declaration (once no `with handle:` holds it);
+        calling it again does nothing."""
         if self._destroyed:
             return
         self._destroyed = True
+        self._handle.destroy_when_not_in_use(self._teardown)
+
+    def _teardown(self) -> None:
         self._node._undeclare_entity(self._entity)
         self._release()
 

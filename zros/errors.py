@@ -19,6 +19,7 @@ __all__ = [
     'RCLError',
     'CliError',
     'ServiceCallError',
+    'InvalidHandle',
     'with_suggestion',
 ]
 
@@ -92,3 +93,8 @@ def with_suggestion(message: str, word: str, choices: Iterable[str], *, otherwis
     import difflib
     close = difflib.get_close_matches(word, list(choices), n=1)
     return f"{message}. Did you mean '{close[0]}'?" if close else message + otherwise
+
+
+class InvalidHandle(ZrosError):
+    """An entity (node, publisher, timer ...) was used through its `handle` after it was destroyed
+    (rclpy.exceptions.InvalidHandle)."""

@@ -251,7 +251,7 @@ def _incompatible_text(parent: Any, topic: str, policy: QoSPolicyKind, other: En
 
 
 def _is_subscription(entity: Any) -> bool:
-    return entity.handle.kind == EntityKind.SUBSCRIPTION
+    return entity.graph_entity.kind == EntityKind.SUBSCRIPTION
 
 
 # -- what makes the events fire -------------------------------------------------------------------
@@ -379,7 +379,7 @@ class _Tracker:
 
     # the node's graph listener (a Zenoh thread)
     def graph_changed(self, entities: list[Entity]) -> None:
-        mine = self.entity.handle
+        mine = self.entity.graph_entity
         other_kind = EntityKind.PUBLISHER if mine.kind == EntityKind.SUBSCRIPTION else EntityKind.SUBSCRIPTION
         same = {(e.zid, e.node_id, e.entity_id) for e in entities
                 if e.kind == other_kind and e.name == mine.name and same_type(mine, e)}

@@ -1,8 +1,8 @@
 """The exceptions rclpy users catch by name (rclpy.exceptions), raised by zros's parameter API."""
 from __future__ import annotations
 
-from zros.errors import (InvalidNamespaceException, InvalidNodeNameException, InvalidServiceNameException,
-                         InvalidTopicNameException, NotInitializedError, ZrosError)
+from zros.errors import (InvalidHandle, InvalidNamespaceException, InvalidNodeNameException,
+                         InvalidServiceNameException, InvalidTopicNameException, NotInitializedError, ZrosError)
 
 __all__ = ['ParameterException', 'ParameterNotDeclaredException', 'ParameterAlreadyDeclaredException',
            'InvalidParameterException', 'InvalidParameterValueException', 'InvalidParameterTypeException',
@@ -14,10 +14,6 @@ __all__ = ['ParameterException', 'ParameterNotDeclaredException', 'ParameterAlre
 
 # rclpy's name for what zros raises when an operation needs `zros.init()` first.
 NotInitializedException = NotInitializedError
-
-
-class InvalidHandle(ZrosError):
-    """An entity (node, publisher, timer ...) was used after it was destroyed."""
 
 
 class ParameterException(ZrosError):

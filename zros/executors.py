@@ -10,20 +10,27 @@ How one piece of work runs (`_run_item`): it takes its callback group, or waits 
 backlog while another callback holds it (the backlog goes back on the queue when the group is
 left); it runs; a callback that returns a coroutine (`async def`) continues as a Task that keeps
 the group until the coroutine ends (zros.task).
+
+Where work comes from, in the order it is taken: tasks made by `create_task` that have not run
+yet (newest first, as rclpy yields its tasks), due timers, the user waitables of the nodes
+(zros.waitable, asked in turn whenever the executor looks for work), then the queue.
 """
 from __future__ import annotations
 
+import collections
 import inspect
 import os
 import queue
 import threading
 import time
+import warnings
 from concurrent.futures import ThreadPoolExecutor
-from typing import TYPE_CHECKING, Any, Callable
+from typing import TYPE_CHECKING, Any, Callable, Iterator
 
 from zros.subscription import Subscription
 from zros.task import Future, Task
 from zros.timer import timer_lists_version
+from zros.waitable import POLL_PERIOD, WaitSet, waitable_lists_version
 
 if TYPE_CHECKING:
     from zros.node import Node
@@ -70,6 +77,23 @@ class _Completion:
 _COMPLETION = _Completion()
 
 
+class _WaitableRun:
+    """One run of a ready user waitable (zros.waitable): take its data, then execute it; an
+    `async def execute` comes back as a coroutine, which `_run_item` runs as a task."""
+
+    def __init__(self, waitable: Any, node: Any) -> None:
+        self.callback_group = waitable.callback_group
+        self._node = node
+        self._waitable = waitable
+
+    def _execute(self) -> Any:
+        waitable = self._waitable
+        waitable._executor_event = False
+        with waitable:
+            taken = waitable.take_data()
+        return waitable.execute(taken)
+
+
 class Executor:
     """Base executor: the queue of ready work, timers and nodes. Subclasses decide where work
     runs; a user subclass overrides `spin_once` and takes work from `wait_for_ready_callbacks`.
@@ -91,11 +115,15 @@ class Executor:
         self._nodes_version = 0
         self._batch = 1
         self._idle = False   # blocked on its queue, or just woken from it: no callback running
-        self._timers_key: tuple[int, int] | None = None
+        self._timers_key: tuple[int, int, int] | None = None   # the lists below are of this version
         self._timers: list = []
+        self._waitables: list[tuple[Any, Any]] = []   # (waitable, its node)
         self._backlog: dict[int, list[Any]] = {}    # id(group) -> work waiting for that group
         self._backlog_lock = threading.Lock()
         self._timer_blocked = False   # a due timer was passed over because its group was busy
+        # Tasks made by create_task that have not run yet: taken newest first, before other work,
+        # as rclpy's executor yields its tasks (a task made to await an earlier one runs first).
+        self._new_tasks: collections.deque[Task[Any]] = collections.deque()
         self._context._register_executor(self)
 
     @property
@@ -163,15 +191,19 @@ class Executor:
         :return: The Task, a Future of the callback's return value.
         """
         task: Task[Any] = Task(callback, args, kwargs, executor=self)
-        self._queue.put(task)
+        self._new_tasks.append(task)
+        self.wake()
         return task
 
     def _next_timer(self) -> tuple[Any, int | None]:
         """(due timer or None, ns until the next real-time timer is due or None). Timers on
-        simulated time do not count in the wait: /clock updates wake the executor."""
-        key = (timer_lists_version(), self._nodes_version)
+        simulated time do not count in the wait: /clock updates wake the executor. Also brings
+        the list of the nodes' waitables up to date."""
+        key = (timer_lists_version(), waitable_lists_version(), self._nodes_version)
         if key != self._timers_key:
-            self._timers = [t for node in self.get_nodes() for t in node._timers_snapshot()]
+            nodes = self.get_nodes()
+            self._timers = [t for node in nodes for t in node._timers_snapshot()]
+            self._waitables = [(w, node) for node in nodes for w in node.waitables]
             self._timers_key = key
         soonest = None
         for timer in self._timers:
@@ -190,17 +222,44 @@ class Executor:
                 soonest = remaining
         return None, soonest
 
+    def _ready_waitable(self) -> _WaitableRun | None:
+        """Ask each waitable whose group is free whether it is ready (zros.waitable's contract)."""
+        for waitable, node in self._waitables:
+            group = waitable.callback_group
+            if waitable._executor_event or (group is not None and not group.can_execute(waitable)):
+                continue
+            wait_set = WaitSet()
+            with waitable:
+                waitable.add_to_wait_set(wait_set)
+                ready = waitable.is_ready(wait_set)
+            if ready:
+                waitable._executor_event = True
+                return _WaitableRun(waitable, node)
+        return None
+
     def _wait_for_work(self, timeout_sec: float | None, until: Callable[[], bool] | None = None) -> Any:
         """Next piece of work, or None when the timeout passes, the executor stops or `until()`
         holds. A bare wake-up (a node added, a group freed) only re-checks those, as rclpy's
         guard conditions do: it never ends the wait with nothing done."""
         deadline = None if timeout_sec is None else time.monotonic() + max(0.0, timeout_sec)
         while True:
+            if self._is_shutdown:
+                return None
             self._check_context()
+            if self._new_tasks:
+                try:
+                    return self._new_tasks.pop()
+                except IndexError:   # another pool thread took it
+                    pass
             timer, wait_ns = self._next_timer()
             if timer is not None:
                 return timer
             wait = _MAX_WAIT if wait_ns is None else min(_MAX_WAIT, wait_ns / 1e9)
+            if self._waitables:   # (brought up to date by _next_timer)
+                run = self._ready_waitable()
+                if run is not None:
+                    return run
+                wait = min(wait, POLL_PERIOD)
             if deadline is not None:
                 wait = min(wait, max(0.0, deadline - time.monotonic()))
             try:
@@ -226,7 +285,8 @@ class Executor:
         return self._is_shutdown
 
     def _check_context(self) -> None:
-        if not self._context.ok():
+        # An executor shut down before its context stops quietly, whichever its spin sees first.
+        if not self._context.ok() and not self._is_shutdown:
             raise ExternalShutdownException()
 
     # -- running work ----------------------------------------------------------------------
@@ -244,7 +304,7 @@ class Executor:
             if group is not None and (pending is None or not inspect.iscoroutine(pending)):
                 self._leave_group(group, item)
         if pending is not None and inspect.iscoroutine(pending):
-            Task(pending, executor=self, node=getattr(item, '_node', None), callback_group=group)()
+            Task(pending, executor=self, node=getattr(item, '_node', None), callback_group=group)._execute()
 
     def _park(self, group: Any, item: Any) -> None:
         with self._backlog_lock:
@@ -284,6 +344,8 @@ class Executor:
         if nodes is not None:
             raise NotImplementedError('wait_for_ready_callbacks(nodes=...) is not supported: add only '
                                       'those nodes to this executor')
+        if self._is_shutdown:
+            raise ShutdownException()
         item = self._wait_for_work(timeout_sec, condition)
         if item is None:
             if self._is_shutdown:
@@ -292,6 +354,14 @@ class Executor:
                 raise ConditionReachedException()
             raise TimeoutException()
         return Task(self._run_item, (item,), executor=self), item, getattr(item, '_node', None)
+
+    def _wait_for_ready_callbacks(self, timeout_sec: float | None = None, nodes: list | None = None,
+                                  condition: Callable[[], bool] | None = None
+                                  ) -> Iterator[tuple[Task, Any, Any]]:
+        """rclpy's generator form of `wait_for_ready_callbacks`, which executors written for
+        rclpy iterate: each `next()` waits for one more piece of work, with the same exceptions."""
+        while True:
+            yield self.wait_for_ready_callbacks(timeout_sec, nodes, condition)
 
     # -- spinning ----------------------------------------------------------------------
     def spin_once(self, timeout_sec: float | None = None) -> None:
@@ -456,7 +526,11 @@ class MultiThreadedExecutor(Executor):
             except (AttributeError, OSError):
                 num_threads = os.cpu_count() or 2
         self._num_threads = max(1, num_threads)
-        self._pool = ThreadPoolExecutor(max_workers=self._num_threads, thread_name_prefix='zros-exec')
+        if self._num_threads == 1:
+            warnings.warn('MultiThreadedExecutor with one thread runs callbacks one at a time: '
+                          'use a SingleThreadedExecutor instead', UserWarning, stacklevel=2)
+        # Named as rclpy names it (code written for rclpy reads `_executor._max_workers`).
+        self._executor = ThreadPoolExecutor(max_workers=self._num_threads, thread_name_prefix='zros-exec')
         self._errors: queue.SimpleQueue = queue.SimpleQueue()
 
     @property
@@ -467,7 +541,7 @@ class MultiThreadedExecutor(Executor):
     def _dispatch(self, item: Any) -> None:
         self._raise_pending_error()
         try:
-            self._pool.submit(self._run_safely, item)
+            self._executor.submit(self._run_safely, item)
         except RuntimeError:
             # shutdown() closed the pool after spin took this item: a shut-down executor runs
             # nothing more, so the item is dropped rather than raised out of spin.
@@ -503,7 +577,7 @@ class MultiThreadedExecutor(Executor):
         :return: ``True`` if the executor stopped within the timeout.
         """
         result = super().shutdown(timeout_sec)
-        self._pool.shutdown(wait=timeout_sec is None or timeout_sec > 0, cancel_futures=True)
+        self._executor.shutdown(wait=timeout_sec is None or timeout_sec > 0, cancel_futures=True)
         return result
 
 

@@ -221,7 +221,7 @@ class StatsService:
     def _on_query(self, query) -> None:
         import msgpack
         try:
-            table = {f'{sub.handle.node_id}.{sub.handle.entity_id}':
+            table = {f'{sub.graph_entity.node_id}.{sub.graph_entity.entity_id}':
                      [sub.received, sub.dropped, sub.lost, sub.rejected] for sub in self._subscriptions()}
             query.reply(self._key, msgpack.packb(table))  # its own key: readers take the zid from it
         finally:

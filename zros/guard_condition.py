@@ -10,13 +10,15 @@ from __future__ import annotations
 import threading
 from typing import TYPE_CHECKING, Any, Callable
 
+from zros.handle import Handle, HandleOwner
+
 if TYPE_CHECKING:
     from zros.node import Node
 
 __all__ = ['GuardCondition']
 
 
-class GuardCondition:
+class GuardCondition(HandleOwner):
     """Made by `Node.create_guard_condition(callback, callback_group=None)`."""
 
     def __init__(self, callback: Callable[[], Any] | None, callback_group: Any, *, node: 'Node') -> None:
@@ -26,6 +28,7 @@ class GuardCondition:
         self._lock = threading.Lock()
         self._triggered = False
         self._destroyed = False
+        self._handle = Handle('guard condition')
 
     def trigger(self) -> None:
         if self._destroyed:
@@ -51,3 +54,4 @@ class GuardCondition:
 
     def destroy(self) -> None:
         self._destroyed = True
+        self._handle.destroy_when_not_in_use()

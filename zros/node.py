@@ -12,6 +12,7 @@ from zros.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup, 
 from zros.clock import ROSClock
 from zros.context import Context, get_default_context
 from zros.errors import NotInitializedError
+from zros.handle import Handle, HandleOwner
 from zros.graph import Entity, EntityKind, endpoints, entity_token, names_and_types, node_names_and_namespaces
 from zros.logging import RcutilsLogger, add_sink, get_logger, remove_sink
 from zros.message import MsgT, Srv, SrvRequestT, SrvResponseT
@@ -35,6 +36,7 @@ from zros.time_source import TimeSource
 from zros.type_description_service import TypeDescriptionService
 from zros.topic_endpoint_info import TopicEndpointInfo
 from zros.type_support import is_message_type, is_service_type
+from zros.waitable import Waitable, waitable_lists_changed
 
 if TYPE_CHECKING:
     from zros.qos_monitor import QoSMonitor
@@ -42,7 +44,7 @@ if TYPE_CHECKING:
 __all__ = ['Node']
 
 
-class Node:
+class Node(HandleOwner):
     """A participant in the ROS graph, as rclpy.node.Node: the factory and owner of its entities.
 
     Create publishers, subscriptions, services, clients, timers and parameters through its
@@ -108,11 +110,13 @@ class Node:
         self._unseen_completions = 0
         self._entities: list[Any] = []
         self._timers: list[Timer] = []
+        self._waitables: list[Waitable] = []
         self._tokens: dict[int, Any] = {}
         self._qos_monitor: QoSMonitor | None = None
         self._node_id = self._context.next_id()
         self._zid = str(self._context.session.info.zid())
         self._destroyed = False
+        self._handle = Handle(f"node '{self._name}'")
         self._node_entity = Entity(EntityKind.NODE, self._zid, self._node_id, 0, self._namespace, self._name)
         self._node_token = self._declare_token(self._node_entity)
         self._context._register_node(self)
@@ -127,9 +131,10 @@ class Node:
         events_qos = declare_qos_parameters(
             Publisher, self, '/parameter_events', qos_profile_parameter_events,
             parameter_events_overriding_options() if parameter_event_qos_overrides else None)
-        self._parameters.attach_event_publisher(
-            Publisher(self, _type('rcl_interfaces/msg/ParameterEvent'), '/parameter_events',
-                      events_qos, self._default_callback_group))
+        events: Publisher[Any] = Publisher(self, _type('rcl_interfaces/msg/ParameterEvent'), '/parameter_events',
+                                           events_qos, self._default_callback_group)
+        self._entities.append(events)   # listed in `publishers`, as rclpy lists its own
+        self._parameters.attach_event_publisher(events)
         # Declares use_sim_time and follows it: with it, ROS time, timers and rates follow /clock.
         self._time_source = TimeSource(node=self)
         self._time_source.attach_clock(self._clock)
@@ -541,6 +546,30 @@ class Node:
     def timers(self) -> Iterable[Timer]:
         """The node's timers (a new list each time)."""
         return list(self._timers)
+
+    @property
+    def waitables(self) -> Iterable[Waitable]:
+        """The waitables added with `add_waitable` (a new list each time)."""
+        return list(self._waitables)
+
+    def add_waitable(self, waitable: Waitable) -> None:
+        """Have the node's executor poll and run a user-defined waitable (zros.waitable).
+
+        :param waitable: An instance of a Waitable subclass.
+        """
+        self._waitables.append(waitable)
+        waitable_lists_changed()
+        if self._executor is not None:
+            self._executor.wake()
+
+    def remove_waitable(self, waitable: Waitable) -> None:
+        """Stop polling a waitable given to `add_waitable`.
+
+        :param waitable: The waitable.
+        :raises ValueError: If it was not added.
+        """
+        self._waitables.remove(waitable)
+        waitable_lists_changed()
 
     def _own_endpoint_objects(self) -> list[Publisher[Any] | Subscription[Any]]:
         return [e for e in list(self._entities) if isinstance(e, (Publisher, Subscription))]
@@ -1006,10 +1035,14 @@ class Node:
 
     # -- teardown ----------------------------------------------------------------------------
     def destroy_node(self) -> None:
-        """Undeclare every entity and the node's token; calling it twice is harmless."""
+        """Undeclare every entity and the node's token (once no `with node.handle:` block holds
+        the node); calling it twice is harmless."""
         if self._destroyed:
             return
         self._destroyed = True
+        self._handle.destroy_when_not_in_use(self._teardown)
+
+    def _teardown(self) -> None:
         if self._executor is not None:
             self._executor.remove_node(self)
         if self._rosout_sink is not None:
@@ -1018,6 +1051,9 @@ class Node:
             self._qos_monitor.close()
         for entity in list(self._entities):
             self._destroy_entity(entity)
+        if self._waitables:
+            self._waitables.clear()
+            waitable_lists_changed()
         if self._rosout is not None:
             self._rosout.destroy()
             self._rosout = None

@@ -43,7 +43,7 @@ class QoSMonitor:
         except Exception:  # noqa: BLE001 - called from Zenoh threads while shutting down
             return
         for endpoint in self._node._own_endpoint_objects():
-            mine = endpoint.handle
+            mine = endpoint.graph_entity
             for other in others:
                 if other.name == mine.name and {mine.kind, other.kind} == {EntityKind.PUBLISHER,
                                                                            EntityKind.SUBSCRIPTION}:

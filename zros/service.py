@@ -217,9 +217,9 @@ class Service(Introspectable, QueuedEntity, Generic[SrvRequestT, SrvResponseT]):
         if type(response) is not self.srv_type.Response:
             text = (f"service '{self.srv_name}' callback returned {type(response).__name__}, "
                     f'expected {self.srv_type._TYPE} Response')
-            self._node.get_logger().error(text)
             query.reply_err(text.encode())
-            return None
+            # A bug in the server, not in a request: the client is told, and spin raises it, as rclpy.
+            raise TypeError(text)
         query.reply(query.key_expr, serialize(response))
         if self._introspection is not None:
             attachment = query.attachment

@@ -17,6 +17,7 @@ waiting are delivered by the next spin.
 """
 from __future__ import annotations
 
+import enum
 import inspect
 import threading
 import time
@@ -61,14 +62,32 @@ class _Timed:
         return self.sample.attachment
 
 
-def _wants_info(callback: Callable) -> bool:
-    """rclpy calls `callback(msg, info)` when the callback takes two positional arguments."""
+class CallbackType(enum.Enum):
+    """How a subscription calls its callback (rclpy's Subscription.CallbackType)."""
+
+    MessageOnly = 0
+    WithMessageInfo = 1
+
+
+def _callback_type(callback: Callable) -> CallbackType:
+    """As rclpy decides: `callback(msg)` if it can be called with one argument, else
+    `callback(msg, info)` if with two.
+
+    Raises:
+        RuntimeError: it can be called with neither.
+    """
     try:
-        params = inspect.signature(callback).parameters.values()
-    except (TypeError, ValueError):
-        return False
-    positional = [p for p in params if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]
-    return len(positional) >= 2 or any(p.kind == p.VAR_POSITIONAL for p in params)
+        signature = inspect.signature(callback)
+    except (TypeError, ValueError):   # a builtin without a signature: called with the message
+        return CallbackType.MessageOnly
+    for arguments, kind in (((None,), CallbackType.MessageOnly), ((None, None), CallbackType.WithMessageInfo)):
+        try:
+            signature.bind(*arguments)
+            return kind
+        except TypeError:
+            continue
+    raise RuntimeError(f'subscription callback {callback!r} must take the message, or the message and '
+                       'its MessageInfo')
 
 
 # How long Zenoh's thread waits for an idle executor to take a full KEEP_LAST queue.
@@ -85,6 +104,7 @@ class Subscription(QueuedEntity, Generic[MsgT]):
     """
 
     _events: Any = None  # zros.event_handler's tracker, when a deadline or message-lost event needs it
+    CallbackType = CallbackType
 
     def __init__(self, node: 'Node', msg_type: type[MsgT], topic: str, callback: SubscriptionCallback[MsgT],
                  qos: QoSProfile, callback_group: Any, raw: bool = False) -> None:
@@ -98,7 +118,8 @@ class Subscription(QueuedEntity, Generic[MsgT]):
         self.qos_profile = qos
         self.callback_group = callback_group
         self.raw = raw
-        self._with_info = _wants_info(callback)
+        self._callback_type = _callback_type(callback)
+        self._with_info = self._callback_type is CallbackType.WithMessageInfo
         self._plain = not raw and not self._with_info   # the callback takes the message only
         self._queue: deque = deque(maxlen=qos.queue_depth)  # Zenoh samples, undecoded
         self._evicted: deque = deque(maxlen=_EVICTED_NOTES)  # attachments of pushed-out samples

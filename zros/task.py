@@ -214,9 +214,22 @@ class Task(Future[T]):
         return self._executing
 
     def __call__(self) -> None:
-        """Run or resume the task; an exception it raises is stored and raised again."""
+        """Run or resume the task. An exception the function raises completes the task with it
+        (`exception()`, and `result()` raises it), as rclpy's; KeyboardInterrupt and SystemExit
+        are stored and also go on up."""
+        self._run_step()
+
+    def _execute(self) -> None:
+        """Run a step as a piece of executor work: an exception the task ended with in this step
+        is raised again, so that it comes out of `spin`, as rclpy's executor raises it."""
+        failure = self._run_step()
+        if failure is not None:
+            raise failure
+
+    def _run_step(self) -> BaseException | None:
+        """Run or resume the task; returns the exception it ended with in this step, if any."""
         if self.done() or not self._step_lock.acquire(blocking=False):
-            return
+            return None
         self._executing = True
         try:
             if self._coroutine is None:
@@ -224,17 +237,19 @@ class Task(Future[T]):
                 self._handler = self._args = self._kwargs = None
                 if not inspect.iscoroutine(outcome):
                     self._conclude(outcome, None)
-                    return
+                    return None
                 self._coroutine = outcome
             self._step()
+        except Exception as exc:
+            self._conclude(None, exc)
+            return exc
         except BaseException as exc:
             self._conclude(None, exc)
             raise
         finally:
             self._executing = False
             self._step_lock.release()
-
-    _execute = __call__   # as a piece of executor work
+        return None
 
     def _step(self) -> None:
         outer = getattr(_stepping, 'task', False)

@@ -11,6 +11,7 @@ import threading
 from typing import Any, Callable
 
 from zros.clock import Clock, ClockType
+from zros.handle import Handle, HandleOwner
 
 __all__ = ['Timer', 'Rate', 'timer_lists_changed', 'timer_lists_version']
 
@@ -67,7 +68,7 @@ class _Schedule:
         self.last_ns = now
 
 
-class Timer:
+class Timer(HandleOwner):
     """Made by `Node.create_timer`."""
 
     def __init__(self, callback: Callable[[], Any], callback_group: Any, timer_period_ns: int,
@@ -82,6 +83,7 @@ class Timer:
         self._schedule = _Schedule(self._clock, timer_period_ns, running=autostart)
         self._canceled = not autostart
         self._destroyed = False
+        self._handle = Handle('timer')
 
     @property
     def timer_period_ns(self) -> int:
@@ -177,6 +179,7 @@ class Timer:
         """
         self.cancel()
         self._destroyed = True
+        self._handle.destroy_when_not_in_use()
 
 
 class Rate:

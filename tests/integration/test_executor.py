@@ -460,3 +460,44 @@ except ExternalShutdownException:
     script.signal(signal.SIGTERM)
     assert script.wait(5) == 0, script.output()
     assert 'external shutdown' in script.output()
+
+
+# -- tasks made by create_task ----------------------------------------------------------------
+def test_the_newest_task_runs_first(context):
+    """rclpy's order: tasks not yet run are taken newest first, so a task made to await an
+    earlier one starts before it, and resumes only once that one has finished."""
+    executor = SingleThreadedExecutor(context=context)
+    order = []
+
+    async def first():
+        order.append('first')
+        return 1
+
+    first_task = executor.create_task(first)
+
+    async def second():
+        order.append('second')
+        return await first_task + 1
+
+    second_task = executor.create_task(second)
+    executor.spin_once(timeout_sec=0)
+    executor.spin_once(timeout_sec=0)
+    assert order == ['second', 'first'] and first_task.done() and not second_task.done()
+    executor.spin_once(timeout_sec=1)
+    assert second_task.result() == 2
+
+
+def test_the_ready_callbacks_generator_stops_on_shutdown(context):
+    """rclpy's `_wait_for_ready_callbacks` generator, which custom executors iterate."""
+    from zros.executors import ShutdownException
+    executor = SingleThreadedExecutor(context=context)
+    ready = executor._wait_for_ready_callbacks()
+    executor.shutdown()
+    with pytest.raises(ShutdownException):
+        next(ready)
+
+
+def test_a_one_thread_multi_threaded_executor_warns(context):
+    with pytest.warns(UserWarning, match='SingleThreadedExecutor'):
+        executor = MultiThreadedExecutor(num_threads=1, context=context)
+    executor.shutdown()

@@ -119,6 +119,22 @@ def test_server_exception_reaches_the_client_and_server_keeps_serving(make_conte
     executor.shutdown()
 
 
+def test_a_response_of_the_wrong_type_fails_the_call_and_raises_in_spin(context, add_two_ints):
+    """rclpy raises the server's TypeError out of spin; zros also tells the client why."""
+    node = Node('sloppy_server', context=context)
+    node.create_service(add_two_ints, 'sloppy', lambda request, response: 'not a response')
+    client = node.create_client(add_two_ints, 'sloppy')
+    assert client.wait_for_service(timeout_sec=10.0)
+    future = client.call_async(add_two_ints.Request(a=1, b=2))
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(node)
+    with pytest.raises(TypeError, match='callback returned str'):
+        executor.spin_until_future_complete(future, timeout_sec=5)
+    assert wait_until(future.done, timeout=5)
+    assert isinstance(future.exception(), ServiceCallError)
+    executor.shutdown()
+
+
 def _spin_quietly(executor) -> None:
     try:
         executor.spin()
