@@ -34,8 +34,8 @@ def check_for_type_support(msg_or_srv_type: Any) -> None:
         AttributeError: it is no interface type at all (no type support slot; a ROS 1 class).
         NoTypeSupportImportedException: it declares type support but none could be imported.
     """
-    if isinstance(msg_or_srv_type, type) and hasattr(msg_or_srv_type, '_TYPE') and hasattr(msg_or_srv_type, '_HASH'):
-        return   # a zros message, service or action class: its codec was built with it
+    if hasattr(msg_or_srv_type, '_TYPE') and hasattr(msg_or_srv_type, '_HASH'):
+        return   # a zros message, service or action class (or an instance): its codec came with it
     meta = msg_or_srv_type.__class__
     try:
         support = meta._TYPE_SUPPORT
