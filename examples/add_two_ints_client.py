@@ -25,6 +25,9 @@ def main(a: int, b: int, service: str, timeout: float, ros_args: list[str]) -> i
             return 1
         # A blocking call needs no spinning: the reply is read on this thread.
         response = client.call(AddTwoInts.Request(a=a, b=b), timeout_sec=timeout)
+        if response is None:   # rclpy's answer to a timeout
+            print(f"add_two_ints_client: no answer from '{service}' within {timeout:g} s", file=sys.stderr)
+            return 1
         node.get_logger().info(f'Result of add_two_ints: for {a} + {b} = {response.sum}')
     return 0
 

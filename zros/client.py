@@ -250,12 +250,16 @@ class Client(Introspectable, NodeEntity, Generic[SrvRequestT, SrvResponseT]):
 
         :param request: An instance of the service's Request type.
         :param timeout_sec: Seconds to wait at most; ``None`` waits a day.
-        :return: The Response.
-        :raises ServiceCallTimeout: (a TimeoutError) If no answer came within the timeout.
-        :raises ServiceCallError: If no server appeared, the server failed or went away.
+        :return: The Response, or ``None`` if no answer came within `timeout_sec` (rclpy's
+            contract, which callers test for).
+        :raises ServiceCallError: If the server failed or went away, or (`timeout_sec` None) no
+            server appeared within SERVER_WAIT_SEC.
         :raises TypeError: If `request` is not the service's Request.
         """
-        return next(self._replies(request, timeout_sec, (self.srv_type.Response,)))
+        try:
+            return next(self._replies(request, timeout_sec, (self.srv_type.Response,)))
+        except ServiceCallTimeout:
+            return None
 
     def _replies(self, request: Any, timeout_sec: float | None, response_types: tuple[type, ...],
                  parameters: str = '') -> Iterator[Any]:

@@ -86,7 +86,10 @@ class _Remote:
             client = self._clients[service] = self.node.create_client(srv_type, f'{self.fq}/{service}')
         if not client.wait_for_service(self.timeout):
             raise CliError(f"Node '{self.fq}' does not serve parameters ({service} not available)")
-        return client.call(srv_type.Request(**fields), timeout_sec=self.timeout)
+        response = client.call(srv_type.Request(**fields), timeout_sec=self.timeout)
+        if response is None:
+            raise CliError(f"Node '{self.fq}' did not answer {service} within {self.timeout:g} s")
+        return response
 
     def list_names(self) -> list[str]:
         return list(self.call('list_parameters', 'ListParameters').result.names)

@@ -108,6 +108,8 @@ def cmd_call(args: argparse.Namespace) -> int:
             started = time.monotonic()
             say(f'requester: making request: {request!r}\n')
             response = client.call(request, timeout_sec=args.timeout)
+            if response is None:
+                raise CliError(f"service '{name}' did not answer within {args.timeout:g} s")
             if args.json:
                 print(json.dumps(message_to_ordereddict(response)), flush=True)
             else:

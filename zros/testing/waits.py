@@ -76,7 +76,10 @@ def call_service(node: Any, srv_type: type, name: str, request: Any, *, timeout:
     try:
         if not client.wait_for_service(timeout_sec=timeout):
             raise WaitTimeout(f"timed out after {timeout:g} s waiting for the service '{name}'")
-        return client.call(request, timeout_sec=timeout)
+        response = client.call(request, timeout_sec=timeout)
+        if response is None:
+            raise WaitTimeout(f"timed out after {timeout:g} s waiting for the service '{name}' to answer")
+        return response
     finally:
         node.destroy_client(client)
 
