@@ -9,10 +9,10 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from zros.context import Context, get_default_context
-from zros.parameter import Parameter
 from zros.signals import SignalHandlerOptions, install_signal_handlers, uninstall_signal_handlers
 
 if TYPE_CHECKING:
+    from zros.parameter import Parameter
     from zros.executors import Executor
     from zros.node import Node
     from zros.task import Future
@@ -113,9 +113,13 @@ def spin_until_future_complete(node: 'Node', future: 'Future', executor: 'Execut
 def __getattr__(name: str) -> Any:
     """`rclpy.clock`, `rclpy.executors` ... after a bare `import rclpy`: in rclpy they are there
     because `rclpy.node` imported them; code (tf2_ros's tests among it) reaches them that way.
-    Imported on first use, so `import zros` stays light."""
+    Imported on first use, so `import zros` stays light (`zros.Parameter` too: the message
+    codec it needs brings numpy, which the CLI's start does without)."""
     import importlib
     import importlib.util
+    if name == 'Parameter':
+        from zros.parameter import Parameter
+        return Parameter
     if not name.startswith('_') and importlib.util.find_spec(f'zros.{name}') is not None:
         return importlib.import_module(f'zros.{name}')
     raise AttributeError(f"module 'zros' has no attribute '{name}'")

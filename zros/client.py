@@ -242,7 +242,7 @@ class Client(Introspectable, NodeEntity, Generic[SrvRequestT, SrvResponseT]):
         threading.Thread(target=send_when_routed, name=f'call {self.srv_name}', daemon=True).start()
         return future
 
-    def call(self, request: SrvRequestT, timeout_sec: float | None = None) -> SrvResponseT:
+    def call(self, request: SrvRequestT, timeout_sec: float | None = None) -> SrvResponseT | None:
         """Send a request and block until the response comes.
 
         The reply is read from Zenoh's channel on this thread, so no executor needs to spin and

@@ -184,8 +184,10 @@ class QoSProfile:
             if history == HistoryPolicy.KEEP_LAST:
                 raise InvalidQoSProfileException('a QoS profile with KEEP_LAST history needs a depth')
             depth = DEFAULT_DEPTH
-        self.history, self.depth = history, depth    # in this order: the depth's check reads the history
-        self.reliability, self.durability, self.liveliness = reliability, durability, liveliness
+        # plain ints become the policies in __setattr__; in this order: the depth's check reads the history
+        self.history, self.depth = HistoryPolicy(history), depth
+        self.reliability, self.durability = ReliabilityPolicy(reliability), DurabilityPolicy(durability)
+        self.liveliness = LivelinessPolicy(liveliness)
         self.deadline, self.lifespan = deadline, lifespan
         self.liveliness_lease_duration = liveliness_lease_duration
         self.avoid_ros_namespace_conventions = avoid_ros_namespace_conventions

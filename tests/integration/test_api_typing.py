@@ -54,8 +54,8 @@ def build(node: Node) -> None:
     node.create_subscription(String, 'chatter', lambda msg, info: print(msg.data, info), 10)
 
     client = node.create_client(AddTwoInts, 'add_two_ints')
-    response: AddTwoInts.Response = client.call(AddTwoInts.Request())
-    total: int = response.sum
+    response: AddTwoInts.Response | None = client.call(AddTwoInts.Request())   # None: timed out (rclpy's hint)
+    total: int = response.sum if response is not None else 0
     future = client.call_async(AddTwoInts.Request())
     done: AddTwoInts.Response | None = future.result()
 '''
