@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from zros.launch.action import Action, ActionKwargs, Parser, launch_tag
+from zros.launch.context import RosScope
 from zros.launch.entity import Entity
 from zros.launch.parameters import ParamValue
 from zros.launch.template import Text, Typed
@@ -35,7 +36,7 @@ class SetParameter(Action):
         return cls, kwargs
 
     def execute(self, context: Any) -> None:
-        context.ros.params.append((self.name.perform(context), self.value.perform(context)))
+        RosScope.of(context).add_param((self.name.perform(context), self.value.perform(context)))
 
 
 class SetRemapKwargs(ActionKwargs, total=False):
@@ -60,7 +61,7 @@ class SetRemap(Action):
         return cls, kwargs
 
     def execute(self, context: Any) -> None:
-        context.ros.remaps.append((self.src.perform(context), self.dst.perform(context)))
+        RosScope.of(context).add_remap(self.src.perform(context), self.dst.perform(context))
 
 
 class SetUseSimTimeKwargs(ActionKwargs, total=False):
@@ -83,4 +84,4 @@ class SetUseSimTime(Action):
         return cls, kwargs
 
     def execute(self, context: Any) -> None:
-        context.ros.params.append(('use_sim_time', self.value.perform(context)))
+        RosScope.of(context).add_param(('use_sim_time', self.value.perform(context)))
