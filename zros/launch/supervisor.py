@@ -25,12 +25,12 @@ import shlex
 import signal
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 from pathlib import Path
 from typing import Any, Callable, TextIO
 
-from zros.launch.errors import LaunchError
 from zros.launch.plan import (CallEffect, ChangeStateEffect, EventHandlerEffect, GeneratedParams, LogMessage, Plan,
                               ProcessSpec, ShutdownEffect, TimerEffect)
 
@@ -245,6 +245,7 @@ class Supervisor:
                  keep_alive: bool = False) -> None:
         self.plan = plan
         self.log_dir = log_dir
+        self._temporary_params_dir: Path | None = None
         self.debug = debug
         self.hub = hub
         self._screen = screen
@@ -488,14 +489,24 @@ class Supervisor:
     # -- processes -----------------------------------------------------------------------------
     def _params_paths(self, process: _Process) -> list[str]:
         spec = process.spec
-        directory = (self.log_dir or Path('.')) / 'params'
+        directory = self._params_dir()
         paths = spec.generated_params_paths(directory, process.name)
-        if process.starts == 0 and self.log_dir is not None:
+        if process.starts == 0:
             for source, path in zip(spec.params, paths):
                 if isinstance(source, GeneratedParams):
                     directory.mkdir(parents=True, exist_ok=True)
                     Path(path).write_text(source.to_yaml(), encoding='utf-8')
         return paths
+
+    def _params_dir(self) -> Path:
+        """Where generated parameter files go: `<log dir>/params`, or without a log directory
+        (a LaunchService run from code) a temporary directory of this run, left in place as
+        launch_ros leaves its `launch_params_*` files, since a respawned node reads it again."""
+        if self.log_dir is not None:
+            return self.log_dir / 'params'
+        if self._temporary_params_dir is None:
+            self._temporary_params_dir = Path(tempfile.mkdtemp(prefix='launch_params_'))
+        return self._temporary_params_dir
 
     def _environment(self, spec: ProcessSpec) -> dict[str, str]:
         env = dict(os.environ)
@@ -509,8 +520,6 @@ class Supervisor:
 
     def _start(self, process: _Process) -> None:
         spec = process.spec
-        if self.log_dir is None and any(isinstance(s, GeneratedParams) for s in spec.params):
-            raise LaunchError('inline parameters need a log directory')
         process.command = spec.command(self._params_paths(process))
         shown = spec.shell_text if spec.shell_text is not None else shlex.join(process.command)
         self.log.debug(process.name, f'cmd: {shown}')
