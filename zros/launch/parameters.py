@@ -12,7 +12,7 @@ import typing
 from pathlib import Path
 from typing import Any, NamedTuple
 
-from zros.launch.errors import LaunchFileError, Origin, ParameterTypeError
+from zros.launch.errors import LaunchFileError, LaunchTypeError, Origin, ParameterTypeError
 from zros.launch.template import Substitution, Text, Typed, is_static
 
 __all__ = ['ParamValue', 'TextValue', 'ParamEntry', 'PARAM_TYPES', 'ParameterValue', 'ParameterFile', 'Parameter',
@@ -79,8 +79,8 @@ class ParamValue(NamedTuple):
                 elif isinstance(item, (int, float, bool)):
                     items.append(item)
                 else:
-                    raise LaunchFileError(origin, 'a list parameter holds only strings, numbers, bools '
-                                                  f'or substitutions, got {type(item).__name__}')
+                    raise ParameterTypeError(origin, 'a list parameter holds only strings, numbers, bools '
+                                                     f'or substitutions, got {type(item).__name__}')
             return cls(items, type_name, origin)
         if isinstance(value, str):
             return cls(TextValue(Text.of(value, origin), False), type_name, origin)
@@ -88,7 +88,7 @@ class ParamValue(NamedTuple):
             return cls(value, type_name, origin)
         if value is None:
             raise LaunchFileError(origin, 'a parameter needs a value, got None')
-        raise LaunchFileError(origin, f'unsupported parameter value of type {type(value).__name__}')
+        raise ParameterTypeError(origin, f'unsupported parameter value of type {type(value).__name__}')
 
     @classmethod
     def from_entity(cls, entity: Any, key: str = 'value') -> 'ParamValue':
@@ -272,7 +272,7 @@ def param_entries(parameters: Any, origin: Origin) -> tuple[ParamEntry, ...]:
         elif isinstance(item, (str, Path, Substitution, Text)) or _is_substitution_list(item):
             entries.append(ParamEntry(None, None, (), Text.of(item, origin), None, origin))
         else:
-            raise LaunchFileError(origin, 'a parameters item is a dict, a parameter file path or a '
+            raise LaunchTypeError(origin, 'a parameters item is a dict, a parameter file path or a '
                                           f'ParameterFile, got {type(item).__name__}')
     return tuple(entries)
 
@@ -280,6 +280,8 @@ def param_entries(parameters: Any, origin: Origin) -> tuple[ParamEntry, ...]:
 def _dict_entries(mapping: dict, origin: Origin) -> list[ParamEntry]:
     entries = []
     for key, value in mapping.items():
+        if not isinstance(key, (str, Substitution, Text, tuple, list)):
+            raise LaunchTypeError(origin, f'a parameter name is a string or substitutions, got {type(key).__name__}')
         name = Text.of(key, origin)
         if isinstance(value, dict):
             entries.append(ParamEntry(name, None, tuple(_dict_entries(value, origin)), None, None, origin))
