@@ -124,3 +124,57 @@ def test_a_parameter_file_gives_the_composable_node_its_own_entries(tmp_path):
 def test_each_action_has_launch_ros_module_path(module, name):
     import zros.launch_ros.actions as actions
     assert getattr(importlib.import_module(f'zros.launch_ros.actions.{module}'), name) is getattr(actions, name)
+
+
+def test_set_ros_log_dir_goes_under_the_launch_environments_log_dir():
+    from zros.launch_ros.actions import SetROSLogDir
+    context = LaunchContext(environment={'ROS_LOG_DIR': '/var/log/ros'})
+    SetROSLogDir('run1').visit(context)
+    assert context.environment['ROS_LOG_DIR'] == '/var/log/ros/run1'
+    SetROSLogDir('/elsewhere').visit(context)
+    assert context.environment['ROS_LOG_DIR'] == '/elsewhere'
+    context = LaunchContext(environment={'ROS_HOME': '/home/me/.ros'})
+    SetROSLogDir('run2').visit(context)
+    assert context.environment['ROS_LOG_DIR'] == '/home/me/.ros/log/run2'
+
+
+def test_set_parameters_from_file_passes_the_file_before_the_nodes_own(tmp_path):
+    from zros.launch.plan import GeneratedParams, ParamsFile
+    from zros.launch_ros.actions import SetParametersFromFile
+    path = tmp_path / 'common.yaml'
+    path.write_text('/**:\n  ros__parameters: {rate: 10}\n')
+    context = LaunchContext()
+    SetParameter('a', 1).visit(context)
+    SetParametersFromFile(str(path)).visit(context)
+    assert context.launch_configurations['global_params'] == [('a', 1), str(path)]
+    node = Node(package='demo_nodes', executable='talker', parameters=[{'b': 2}])
+    sources = node.param_sources(context, '/talker')
+    assert sources == [GeneratedParams({'/**': {'ros__parameters': {'a': 1}}}), ParamsFile(str(path)),
+                       GeneratedParams({'/**': {'ros__parameters': {'b': 2}}})]
+
+
+def test_the_launch_ros_scope_tags_parse(tmp_path):
+    from zros.launch.files import load_launch_file
+    from zros.launch_ros.actions import ROSTimer, SetParametersFromFile, SetROSLogDir
+    path = tmp_path / 'f.launch.xml'
+    path.write_text('<launch><set_ros_log_dir new_log_dir="run"/><set_parameters_from_file filename="p.yaml"/>'
+                    '<ros_timer period="2.0"><log message="late"/></ros_timer></launch>')
+    kinds = [type(action) for action in load_launch_file(str(path))]
+    assert kinds == [SetROSLogDir, SetParametersFromFile, ROSTimer]
+
+
+def test_a_ros_timer_is_on_sim_time_once_the_launch_sets_it_anywhere():
+    from zros.launch.actions import LogInfo
+    from zros.launch.plan import TimerEffect
+    from zros.launch_ros.actions import ROSTimer, SetUseSimTime
+    context = LaunchContext()
+    context.begin_capture()
+    for action in (ROSTimer(period=200.0, actions=[LogInfo(msg='late')]), SetUseSimTime(True)):
+        visit_all([action], context)
+    [timer] = [effect for effect in context.end_capture() if isinstance(effect, TimerEffect)]
+    assert timer.period == 200.0 and timer.sim_time()
+
+
+def visit_all(actions, context) -> None:
+    for action in actions:
+        visit_all(action.visit(context) or [], context)

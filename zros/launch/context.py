@@ -126,6 +126,8 @@ class LaunchContext(EventDispatch):
         # nodes started per fully qualified name (launch_ros.utilities.track_node_names), shared
         # with snapshots: a duplicate name anywhere in the launch is one to warn about
         self.node_names: Counter[str] = Counter()
+        # SetUseSimTime: the launch's ROS time (ROSTimer's) follows /clock
+        self.launch_use_sim_time = False
 
     @property
     def ros(self) -> RosScope:

@@ -9,7 +9,7 @@ from __future__ import annotations
 import shlex
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, NamedTuple, Union
+from typing import Any, Callable, NamedTuple, Union
 
 import yaml
 
@@ -103,9 +103,14 @@ class LogMessage(NamedTuple):
 
 
 class TimerEffect(NamedTuple):
+    """`effects`, carried out `period` seconds [s] after the timer starts. `sim_time` (a
+    ROSTimer's) answers, when the timer starts, whether the launch's ROS time is sim time:
+    then the period is counted on /clock (zros.launch.ros_time) instead of the wall clock."""
+
     period: float
     effects: list
     origin: Origin | None = None
+    sim_time: Callable[[], bool] | None = None
 
 
 class ShutdownEffect(NamedTuple):

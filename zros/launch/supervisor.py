@@ -256,6 +256,7 @@ class Supervisor:
         self._processes: list[_Process] = []
         self._counter = itertools.count(1)
         self._timers: list[tuple[float, int, str, Callable[[], None]]] = []   # (due, seq, kind, callback)
+        self._sim_waits: list[tuple[Any, list]] = []   # ROSTimers on sim time: (SimTimeWait, effects)
         self._timer_seq = itertools.count()
         self._selector: selectors.BaseSelector | None = None
         self._signals: list[int] = []
@@ -291,6 +292,7 @@ class Supervisor:
             self._run_effects(self.plan.effects)
             self._loop()
         finally:
+            self._cancel_sim_waits()
             self._kill_all()
             self._restore_signals(previous)
             self._close_hub()
@@ -396,7 +398,11 @@ class Supervisor:
             elif isinstance(effect, LogMessage):
                 self.log.message(effect.level, 'launch.user', effect.message)
             elif isinstance(effect, TimerEffect):
-                self._schedule(effect.period, 'timer', lambda e=effect: self._run_effects(e.effects))
+                if effect.sim_time is not None and effect.sim_time():
+                    from zros.launch.ros_time import SimTimeWait
+                    self._sim_waits.append((SimTimeWait(effect.period, self.wake), effect.effects))
+                else:
+                    self._schedule(effect.period, 'timer', lambda e=effect: self._run_effects(e.effects))
             elif isinstance(effect, ShutdownEffect):
                 self.shutdown(effect.reason or 'shutdown requested by the launch file')
                 return
@@ -497,6 +503,11 @@ class Supervisor:
                     directory.mkdir(parents=True, exist_ok=True)
                     Path(path).write_text(source.to_yaml(), encoding='utf-8')
         return paths
+
+    def _cancel_sim_waits(self) -> None:
+        for wait, _ in self._sim_waits:
+            wait.cancel()
+        self._sim_waits.clear()
 
     def _params_dir(self) -> Path:
         """Where generated parameter files go: `<log dir>/params`, or without a log directory
@@ -649,6 +660,7 @@ class Supervisor:
         self._on_shutdown(reason)
         self._timers = [t for t in self._timers if t[2] == 'escalate']
         heapq.heapify(self._timers)
+        self._cancel_sim_waits()
         self._abandon_transitions()
         for process in self._processes:
             if process.running:
@@ -733,7 +745,7 @@ class Supervisor:
         if self._keep_alive and not self._shutting_down:
             return True
         return (any(p.running for p in self._processes) or bool(self._transitions)
-                or any(t[2] != 'escalate' for t in self._timers))
+                or any(t[2] != 'escalate' for t in self._timers) or bool(self._sim_waits))
 
     def _flush_logs(self) -> None:
         self.log.flush()
@@ -752,6 +764,9 @@ class Supervisor:
                 _, _, _, callback = heapq.heappop(self._timers)
                 callback()
                 self._handle_signals()
+            for wait, effects in [item for item in self._sim_waits if item[0].due()]:
+                self._sim_waits.remove((wait, effects))
+                self._run_effects(effects)
             self._observer.pump()
             if not self._busy() and not self._observer.idle():
                 return

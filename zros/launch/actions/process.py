@@ -541,8 +541,9 @@ class Node(ExecuteProcess):
 
     # -- parameters ----------------------------------------------------------------------------
     def param_sources(self, context: Any, fqn: str) -> list:
-        """Parameter sources in order: the scope's `SetParameter`s, then this node's entries;
-        consecutive inline values share one generated file, files stay in place."""
+        """Parameter sources in order: the scope's `SetParameter`s and `SetParametersFromFile`s,
+        then this node's entries; consecutive inline values share one generated file, files
+        stay in place."""
         sources: list = []
         inline: dict = {}
 
@@ -552,8 +553,13 @@ class Node(ExecuteProcess):
                 sources.append(GeneratedParams({'/**': {'ros__parameters': inline}}))
                 inline = {}
 
-        for name, value in RosScope.of(context).param_pairs:
-            _set_dotted(inline, name, value, self.origin)
+        for item in RosScope.of(context).params:
+            if isinstance(item, tuple):
+                _set_dotted(inline, item[0], item[1], self.origin)
+            else:   # SetParametersFromFile's file
+                flush()
+                sources.append(self._params_file(ParamEntry(None, None, (), Text.of(item, self.origin), None,
+                                                            self.origin), context, fqn))
         for entry in self.parameters:
             if entry.path is not None:
                 flush()

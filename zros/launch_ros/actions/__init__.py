@@ -11,11 +11,14 @@ from zros.launch_ros.actions.lifecycle_node import LifecycleNode
 from zros.launch_ros.actions.load_composable_nodes import LoadComposableNodes
 from zros.launch_ros.actions.node import Node
 from zros.launch_ros.actions.push_ros_namespace import PushROSNamespace, PushRosNamespace
+from zros.launch_ros.actions.ros_timer import ROSTimer
 from zros.launch_ros.actions.set_parameter import SetParameter
+from zros.launch_ros.actions.set_parameters_from_file import SetParametersFromFile
 from zros.launch_ros.actions.set_remap import SetRemap
+from zros.launch_ros.actions.set_ros_log_dir import SetROSLogDir
 from zros.launch_ros.actions.set_use_sim_time import SetUseSimTime
 
-__all__ = ['Node', 'LifecycleNode', 'PushRosNamespace', 'PushROSNamespace', 'SetParameter', 'SetRemap',
-           'SetUseSimTime', 'ComposableNodeContainer', 'LoadComposableNodes']
+__all__ = ['Node', 'LifecycleNode', 'PushRosNamespace', 'PushROSNamespace', 'SetParameter', 'SetParametersFromFile',
+           'SetRemap', 'SetROSLogDir', 'SetUseSimTime', 'ROSTimer', 'ComposableNodeContainer', 'LoadComposableNodes']
 
 __getattr__ = module_getattr(__name__)
