@@ -178,3 +178,34 @@ def test_a_ros_timer_is_on_sim_time_once_the_launch_sets_it_anywhere():
 def visit_all(actions, context) -> None:
     for action in actions:
         visit_all(action.visit(context) or [], context)
+
+
+def test_matches_node_name_compares_the_executed_nodes_full_name():
+    from zros.launch_ros.events import matches_node_name
+    node = Node(package='demo_nodes', executable='talker', name='talker', namespace='')
+    matcher = matches_node_name('talker')
+    assert not matcher(node)             # not executed: no name yet
+    node._perform_substitutions(LaunchContext())
+    assert matcher(node) and matches_node_name('/talker')(node) and not matches_node_name('/ns/talker')(node)
+
+
+def test_lifecycle_transition_chains_each_transition_on_the_goal_of_the_one_before():
+    from zros.launch.actions import EmitEvent, RegisterEventHandler
+    from zros.launch.lifecycle import StateTransition
+    from zros.launch_ros.actions import LifecycleTransition
+    with pytest.raises(ValueError):
+        LifecycleTransition(lifecycle_node_names=['a'], transition_ids=[])
+    with pytest.raises(ValueError):
+        LifecycleTransition(lifecycle_node_names=[], transition_ids=[1])
+    actions = LifecycleTransition(lifecycle_node_names=['a'], transition_ids=[1, '3']).execute(LaunchContext())
+    assert [type(action) for action in actions] == [RegisterEventHandler, EmitEvent]
+    assert actions[1].event.transition_id == 1
+    handler = actions[0].event_handler
+
+    class Named:
+        node_name = '/a'
+    configured = StateTransition(Named(), 'transition_success', 'configuring', 'inactive', 'a-1')
+    activated = StateTransition(Named(), 'transition_success', 'activating', 'active', 'a-1')
+    assert handler.matcher(configured) and not handler.matcher(activated)
+    with pytest.raises(ValueError):
+        LifecycleTransition(lifecycle_node_names=['a'], transition_ids=['x']).execute(LaunchContext())
