@@ -209,3 +209,12 @@ def test_lifecycle_transition_chains_each_transition_on_the_goal_of_the_one_befo
     assert handler.matcher(configured) and not handler.matcher(activated)
     with pytest.raises(ValueError):
         LifecycleTransition(lifecycle_node_names=['a'], transition_ids=['x']).execute(LaunchContext())
+
+
+def test_set_parameter_shows_its_value_as_launch_ros_does():
+    from zros.launch.substitutions import TextSubstitution
+    from zros.launch.utilities import perform_substitutions
+    text = SetParameter('name', 'value')
+    assert perform_substitutions(LaunchContext(), text.value) == 'value'
+    assert all(isinstance(s, TextSubstitution) for s in text.value)
+    assert SetParameter('rate', 5).value == 5

@@ -121,6 +121,12 @@ class ParamValue(NamedTuple):
         text = Text.parse(raw, origin)
         return TextValue(text, not is_static(text.template))
 
+    def as_given(self) -> Any:
+        """The value as launch_ros code sees it before evaluation: text as substitutions."""
+        def given(item: Any) -> Any:
+            return item.text.substitutions() if isinstance(item, TextValue) else item
+        return [given(item) for item in self.value] if isinstance(self.value, list) else given(self.value)
+
     # -- evaluation --------------------------------------------------------------------------
     def perform(self, context: Any) -> Any:
         if self.type is not None and self.type.startswith('list_of_'):

@@ -136,6 +136,8 @@ class ComposableNodeContainer(Node):
 
     def execute(self, context: Any) -> list[Action]:
         nodes = _selected(context, self.composable_node_descriptions, self.output)
+        self._perform_substitutions(context)
+        self._count_node_name(context)   # the container is a node of the launch, as in launch_ros
         name, namespace = self.resolve_names(context)
         container = f"{(namespace or '/').rstrip('/')}/{name or self.executable.perform(context)}"
         if nodes:

@@ -28,7 +28,7 @@ class SetParameter(Action):
     def __init__(self, name: Any, value: Any, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         self.name = self._text(name, 'name')
-        self.value = value if isinstance(value, ParamValue) else ParamValue.of(value, self.origin.with_key('value'))
+        self.param_value = value if isinstance(value, ParamValue) else ParamValue.of(value, self.origin.with_key('value'))
 
     @classmethod
     def parse(cls, entity: Entity, parser: Parser) -> tuple[type[Action], SetParameterKwargs]:
@@ -38,7 +38,12 @@ class SetParameter(Action):
         return cls, kwargs
 
     def execute(self, context: Any) -> None:
-        RosScope.of(context).add_param((self.name.perform(context), self.value.perform(context)))
+        RosScope.of(context).add_param((self.name.perform(context), self.param_value.perform(context)))
+
+    @property
+    def value(self) -> Any:
+        """launch_ros's view of the value: text as substitutions, other values as given."""
+        return self.param_value.as_given()
 
 
 class SetRemapKwargs(ActionKwargs, total=False):
