@@ -218,3 +218,13 @@ def test_set_parameter_shows_its_value_as_launch_ros_does():
     assert perform_substitutions(LaunchContext(), text.value) == 'value'
     assert all(isinstance(s, TextSubstitution) for s in text.value)
     assert SetParameter('rate', 5).value == 5
+
+
+def test_a_named_container_counts_as_a_node_of_the_launch():
+    from zros.launch_ros.actions import ComposableNodeContainer
+    from zros.launch_ros.utilities import get_node_name_count
+    context = LaunchContext()
+    container = ComposableNodeContainer(package='rclcpp_components', executable='component_container',
+                                        name='box', namespace='ns', composable_node_descriptions=[])
+    container.visit(context)
+    assert get_node_name_count(context, '/ns/box') == 1 and container.node_name == '/ns/box'
