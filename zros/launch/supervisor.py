@@ -22,6 +22,7 @@ import itertools
 import os
 import selectors
 import shlex
+import shutil
 import signal
 import subprocess
 import sys
@@ -294,6 +295,8 @@ class Supervisor:
         finally:
             self._cancel_sim_waits()
             self._kill_all()
+            if self._temporary_params_dir is not None:
+                shutil.rmtree(self._temporary_params_dir, ignore_errors=True)
             self._restore_signals(previous)
             self._close_hub()
             for process in self._processes:
@@ -511,8 +514,8 @@ class Supervisor:
 
     def _params_dir(self) -> Path:
         """Where generated parameter files go: `<log dir>/params`, or without a log directory
-        (a LaunchService run from code) a temporary directory of this run, left in place as
-        launch_ros leaves its `launch_params_*` files, since a respawned node reads it again."""
+        (a LaunchService run from code) a temporary directory kept while the run lasts (a
+        respawned node reads its file again) and removed when it ends."""
         if self.log_dir is not None:
             return self.log_dir / 'params'
         if self._temporary_params_dir is None:
