@@ -14,6 +14,7 @@ import sys
 import threading
 import time
 from pathlib import Path
+from collections.abc import Mapping
 from typing import Any, Callable
 
 __all__ = ['LoggingSeverity', 'RcutilsLogger', 'get_logger', 'set_logger_level',
@@ -69,12 +70,14 @@ def clear_config() -> None:
         _levels[''] = LoggingSeverity.INFO
 
 
-def get_logging_directory() -> Path:
-    """Where ROS 2 keeps log files: $ROS_LOG_DIR, else $ROS_HOME/log, else ~/.ros/log."""
-    if os.environ.get('ROS_LOG_DIR'):
-        return Path(os.path.expanduser(os.environ['ROS_LOG_DIR']))
-    if os.environ.get('ROS_HOME'):
-        return Path(os.path.expanduser(os.environ['ROS_HOME'])) / 'log'
+def get_logging_directory(environ: Mapping[str, str] | None = None) -> Path:
+    """Where ROS 2 keeps log files: $ROS_LOG_DIR, else $ROS_HOME/log, else ~/.ros/log, read
+    from `environ` (a launch's environment, say) or else this process's."""
+    environ = os.environ if environ is None else environ
+    if environ.get('ROS_LOG_DIR'):
+        return Path(os.path.expanduser(environ['ROS_LOG_DIR']))
+    if environ.get('ROS_HOME'):
+        return Path(os.path.expanduser(environ['ROS_HOME'])) / 'log'
     return Path(os.path.expanduser('~')) / '.ros' / 'log'
 
 

@@ -252,8 +252,8 @@ def test_package_launch_file_on_the_node_path(probe: Path, tmp_path: Path):
     ('from my_missing_msgs.msg import Thing\n', [":1: no module named 'my_missing_msgs' (no interface package 'my_missing_msgs' here"]),
     ('import my_missing_helpers\n', [":1: no module named 'my_missing_helpers' (not installed in this Python environment)"]),
     ('import zros.launch_ros.actions\n\ndef generate_launch_description():\n'
-     '    return zros.launch_ros.actions.SetParametersFromFile("x")\n',
-     [':4: zros.launch_ros.actions has no SetParametersFromFile; supported:', 'Node']),
+     '    return zros.launch_ros.actions.NoSuchAction("x")\n',
+     [':4: zros.launch_ros.actions has no NoSuchAction; supported:', 'Node']),
     ('from zros.launch.event_handlers import event_named\n',
      [':1: zros.launch.event_handlers has no event_named; supported:', 'OnProcessIO']),
     ('from zros.launch import LaunchDescription\nfrom zros.launch_ros.actions import Node\n\n'

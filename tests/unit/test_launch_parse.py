@@ -296,7 +296,8 @@ def test_every_registered_substitution_is_tested():
 
 def test_param_lazy_defaults_and_path_join():
     ctx = Ctx()
-    ctx.context.ros.params.extend([('rate', 10), ('flag', True), ('rate', 20)])
+    for pair in [('rate', 10), ('flag', True), ('rate', 20)]:
+        ctx.context.ros.add_param(pair)
     assert ctx('$(param rate)') == '20'                    # what the next node would get
     assert ctx('$(param flag)') == 'true'
     assert ctx('$(param missing 5)') == '5'

@@ -80,7 +80,7 @@ def generate_launch_description():
         Node(package='demo_nodes', executable='talker', name='t', namespace='/ns', exec_name='speaker',
              respawn=True, respawn_delay=2.5, sigterm_timeout='3', additional_env={'B': '2'},
              ros_arguments=['--log-level', 'debug'], prefix='nice -n 5',
-             parameters=[{'plain': '1', 'typed': TextSubstitution(text='1'), 'forced': ParameterValue('1', value_type=int),
+             parameters=[{'plain': '1', 'typed': TextSubstitution(text='1'), 'forced': ParameterValue(TextSubstitution(text='1'), value_type=int),
                           'listed': [1, 2.5], 'strings': ['a', 'b'], 'flag': True,
                           'typed_list': ParameterValue(TextSubstitution(text='[1, 2]'), value_type=List[int])}]),
         ExecuteProcess(cmd=['echo', 'a b'], name='shell_free'),

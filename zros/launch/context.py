@@ -11,7 +11,6 @@ import copy
 import os
 from collections import Counter
 from collections.abc import Iterable, Iterator, MutableMapping
-from dataclasses import dataclass, field
 from typing import Any, NamedTuple
 
 from zros.launch.errors import LaunchFileError, Origin
@@ -22,14 +21,62 @@ from zros.launch.template import make_anon_name
 __all__ = ['LaunchContext', 'RosScope', 'DeclaredArgument']
 
 
-@dataclass
 class RosScope:
-    """What launch_ros keeps in launch configurations: the pushed namespace and the
-    `set_parameter` / `set_remap` / `set_use_sim_time` values that apply to later nodes."""
+    """launch_ros's scope, kept where launch_ros keeps it: in the launch configurations, as
+    `ros_namespace` (the pushed namespace), `global_params` (`(name, value)` pairs, or parameter
+    file paths, for every later node) and `ros_remaps` (`(from, to)` pairs). Saving, restoring
+    and resetting configurations (groups, includes, ResetLaunchConfigurations) therefore covers
+    it, and code written against launch_ros reads the same keys.
 
-    namespace: str = ''
-    params: list[tuple[str, Any]] = field(default_factory=list)
-    remaps: list[tuple[str, str]] = field(default_factory=list)
+    Args:
+        configurations: the launch configurations to read and write (a LaunchContext's, or
+            those of any context that has `launch_configurations`).
+
+    A saved scope shares its lists with the current one, so lists are replaced, never changed
+    in place.
+    """
+
+    NAMESPACE = 'ros_namespace'
+    PARAMS = 'global_params'
+    REMAPS = 'ros_remaps'
+
+    def __init__(self, configurations: MutableMapping[str, Any]) -> None:
+        self._configurations = configurations
+
+    @classmethod
+    def of(cls, context: Any) -> 'RosScope':
+        """The scope of a LaunchContext, or of any object with `launch_configurations`."""
+        configurations = context.configurations if isinstance(context, LaunchContext) else context.launch_configurations
+        return cls(configurations)
+
+    @property
+    def namespace(self) -> str:
+        """The pushed namespace ('' when none was pushed)."""
+        return self._configurations.get(self.NAMESPACE) or ''
+
+    @namespace.setter
+    def namespace(self, value: str) -> None:
+        self._configurations[self.NAMESPACE] = value
+
+    @property
+    def params(self) -> list[Any]:
+        return list(self._configurations.get(self.PARAMS) or [])
+
+    @property
+    def param_pairs(self) -> list[tuple[str, Any]]:
+        """The `(name, value)` pairs of `params` (without the parameter files)."""
+        return [item for item in self.params if isinstance(item, tuple)]
+
+    @property
+    def remaps(self) -> list[tuple[str, str]]:
+        return list(self._configurations.get(self.REMAPS) or [])
+
+    def add_param(self, item: Any) -> None:
+        """A `(name, value)` pair or a parameter file path, for every later node in the scope."""
+        self._configurations[self.PARAMS] = [*self.params, item]
+
+    def add_remap(self, source: str, target: str) -> None:
+        self._configurations[self.REMAPS] = [*self.remaps, (source, target)]
 
 
 class DeclaredArgument(NamedTuple):
@@ -41,14 +88,6 @@ class DeclaredArgument(NamedTuple):
     choices: tuple[str, ...]
     origin: Origin
     conditional: bool = False      # inside an if/unless (may not be declared at all)
-
-
-class _SavedConfigurations(NamedTuple):
-    """What `PushLaunchConfigurations` saves: launch_ros keeps its scope in launch
-    configurations, so the ROS scope is saved and restored with them."""
-
-    configurations: dict[str, str]
-    ros: RosScope
 
 
 class LaunchContext(EventDispatch):
@@ -75,11 +114,10 @@ class LaunchContext(EventDispatch):
         self.configurations: dict[str, str] = dict(self.launch_arguments)
         self.base_environment = dict(os.environ if environment is None else environment)
         self.environment: dict[str, str] = dict(self.base_environment)
-        self.ros = RosScope()
         self.log_dir = log_dir
         self.declared: dict[str, DeclaredArgument] = {}
         self.known_arguments: dict[str, DeclaredArgument] = {}   # from a static walk, for messages
-        self._saved_configurations: list[_SavedConfigurations] = []
+        self._saved_configurations: list[dict[str, Any]] = []
         self._saved_environments: list[dict[str, str]] = []
         self._files: list[tuple[str, Origin | None]] = []
         self._captures: list[list] = [[]]
@@ -89,6 +127,8 @@ class LaunchContext(EventDispatch):
         # with snapshots: a duplicate name anywhere in the launch is one to warn about
         self.node_names: Counter[str] = Counter()
         self._asyncio_loop: Any = None
+        # SetUseSimTime: the launch's ROS time (ROSTimer's) follows /clock
+        self.launch_use_sim_time = False
 
     # -- the asyncio loop a launch runs in (launch.LaunchContext.asyncio_loop) -----------------
     @property
@@ -99,6 +139,11 @@ class LaunchContext(EventDispatch):
 
     def _set_asyncio_loop(self, loop: Any) -> None:
         self._asyncio_loop = loop
+
+    @property
+    def ros(self) -> RosScope:
+        """launch_ros's scope (namespace, parameters, remappings), a view of the configurations."""
+        return RosScope(self.configurations)
 
     # -- what Python launch code sees (launch.LaunchContext) -----------------------------------
     @property
@@ -120,7 +165,6 @@ class LaunchContext(EventDispatch):
         copied = copy.copy(self)
         copied.configurations = dict(self.configurations)
         copied.environment = dict(self.environment)
-        copied.ros = copy.deepcopy(self.ros)
         copied._saved_configurations = list(self._saved_configurations)
         copied._saved_environments = list(self._saved_environments)
         copied._locals = self._locals.copy()
@@ -150,11 +194,11 @@ class LaunchContext(EventDispatch):
 
     # -- scopes: the stacks that Push/Pop/Reset actions work on ------------------------------
     def push_launch_configurations(self) -> None:
-        self._saved_configurations.append(_SavedConfigurations(dict(self.configurations), copy.deepcopy(self.ros)))
+        self._saved_configurations.append(dict(self.configurations))
 
     def pop_launch_configurations(self) -> None:
-        saved = pop_saved(self._saved_configurations, 'PopLaunchConfigurations', 'PushLaunchConfigurations')
-        self.configurations, self.ros = saved
+        self.configurations = pop_saved(self._saved_configurations, 'PopLaunchConfigurations',
+                                        'PushLaunchConfigurations')
 
     def push_environment(self) -> None:
         self._saved_environments.append(dict(self.environment))
@@ -167,9 +211,8 @@ class LaunchContext(EventDispatch):
         self.environment = dict(self.base_environment)
 
     def reset_configurations(self, keep: dict[str, str]) -> None:
-        """`ResetLaunchConfigurations`: only `keep` remains (and a fresh ROS scope)."""
+        """`ResetLaunchConfigurations`: only `keep` remains (the ROS scope too is gone)."""
         self.configurations = dict(keep)
-        self.ros = RosScope()
 
     # launch's names for the same steps (its LaunchService and tests call these)
     _push_launch_configurations = push_launch_configurations

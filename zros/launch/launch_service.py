@@ -12,6 +12,7 @@ its own thread between the things it watches.
 from __future__ import annotations
 
 import queue
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -84,10 +85,18 @@ class LaunchService(ProcessObserver):
     # -- running -----------------------------------------------------------------------------------
     def run(self, *, shutdown_when_idle: bool = True) -> int:
         """Run until shut down, or (with `shutdown_when_idle`) until nothing is left to do, then
-        a Shutdown event; 0, or 1 when a process could not be started."""
+        a Shutdown event; 0, or 1 when a process could not be started or an action failed
+        (a LaunchError, logged)."""
         self._shutdown_when_idle = shutdown_when_idle
-        return self._supervise(Supervisor(Plan('<LaunchService>'), log_dir=None, debug=self.debug, hub=False,
-                                          observer=self, keep_alive=not shutdown_when_idle))
+        supervisor = Supervisor(Plan('<LaunchService>'), log_dir=None, debug=self.debug, hub=False,
+                                observer=self, keep_alive=not shutdown_when_idle)
+        try:
+            return self._supervise(supervisor)
+        except LaunchError as exc:
+            # launch's contract: a launch that fails (a node whose package is missing, ...)
+            # is a return code, with the reason logged; the supervisor has stopped its processes
+            print(f'[ERROR] [launch]: {exc}', file=sys.stderr, flush=True)
+            return 1
 
     @classmethod
     def run_plan(cls, plan: Plan, *, log_dir: Path | None, debug: bool = False) -> int:

@@ -12,7 +12,8 @@ import typing
 from pathlib import Path
 from typing import Any, NamedTuple
 
-from zros.launch.errors import LaunchFileError, Origin, ParameterTypeError
+from zros.launch.errors import LaunchFileError, LaunchTypeError, Origin, ParameterTypeError
+from zros.launch.origin import origin_here
 from zros.launch.template import Substitution, Text, Typed, is_static
 
 __all__ = ['ParamValue', 'TextValue', 'ParamEntry', 'PARAM_TYPES', 'ParameterValue', 'ParameterFile', 'Parameter',
@@ -65,7 +66,7 @@ class ParamValue(NamedTuple):
     def of(cls, value: Any, origin: Origin, value_type: Any = None) -> 'ParamValue':
         """A Python value: scalar, list, Substitution (or list of them), ParameterValue."""
         if isinstance(value, ParameterValue):
-            return cls.of(value.value, origin, value.value_type)
+            return cls.of(value.source, origin, value.value_type)
         type_name = _type_name(value_type, origin)
         if isinstance(value, (Substitution, Text)) or _is_substitution_list(value):
             return cls(TextValue(Text.of(value, origin), True), type_name, origin)
@@ -79,8 +80,8 @@ class ParamValue(NamedTuple):
                 elif isinstance(item, (int, float, bool)):
                     items.append(item)
                 else:
-                    raise LaunchFileError(origin, 'a list parameter holds only strings, numbers, bools '
-                                                  f'or substitutions, got {type(item).__name__}')
+                    raise ParameterTypeError(origin, 'a list parameter holds only strings, numbers, bools '
+                                                     f'or substitutions, got {type(item).__name__}')
             return cls(items, type_name, origin)
         if isinstance(value, str):
             return cls(TextValue(Text.of(value, origin), False), type_name, origin)
@@ -88,7 +89,7 @@ class ParamValue(NamedTuple):
             return cls(value, type_name, origin)
         if value is None:
             raise LaunchFileError(origin, 'a parameter needs a value, got None')
-        raise LaunchFileError(origin, f'unsupported parameter value of type {type(value).__name__}')
+        raise ParameterTypeError(origin, f'unsupported parameter value of type {type(value).__name__}')
 
     @classmethod
     def from_entity(cls, entity: Any, key: str = 'value') -> 'ParamValue':
@@ -119,6 +120,12 @@ class ParamValue(NamedTuple):
     def _yaml_text(raw: str, origin: Origin) -> TextValue:
         text = Text.parse(raw, origin)
         return TextValue(text, not is_static(text.template))
+
+    def as_given(self) -> Any:
+        """The value as launch_ros code sees it before evaluation: text as substitutions."""
+        def given(item: Any) -> Any:
+            return item.text.substitutions() if isinstance(item, TextValue) else item
+        return [given(item) for item in self.value] if isinstance(self.value, list) else given(self.value)
 
     # -- evaluation --------------------------------------------------------------------------
     def perform(self, context: Any) -> Any:
@@ -183,33 +190,145 @@ class ParamValue(NamedTuple):
 
 
 # -- launch_ros.parameter_descriptions ----------------------------------------------------------
+def _as_given(value: Any) -> Any:
+    """launch_ros's view of a value before evaluation: substitutions (or a list with some) as a
+    list of substitutions, anything else as given."""
+    if isinstance(value, (Substitution, Text)) or _is_substitution_list(value):
+        return Text.of(value, origin_here('ParameterValue')).substitutions()
+    return value
+
+
+def _has_substitutions(value: Any) -> bool:
+    if isinstance(value, (list, tuple)):
+        return any(_has_substitutions(item) for item in value)
+    return isinstance(value, (Substitution, Text))
+
+
+def _check_plain(value: Any, value_type: Any) -> None:
+    """A value without substitutions must already be of `value_type` (launch_ros's rule).
+
+    Raises:
+        TypeError: it is not (`ParameterValue('1', value_type=int)`).
+    """
+    if value_type is None or _has_substitutions(value):
+        return
+    scalar = typing.get_args(value_type)[0] if typing.get_origin(value_type) in (list, typing.List) else None
+    if scalar is not None:
+        ok = isinstance(value, (list, tuple)) and all(isinstance(v, scalar) for v in value)
+    else:
+        ok = isinstance(value, value_type) if isinstance(value_type, type) else True
+    if not ok:
+        raise TypeError(f'value {value!r} is not of value_type {value_type!r}')
+
+
 class ParameterValue:
     """`ParameterValue(value, value_type=str)`: a value whose type is forced after substitution
-    (the robot_description pattern: a `Command` output kept as a string)."""
+    (the robot_description pattern: a `Command` output kept as a string).
+
+    `value` is what was given (substitutions as a list of them) until `evaluate(context)`,
+    then the evaluated value, as launch_ros's description keeps it.
+
+    Raises:
+        TypeError: a value without substitutions is not of `value_type`.
+    """
 
     def __init__(self, value: Any, *, value_type: Any = None) -> None:
-        self.value, self.value_type = value, value_type
+        _check_plain(value, value_type)
+        self.source, self.value_type = value, value_type
+        self.origin = origin_here('ParameterValue')
+        self._evaluated: tuple[Any] | None = None
+
+    @property
+    def value(self) -> Any:
+        return self._evaluated[0] if self._evaluated is not None else _as_given(self.source)
+
+    def evaluate(self, context: Any) -> Any:
+        """The value, typed as a node would get it.
+
+        Raises:
+            ValueError: the evaluated text is no value of a ROS parameter (a mixed list).
+        """
+        try:
+            value = ParamValue.of(self.source, self.origin, self.value_type).perform(context)
+        except ParameterTypeError as exc:
+            raise ValueError(exc.reason) from None
+        self._evaluated = (value,)
+        return value
 
     def __repr__(self) -> str:
-        return f'ParameterValue({self.value!r}, value_type={self.value_type!r})'
+        return f'ParameterValue({self.source!r}, value_type={self.value_type!r})'
 
 
 class ParameterFile:
     """`ParameterFile(path, allow_substs=False)`: a ROS 2 parameter file, with substitutions in
-    it evaluated when `allow_substs` is true."""
+    it evaluated when `allow_substs` is true.
+
+    `evaluate(context)` answers the file a node is given: the file itself, or with
+    `allow_substs` a temporary copy with the substitutions performed (removed by `cleanup()`);
+    `param_file` is that path from then on, as in launch_ros.
+    """
 
     def __init__(self, param_file: Any, *, allow_substs: Any = False) -> None:
-        self.param_file, self.allow_substs = param_file, allow_substs
+        self.source, self.allow_substs = param_file, allow_substs
+        self.origin = origin_here('ParameterFile')
+        self._evaluated: Path | None = None
+        self._temporary = False
+
+    @property
+    def param_file(self) -> Any:
+        """The evaluated path, or before that the path (a Path as given, text as substitutions)."""
+        if self._evaluated is not None:
+            return self._evaluated
+        return self.source if isinstance(self.source, Path) else Text.of(self.source, self.origin).substitutions()
+
+    def evaluate(self, context: Any) -> Path:
+        import tempfile
+        from zros.launch.template import parse, perform
+        path = Path(Text.of(self.source, self.origin).perform(context))
+        allow = (Typed.of(self.allow_substs, bool, self.origin).perform(context)
+                 if self.allow_substs is not None else False)
+        if allow:
+            text = perform(parse(path.read_text(encoding='utf-8')), context)
+            with tempfile.NamedTemporaryFile('w', prefix='launch_params_', suffix='.yaml', delete=False) as out:
+                out.write(text)
+            path, self._temporary = Path(out.name), True
+        self._evaluated = path
+        return path
+
+    def cleanup(self) -> None:
+        """Remove the substituted copy `evaluate` wrote, if any, and go back to the path as
+        given (a file used as it is stays evaluated)."""
+        if self._temporary and self._evaluated is not None:
+            self._evaluated.unlink(missing_ok=True)
+            self._evaluated, self._temporary = None, False
 
     def __repr__(self) -> str:
-        return f'ParameterFile({self.param_file!r}, allow_substs={self.allow_substs!r})'
+        return f'ParameterFile({self.source!r}, allow_substs={self.allow_substs!r})'
 
 
 class Parameter:
-    """`Parameter(name, value, value_type=None)`: one parameter, as a `parameters=[...]` item."""
+    """`Parameter(name, value, value_type=None)`: one parameter, as a `parameters=[...]` item;
+    `name` and `value` are as given until `evaluate(context)` returns and keeps them evaluated."""
 
     def __init__(self, name: Any, value: Any, *, value_type: Any = None) -> None:
-        self.name, self.value, self.value_type = name, value, value_type
+        self.source_name, self.value_type = name, value_type
+        self.origin = origin_here('Parameter')
+        self.parameter_value = ParameterValue(value, value_type=value_type)
+        self._name: str | None = None
+
+    @property
+    def name(self) -> Any:
+        if self._name is not None:
+            return self._name
+        return Text.of(self.source_name, self.origin).substitutions()
+
+    @property
+    def value(self) -> Any:
+        return self.parameter_value.value
+
+    def evaluate(self, context: Any) -> tuple[str, Any]:
+        self._name = Text.of(self.source_name, self.origin).perform(context)
+        return self._name, self.parameter_value.evaluate(context)
 
 
 # -- entries -----------------------------------------------------------------------------------
@@ -265,14 +384,14 @@ def param_entries(parameters: Any, origin: Origin) -> tuple[ParamEntry, ...]:
             entries.extend(_dict_entries(item, origin))
         elif isinstance(item, ParameterFile):
             allow = Typed.of(item.allow_substs, bool, origin) if item.allow_substs is not None else None
-            entries.append(ParamEntry(None, None, (), Text.of(item.param_file, origin), allow, origin))
+            entries.append(ParamEntry(None, None, (), Text.of(item.source, origin), allow, origin))
         elif isinstance(item, Parameter):
-            entries.append(ParamEntry(Text.of(item.name, origin), ParamValue.of(item.value, origin, item.value_type),
+            entries.append(ParamEntry(Text.of(item.source_name, origin), ParamValue.of(item.parameter_value, origin),
                                       (), None, None, origin))
         elif isinstance(item, (str, Path, Substitution, Text)) or _is_substitution_list(item):
             entries.append(ParamEntry(None, None, (), Text.of(item, origin), None, origin))
         else:
-            raise LaunchFileError(origin, 'a parameters item is a dict, a parameter file path or a '
+            raise LaunchTypeError(origin, 'a parameters item is a dict, a parameter file path or a '
                                           f'ParameterFile, got {type(item).__name__}')
     return tuple(entries)
 
@@ -280,6 +399,8 @@ def param_entries(parameters: Any, origin: Origin) -> tuple[ParamEntry, ...]:
 def _dict_entries(mapping: dict, origin: Origin) -> list[ParamEntry]:
     entries = []
     for key, value in mapping.items():
+        if not isinstance(key, (str, Substitution, Text, tuple, list)):
+            raise LaunchTypeError(origin, f'a parameter name is a string or substitutions, got {type(key).__name__}')
         name = Text.of(key, origin)
         if isinstance(value, dict):
             entries.append(ParamEntry(name, None, tuple(_dict_entries(value, origin)), None, None, origin))

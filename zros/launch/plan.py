@@ -9,7 +9,7 @@ from __future__ import annotations
 import shlex
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, NamedTuple, Union
+from typing import Any, Callable, NamedTuple, Union
 
 import yaml
 
@@ -104,13 +104,17 @@ class LogMessage(NamedTuple):
 
 
 class TimerEffect(NamedTuple):
-    """`effects` after `period` seconds [s]. A timer with `cancel_on_shutdown` False still fires
-    while the launch shuts down; then only its log lines and shutdowns are carried out."""
+    """`effects`, carried out `period` seconds [s] after the timer starts. A timer with
+    `cancel_on_shutdown` False still fires while the launch shuts down; then only its log lines
+    and shutdowns are carried out. `sim_time` (a ROSTimer's) answers, when the timer starts,
+    whether the launch's ROS time is sim time: then the period is counted on /clock
+    (zros.launch.ros_time) instead of the wall clock."""
 
     period: float
     effects: list
     origin: Origin | None = None
     cancel_on_shutdown: bool = True
+    sim_time: Callable[[], bool] | None = None
 
 
 class ShutdownEffect(NamedTuple):

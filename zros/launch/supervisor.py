@@ -22,15 +22,16 @@ import itertools
 import os
 import selectors
 import shlex
+import shutil
 import signal
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 from pathlib import Path
 from typing import Any, Callable, TextIO
 
-from zros.launch.errors import LaunchError
 from zros.launch.plan import (CallEffect, ChangeStateEffect, EventHandlerEffect, GeneratedParams, LogMessage, Plan,
                               ProcessSpec, ShutdownEffect, TimerEffect)
 
@@ -246,6 +247,7 @@ class Supervisor:
                  keep_alive: bool = False) -> None:
         self.plan = plan
         self.log_dir = log_dir
+        self._temporary_params_dir: Path | None = None
         self.debug = debug
         self.hub = hub
         self._screen = screen
@@ -256,6 +258,7 @@ class Supervisor:
         self._processes: list[_Process] = []
         self._counter = itertools.count(1)
         self._timers: list[tuple[float, int, str, Callable[[], None]]] = []   # (due, seq, kind, callback)
+        self._sim_waits: list[tuple[Any, list]] = []   # ROSTimers on sim time: (SimTimeWait, effects)
         self._timer_seq = itertools.count()
         self._selector: selectors.BaseSelector | None = None
         self._signals: list[int] = []
@@ -291,7 +294,10 @@ class Supervisor:
             self._run_effects(self.plan.effects)
             self._loop()
         finally:
+            self._cancel_sim_waits()
             self._kill_all()
+            if self._temporary_params_dir is not None:
+                shutil.rmtree(self._temporary_params_dir, ignore_errors=True)
             self._restore_signals(previous)
             self._close_hub()
             for process in self._processes:
@@ -396,7 +402,10 @@ class Supervisor:
             elif isinstance(effect, LogMessage):
                 self.log.message(effect.level, 'launch.user', effect.message)
             elif isinstance(effect, TimerEffect):
-                if effect.cancel_on_shutdown:
+                if effect.sim_time is not None and effect.sim_time():
+                    from zros.launch.ros_time import SimTimeWait
+                    self._sim_waits.append((SimTimeWait(effect.period, self.wake), effect.effects))
+                elif effect.cancel_on_shutdown:
                     self._schedule(effect.period, 'timer', lambda e=effect: self._run_effects(e.effects))
                 else:
                     self._schedule(effect.period, 'kept-timer', lambda e=effect: self._run_kept(e.effects))
@@ -505,14 +514,29 @@ class Supervisor:
     # -- processes -----------------------------------------------------------------------------
     def _params_paths(self, process: _Process) -> list[str]:
         spec = process.spec
-        directory = (self.log_dir or Path('.')) / 'params'
+        directory = self._params_dir()
         paths = spec.generated_params_paths(directory, process.name)
-        if process.starts == 0 and self.log_dir is not None:
+        if process.starts == 0:
             for source, path in zip(spec.params, paths):
                 if isinstance(source, GeneratedParams):
                     directory.mkdir(parents=True, exist_ok=True)
                     Path(path).write_text(source.to_yaml(), encoding='utf-8')
         return paths
+
+    def _cancel_sim_waits(self) -> None:
+        for wait, _ in self._sim_waits:
+            wait.cancel()
+        self._sim_waits.clear()
+
+    def _params_dir(self) -> Path:
+        """Where generated parameter files go: `<log dir>/params`, or without a log directory
+        (a LaunchService run from code) a temporary directory kept while the run lasts (a
+        respawned node reads its file again) and removed when it ends."""
+        if self.log_dir is not None:
+            return self.log_dir / 'params'
+        if self._temporary_params_dir is None:
+            self._temporary_params_dir = Path(tempfile.mkdtemp(prefix='launch_params_'))
+        return self._temporary_params_dir
 
     def _environment(self, spec: ProcessSpec) -> dict[str, str]:
         env = dict(os.environ)
@@ -526,8 +550,6 @@ class Supervisor:
 
     def _start(self, process: _Process) -> None:
         spec = process.spec
-        if self.log_dir is None and any(isinstance(s, GeneratedParams) for s in spec.params):
-            raise LaunchError('inline parameters need a log directory')
         process.command = spec.command(self._params_paths(process))
         shown = spec.shell_text if spec.shell_text is not None else shlex.join(process.command)
         self.log.debug(process.name, f'cmd: {shown}')
@@ -678,6 +700,7 @@ class Supervisor:
         self._announce_shutdown(reason)
         self._timers = [t for t in self._timers if t[2] in ('escalate', 'kept-timer')]
         heapq.heapify(self._timers)
+        self._cancel_sim_waits()
         self._abandon_transitions()
         for process in self._processes:
             if not process.running:
@@ -778,7 +801,7 @@ class Supervisor:
         if self._keep_alive and not self._shutting_down:
             return True
         return (any(p.running for p in self._processes) or bool(self._transitions)
-                or any(t[2] != 'escalate' for t in self._timers))
+                or any(t[2] != 'escalate' for t in self._timers) or bool(self._sim_waits))
 
     def _flush_logs(self) -> None:
         self.log.flush()
@@ -797,6 +820,9 @@ class Supervisor:
                 _, _, _, callback = heapq.heappop(self._timers)
                 callback()
                 self._handle_signals()
+            for wait, effects in [item for item in self._sim_waits if item[0].due()]:
+                self._sim_waits.remove((wait, effects))
+                self._run_effects(effects)
             self._observer.pump()
             if not self._busy() and not self._observer.idle():
                 return

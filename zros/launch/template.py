@@ -565,7 +565,7 @@ def _optenv(context: SubstitutionContext, args: list[_Lazy]) -> str:
               summary='a parameter set earlier with set_parameter (2nd argument: a default)')
 def _param(context: SubstitutionContext, args: list[_Lazy]) -> str:
     name = args[0].value()
-    for set_name, value in reversed(getattr(context, 'ros').params):
+    for set_name, value in reversed(getattr(context, 'ros').param_pairs):
         if set_name == name:
             return _param_text(value)
     if len(args) > 1:

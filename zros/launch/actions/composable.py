@@ -92,7 +92,7 @@ class ComposableNode:
 
 
 def _note(context: Any, origin: Origin, where: str, nodes: list[Node]) -> None:
-    names = ', '.join(f"'{node.node_name.perform(context) if node.node_name else node.executable}'" for node in nodes)
+    names = ', '.join(f"'{node.given_name.perform(context) if node.given_name else node.executable}'" for node in nodes)
     context.emit(LogMessage('INFO', f'zros has no component containers: composable node{"s" if len(nodes) > 1 else ""} '
                                     f'{names} of {where} run{"" if len(nodes) > 1 else "s"} as '
                                     f'{"their own processes" if len(nodes) > 1 else "its own process"}', origin))
@@ -136,8 +136,10 @@ class ComposableNodeContainer(Node):
 
     def execute(self, context: Any) -> list[Action]:
         nodes = _selected(context, self.composable_node_descriptions, self.output)
+        self._perform_substitutions(context)
+        self._count_node_name(context)   # the container is a node of the launch, as in launch_ros
         name, namespace = self.resolve_names(context)
-        container = f"{'' if namespace == '/' else namespace}/{name or self.executable.perform(context)}"
+        container = f"{(namespace or '/').rstrip('/')}/{name or self.executable.perform(context)}"
         if nodes:
             _note(context, self.origin, f"container '{container}'", nodes)
         return nodes
@@ -172,7 +174,7 @@ class LoadComposableNodes(Action):
         nodes = _selected(context, self.composable_node_descriptions, None)
         target = self.target_container
         if isinstance(target, Node):
-            where = "the container" if target.node_name is None else f"container '{target.node_name.perform(context)}'"
+            where = "the container" if target.given_name is None else f"container '{target.given_name.perform(context)}'"
         elif target is not None:
             where = f"container '{Text.of(target, self.origin).perform(context)}'"
         else:

@@ -9,6 +9,7 @@ from zros.launch.action import Action, ActionKwargs, Parser, launch_tag
 from zros.launch.actions.arg import (ResetLaunchConfigurations, SetLaunchConfiguration, configuration_pairs,
                                      parse_keep)
 from zros.launch.actions.scope import ResetEnvironment, scoped
+from zros.launch.context import RosScope
 from zros.launch.entity import Entity
 from zros.launch.errors import LaunchFileError, LaunchTypeError, Origin
 from zros.launch.launch_description_entity import LaunchDescriptionEntity
@@ -119,9 +120,10 @@ class PushRosNamespace(Action):
         return cls, kwargs
 
     def execute(self, context: Any) -> None:
-        namespace = join_namespace(context.ros.namespace or '/', self.namespace.perform(context))
+        scope = RosScope.of(context)
+        namespace = join_namespace(scope.namespace or '/', self.namespace.perform(context))
         try:
             validate_namespace(namespace)
         except InvalidNameError as exc:
             raise LaunchFileError(self.namespace.origin, str(exc)) from None
-        context.ros.namespace = namespace
+        scope.namespace = namespace

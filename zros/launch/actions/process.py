@@ -21,8 +21,9 @@ from zros.launch.actions.execute_local import (DEFAULT_SIGKILL_TIMEOUT, DEFAULT_
                                                ExecuteLocalKwargs, check_program, process_label)
 from zros.launch.actions.group import join_namespace
 from zros.launch.descriptions.executable import CommandLine, Executable
+from zros.launch.context import RosScope
 from zros.launch.entity import Entity, Scalar
-from zros.launch.errors import LaunchFileError, Origin
+from zros.launch.errors import LaunchFileError, LaunchTypeError, Origin
 from zros.launch.parameters import ParamEntry, param_entries, yaml_param_entries
 from zros.launch.plan import GeneratedParams, LogMessage, NodeInfo, ParamsFile, ProcessSpec
 from zros.launch.origin import origin_here
@@ -108,13 +109,19 @@ def _set_dotted(tree: dict, name: str, value: Any, origin: Origin) -> None:
 
 
 def remap_pairs(owner: Action, remappings: Any) -> list[tuple[Text, Text]]:
-    """Python `remappings=[(from, to), ...]` as Text pairs."""
+    """Python `remappings=[(from, to), ...]` as Text pairs; a LaunchTypeError (a TypeError, as
+    launch_ros raises) for anything else, such as a dict."""
+    if isinstance(remappings, (dict, str)):
+        raise LaunchTypeError(owner.origin.with_key('remappings'),
+                              f'expected a list of (from, to) pairs, got {type(remappings).__name__}')
     pairs = []
     for rule in remappings or []:
+        if isinstance(rule, (dict, str)):
+            raise LaunchTypeError(owner.origin.with_key('remappings'), f'expected (from, to) pairs, got {rule!r:.60}')
         try:
             source, target = rule
         except (TypeError, ValueError):
-            raise LaunchFileError(owner.origin.with_key('remappings'),
+            raise LaunchTypeError(owner.origin.with_key('remappings'),
                                   f'expected (from, to) pairs, got {rule!r:.60}') from None
         pairs.append((owner._text(source, 'remappings'), owner._text(target, 'remappings')))
     return pairs
@@ -140,19 +147,31 @@ class Node(ExecuteProcess):
     Without a package, `executable` is a program on PATH, run with the same `--ros-args`.
     """
 
+    #: launch_ros's placeholders in `node_name` for a name or namespace neither the node nor
+    #: its scope gives (the process keeps its own).
+    UNSPECIFIED_NODE_NAME = '<node_name_unspecified>'
+    UNSPECIFIED_NODE_NAMESPACE = '<node_namespace_unspecified>'
+
     def __init__(self, *, executable: Any, package: Any = None, name: Any = None, namespace: Any = None,
                  exec_name: Any = None, parameters: Any = None, remappings: Any = None, arguments: Any = None,
                  ros_arguments: Any = None, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         self.package = self._optional_text(package, 'package')
         self.executable = self._text(executable, 'executable')
-        self.node_name = self._optional_text(name, 'name')
+        self.given_name = self._optional_text(name, 'name')
         self.namespace = self._optional_text(namespace, 'namespace')
+        self.__expanded_node_name = self.UNSPECIFIED_NODE_NAME
+        self.__expanded_node_namespace = self.UNSPECIFIED_NODE_NAMESPACE
+        self.__final_node_name: str | None = None
+        self.__expanded_remappings: list[tuple[str, str]] | None = None
         if exec_name is not None:
             self.process_description.name = self._text(exec_name, 'exec_name')
         self.arguments = CommandLine.of(arguments, self.origin.with_key('arguments')) if arguments is not None else None
         self.ros_arguments = (CommandLine.of(ros_arguments, self.origin.with_key('ros_arguments'))
                               if ros_arguments is not None else None)
+        if parameters is not None and not isinstance(parameters, (list, tuple)):
+            raise LaunchTypeError(self.origin.with_key('parameters'), 'expected a list of parameter dicts and '
+                                  f'files, got {type(parameters).__name__}')
         self.parameters = parameters if isinstance(parameters, tuple) and all(
             isinstance(p, ParamEntry) for p in parameters) else param_entries(parameters, self.origin.with_key('parameters'))
         self.remappings = remappings if isinstance(remappings, list) and all(
@@ -177,47 +196,90 @@ class Node(ExecuteProcess):
         return cls, kwargs
 
     # -- resolution ----------------------------------------------------------------------------
-    def resolve_names(self, context: Any) -> tuple[str | None, str]:
-        """The node name (None: the node's own) and its absolute namespace, validated."""
+    def resolve_names(self, context: Any) -> tuple[str | None, str | None]:
+        """The node name and its absolute namespace, validated; None for one neither this node
+        nor its scope gives (the node keeps its own)."""
         from zros.names import validate_namespace, validate_node_name
         name = None
-        if self.node_name is not None:
-            name = self.node_name.perform(context)
+        if self.given_name is not None:
+            name = self.given_name.perform(context)
             try:
                 validate_node_name(name)
             except InvalidNameError as exc:
-                raise LaunchFileError(self.node_name.origin, str(exc)) from None
-        base = context.ros.namespace or '/'
-        namespace = join_namespace(base, self.namespace.perform(context)) if self.namespace is not None else base
+                raise LaunchFileError(self.given_name.origin, str(exc)) from None
+        base = RosScope.of(context).namespace
+        if self.namespace is None and not base:
+            return name, None
+        namespace = join_namespace(base or '/', self.namespace.perform(context)) if self.namespace is not None else base
         try:
             validate_namespace(namespace)
         except InvalidNameError as exc:
             origin = self.namespace.origin if self.namespace is not None else self.origin
             raise LaunchFileError(origin, str(exc)) from None
-        if name is not None:
-            self._count_node_name(context, f"{'' if namespace == '/' else namespace}/{name}")
         return name, namespace
 
-    def _count_node_name(self, context: Any, fqn: str) -> None:
+    def _perform_substitutions(self, context: Any) -> None:
+        """launch_ros's step before a node starts, which its users read back: the expanded
+        name and namespace (`node_name`, `expanded_node_namespace`,
+        `is_node_name_fully_specified()`) and remapping rules (`expanded_remapping_rules`).
+        `execute` starts the process from these same values."""
+        name, namespace = self.resolve_names(context)
+        self.__expanded_node_name = name if name is not None else self.UNSPECIFIED_NODE_NAME
+        self.__expanded_node_namespace = namespace if namespace is not None else self.UNSPECIFIED_NODE_NAMESPACE
+        self.__final_node_name = f"{self.__expanded_node_namespace.rstrip('/')}/{self.__expanded_node_name}"
+        self.__expanded_remappings = self.remap_rules(context) or None
+
+    @property
+    def node_name(self) -> str:
+        """The fully qualified node name, with launch_ros's placeholders for a part not given.
+
+        Raises:
+            RuntimeError: the node has not been executed yet.
+        """
+        if self.__final_node_name is None:
+            raise RuntimeError("cannot access 'node_name' before executing action")
+        return self.__final_node_name
+
+    @property
+    def expanded_node_namespace(self) -> str:
+        return self.__expanded_node_namespace
+
+    @property
+    def expanded_remapping_rules(self) -> list[tuple[str, str]] | None:
+        return self.__expanded_remappings
+
+    def is_node_name_fully_specified(self) -> bool:
+        """Whether both the name and the namespace are known (launch_ros tracks only those)."""
+        return all(part not in self.node_name for part in (self.UNSPECIFIED_NODE_NAME, self.UNSPECIFIED_NODE_NAMESPACE))
+
+    def _count_node_name(self, context: Any) -> None:
         """launch_ros's duplicate-name warning: two nodes of one name confuse the ROS graph."""
+        if not self.is_node_name_fully_specified():
+            return
+        fqn = self.node_name
         context.node_names[fqn] += 1
         count = context.node_names[fqn]
         if count > 1:
             context.emit(LogMessage('WARNING', f'there are now at least {count} nodes with the name {fqn} '
                                                'created within this launch context', self.origin))
 
+    def remap_rules(self, context: Any) -> list[tuple[str, str]]:
+        """The scope's remappings (SetRemap), then this node's, evaluated."""
+        rules = [*RosScope.of(context).remaps, *((s.perform(context), t.perform(context)) for s, t in self.remappings)]
+        for source, target in rules:
+            if not source or not target:
+                raise LaunchFileError(self.origin.with_key('remap'), f"remapping '{source}:={target}' "
+                                      "needs both 'from' and 'to'")
+        return rules
+
     def ros_arguments_for(self, context: Any, name: str | None, namespace: str) -> list[str]:
-        """`-r __node:=`, `-r __ns:=`, then the scope's and this node's remappings."""
+        """`-r __node:=`, `-r __ns:=`, then the remapping rules."""
         ros: list[str] = []
         if name is not None:
             ros += ['-r', f'__node:={name}']
         if namespace != '/':
             ros += ['-r', f'__ns:={namespace}']
-        for source, target in [*context.ros.remaps,
-                               *((s.perform(context), t.perform(context)) for s, t in self.remappings)]:
-            if not source or not target:
-                raise LaunchFileError(self.origin.with_key('remap'), f"remapping '{source}:={target}' "
-                                      "needs both 'from' and 'to'")
+        for source, target in self.__expanded_remappings or []:
             ros += ['-r', f'{source}:={target}']
         return ros
 
@@ -232,8 +294,11 @@ class Node(ExecuteProcess):
             package = ''
             check_program(executable, options, context, self.executable.origin)
             program = [executable]
+        self._perform_substitutions(context)
         name, namespace = self.resolve_names(context)
+        namespace = namespace or '/'
         ros = self.ros_arguments_for(context, name, namespace)
+        self._count_node_name(context)
         fqn = f"{'' if namespace == '/' else namespace}/{name or executable}"
         params = self.param_sources(context, fqn)
         user_args = self.arguments.perform(context) if self.arguments is not None else []
@@ -248,8 +313,9 @@ class Node(ExecuteProcess):
 
     # -- parameters ----------------------------------------------------------------------------
     def param_sources(self, context: Any, fqn: str) -> list:
-        """Parameter sources in order: the scope's `SetParameter`s, then this node's entries;
-        consecutive inline values share one generated file, files stay in place."""
+        """Parameter sources in order: the scope's `SetParameter`s and `SetParametersFromFile`s,
+        then this node's entries; consecutive inline values share one generated file, files
+        stay in place."""
         sources: list = []
         inline: dict = {}
 
@@ -259,8 +325,13 @@ class Node(ExecuteProcess):
                 sources.append(GeneratedParams({'/**': {'ros__parameters': inline}}))
                 inline = {}
 
-        for name, value in context.ros.params:
-            _set_dotted(inline, name, value, self.origin)
+        for item in RosScope.of(context).params:
+            if isinstance(item, tuple):
+                _set_dotted(inline, item[0], item[1], self.origin)
+            else:   # SetParametersFromFile's file
+                flush()
+                sources.append(self._params_file(ParamEntry(None, None, (), Text.of(item, self.origin), None,
+                                                            self.origin), context, fqn))
         for entry in self.parameters:
             if entry.path is not None:
                 flush()

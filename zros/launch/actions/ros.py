@@ -1,15 +1,18 @@
 """launch_ros's scope actions: `SetParameter` (`set_parameter`), `SetRemap` (`set_remap`),
-`SetUseSimTime` (`set_use_sim_time`): what every later node in the scope gets."""
+`SetUseSimTime` (`set_use_sim_time`), `SetParametersFromFile` (`set_parameters_from_file`),
+`SetROSLogDir` (`set_ros_log_dir`): what every later node in the scope gets."""
 from __future__ import annotations
 
+import os
 from typing import Any
 
 from zros.launch.action import Action, ActionKwargs, Parser, launch_tag
+from zros.launch.context import RosScope
 from zros.launch.entity import Entity
 from zros.launch.parameters import ParamValue
 from zros.launch.template import Text, Typed
 
-__all__ = ['SetParameter', 'SetRemap', 'SetUseSimTime']
+__all__ = ['SetParameter', 'SetRemap', 'SetUseSimTime', 'SetParametersFromFile', 'SetROSLogDir']
 
 
 class SetParameterKwargs(ActionKwargs, total=False):
@@ -25,7 +28,7 @@ class SetParameter(Action):
     def __init__(self, name: Any, value: Any, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         self.name = self._text(name, 'name')
-        self.value = value if isinstance(value, ParamValue) else ParamValue.of(value, self.origin.with_key('value'))
+        self.param_value = value if isinstance(value, ParamValue) else ParamValue.of(value, self.origin.with_key('value'))
 
     @classmethod
     def parse(cls, entity: Entity, parser: Parser) -> tuple[type[Action], SetParameterKwargs]:
@@ -35,7 +38,12 @@ class SetParameter(Action):
         return cls, kwargs
 
     def execute(self, context: Any) -> None:
-        context.ros.params.append((self.name.perform(context), self.value.perform(context)))
+        RosScope.of(context).add_param((self.name.perform(context), self.param_value.perform(context)))
+
+    @property
+    def value(self) -> Any:
+        """launch_ros's view of the value: text as substitutions, other values as given."""
+        return self.param_value.as_given()
 
 
 class SetRemapKwargs(ActionKwargs, total=False):
@@ -60,7 +68,7 @@ class SetRemap(Action):
         return cls, kwargs
 
     def execute(self, context: Any) -> None:
-        context.ros.remaps.append((self.src.perform(context), self.dst.perform(context)))
+        RosScope.of(context).add_remap(self.src.perform(context), self.dst.perform(context))
 
 
 class SetUseSimTimeKwargs(ActionKwargs, total=False):
@@ -70,7 +78,7 @@ class SetUseSimTimeKwargs(ActionKwargs, total=False):
 @launch_tag('set_use_sim_time')
 class SetUseSimTime(Action):
     """`SetUseSimTime(True)`; YAML `set_use_sim_time: {value: true}`: `use_sim_time` for every
-    later node in the scope."""
+    later node in the scope, and the launch's ROS time (ROSTimer's) is sim time from then on."""
 
     def __init__(self, value: Any, **kwargs: Any) -> None:
         super().__init__(**kwargs)
@@ -83,4 +91,62 @@ class SetUseSimTime(Action):
         return cls, kwargs
 
     def execute(self, context: Any) -> None:
-        context.ros.params.append(('use_sim_time', self.value.perform(context)))
+        value = self.value.perform(context)
+        RosScope.of(context).add_param(('use_sim_time', value))
+        # launch_ros sets it on its own node too, whose clock times ROSTimers: launch-wide
+        context.launch_use_sim_time = value
+
+
+class PathKwargs(ActionKwargs, total=False):
+    path: Text
+
+
+class _PathAction(Action):
+    """A launch_ros scope action given one path, under the keyword and YAML attribute `KEY`
+    (`SetParametersFromFile(filename)`, `SetROSLogDir(new_log_dir)`); kept as `self.path`."""
+
+    KEY = ''
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        value = args[0] if args else kwargs.pop(self.KEY)
+        super().__init__(**kwargs)
+        self.path = self._text(value, self.KEY)
+
+    @classmethod
+    def parse(cls, entity: Entity, parser: Parser) -> tuple[type[Action], PathKwargs]:
+        _, kwargs = super().parse(entity, parser)
+        kwargs[cls.KEY] = parser.text(entity, cls.KEY)
+        return cls, kwargs
+
+
+@launch_tag('set_parameters_from_file')
+class SetParametersFromFile(_PathAction):
+    """`SetParametersFromFile(filename)`; YAML `set_parameters_from_file: {filename}`: a ROS 2
+    parameter file for every later node in the scope, passed before the node's own parameters
+    (each node reads its own entries and the wildcards from it)."""
+
+    KEY = 'filename'
+
+    def execute(self, context: Any) -> None:
+        RosScope.of(context).add_param(self.path.perform(context))
+
+
+@launch_tag('set_ros_log_dir')
+class SetROSLogDir(_PathAction):
+    """`SetROSLogDir(new_log_dir)`; YAML `set_ros_log_dir: {new_log_dir}`: `ROS_LOG_DIR` for the
+    processes started later in the scope. A relative directory goes under the current ROS log
+    directory (the launch environment's `ROS_LOG_DIR`, else `ROS_HOME`/log, else ~/.ros/log).
+    Like every environment change in zros's launch it changes the launch's environment, not the
+    launching process's `os.environ`."""
+
+    KEY = 'new_log_dir'
+
+    @property
+    def log_dir(self) -> Any:
+        """launch_ros's view: the directory as substitutions."""
+        return self.path.substitutions()
+
+    def execute(self, context: Any) -> None:
+        from zros.logging import get_logging_directory
+        current = get_logging_directory(context.environment)
+        context.environment['ROS_LOG_DIR'] = os.path.join(current, self.path.perform(context))

@@ -1,4 +1,5 @@
-"""`TimerAction` (`timer`): run actions `period` seconds after the launch reaches it."""
+"""`TimerAction` (`timer`): run actions `period` seconds after the launch reaches it; and
+launch_ros's `ROSTimer` (`ros_timer`), the same on ROS time."""
 from __future__ import annotations
 
 from typing import Any, Iterable
@@ -11,7 +12,7 @@ from zros.launch.errors import LaunchFileError
 from zros.launch.plan import TimerEffect
 from zros.launch.template import Typed
 
-__all__ = ['TimerAction']
+__all__ = ['TimerAction', 'ROSTimer']
 
 
 class TimerKwargs(ActionKwargs, total=False):
@@ -65,6 +66,20 @@ class TimerAction(Action):
         cancel = self._cancel_on_shutdown.perform(context) if self._cancel_on_shutdown is not None else True
         context.begin_capture()
         return [*scoped(self.actions, self.origin),
-                EndCapture(origin=self.origin,
-                           wrap=lambda effects: TimerEffect(period, effects, self.origin, cancel))]
+                EndCapture(origin=self.origin, wrap=lambda effects: self._timer_effect(period, effects, cancel, context))]
 
+    def _timer_effect(self, period: float, effects: list, cancel: bool, context: Any) -> TimerEffect:
+        return TimerEffect(period, effects, self.origin, cancel)
+
+
+@launch_tag('ros_timer')
+class ROSTimer(TimerAction):
+    """launch_ros's `ROSTimer(period=..., actions=[...])`; YAML `ros_timer: {period, children}`:
+    a TimerAction on the launch's ROS time, which is the wall clock unless `SetUseSimTime(True)`
+    made it sim time (launch-wide, as it sets launch_ros's own node's `use_sim_time`); then the
+    period is counted on /clock (zros.launch.ros_time).
+    """
+
+    def _timer_effect(self, period: float, effects: list, cancel: bool, context: Any) -> TimerEffect:
+        return TimerEffect(period, effects, self.origin, cancel,
+                           sim_time=lambda: bool(getattr(context, 'launch_use_sim_time', False)))

@@ -1,9 +1,9 @@
 """launch_ros.descriptions: `ComposableNode` and the parameter descriptions."""
 from __future__ import annotations
 
-from zros.launch.actions.composable import ComposableNode
 from zros.launch.files import module_getattr
 from zros.launch.parameters import Parameter, ParameterFile, ParameterValue
+from zros.launch_ros.descriptions.composable_node import ComposableNode
 
 __all__ = ['ComposableNode', 'Parameter', 'ParameterFile', 'ParameterValue']
 

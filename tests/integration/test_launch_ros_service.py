@@ -1,0 +1,77 @@
+"""launch_ros's Node under a LaunchService started from code, as launch_ros's users and tests
+run it: a node whose package is missing fails the run with a return code, inline parameters
+reach the node without a log directory, and talker_qos stops after its cycles."""
+from __future__ import annotations
+
+from zros.launch import LaunchDescription, LaunchService
+from zros.launch_ros.actions import Node
+
+
+def run(*actions) -> int:
+    service = LaunchService()
+    service.include_launch_description(LaunchDescription(list(actions)))
+    return service.run()
+
+
+def test_a_node_of_a_missing_package_fails_the_run_with_one_line(capfd):
+    assert run(Node(package='no_such_package', executable='node')) == 1
+    assert "package 'no_such_package' not found" in capfd.readouterr().err
+
+
+def test_inline_parameters_reach_a_node_started_by_a_launch_service(capfd):
+    probe = ('import sys, yaml; i = sys.argv.index("--params-file"); '
+             'print("rate =", yaml.safe_load(open(sys.argv[i + 1]))["/**"]["ros__parameters"]["rate"])')
+    node = Node(executable='python3', arguments=['-c', probe], parameters=[{'rate': 7}], output='screen')
+    assert run(node) == 0
+    assert 'rate = 7' in capfd.readouterr().out
+
+
+def test_talker_qos_stops_after_its_cycles(capfd):
+    talker = Node(package='demo_nodes_py', executable='talker_qos', arguments=['--number_of_cycles', '1'],
+                  name='talker', namespace='qos', output='screen')
+    assert run(talker) == 0
+    assert "Publishing: 'Hello World: 1'" in capfd.readouterr().out
+
+
+def test_a_ros_timer_on_sim_time_fires_when_clock_has_advanced_its_period(capfd):
+    """/clock advances 100 s every 0.2 s of wall time: a 300 s ROSTimer fires after about 0.6 s."""
+    import threading
+    import time
+
+    import zros
+    from interfaces.builtin_interfaces.msg import Time
+    from interfaces.rosgraph_msgs.msg import Clock
+    from zros.launch.actions import ExecuteProcess
+    from zros.launch_ros.actions import ROSTimer, SetUseSimTime
+
+    stop = threading.Event()
+
+    def publish_clock() -> None:
+        with zros.init(args=[]) as context:
+            node = zros.create_node('sim_clock', context=context)
+            publisher = node.create_publisher(Clock, '/clock', 10)
+            seconds = 0
+            while not stop.wait(0.2):
+                seconds += 100
+                publisher.publish(Clock(clock=Time(sec=seconds)))
+
+    thread = threading.Thread(target=publish_clock, daemon=True)
+    thread.start()
+    try:
+        started = time.monotonic()
+        fired = ExecuteProcess(cmd=['python3', '-c', 'print("timer fired")'], output='screen')
+        assert run(ROSTimer(period=300.0, actions=[fired]), SetUseSimTime(True)) == 0
+        assert time.monotonic() - started < 30.0
+        assert 'timer fired' in capfd.readouterr().out
+    finally:
+        stop.set()
+        thread.join()
+
+
+def test_a_ros_timer_without_sim_time_is_a_wall_clock_timer():
+    import time
+
+    from zros.launch_ros.actions import ROSTimer
+    started = time.monotonic()
+    assert run(ROSTimer(period=0.5, actions=[])) == 0
+    assert time.monotonic() - started >= 0.5
