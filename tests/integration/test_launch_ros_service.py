@@ -15,7 +15,8 @@ def run(*actions) -> int:
 
 def test_a_node_of_a_missing_package_fails_the_run_with_one_line(capfd):
     assert run(Node(package='no_such_package', executable='node')) == 1
-    assert "package 'no_such_package' not found" in capfd.readouterr().err
+    printed = capfd.readouterr()
+    assert "package 'no_such_package' not found" in printed.out + printed.err   # the launch's log line
 
 
 def test_inline_parameters_reach_a_node_started_by_a_launch_service(capfd):
