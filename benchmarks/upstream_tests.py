@@ -21,8 +21,8 @@ Each test file runs in a pytest process of its own (a file that hangs or crashes
 itself), under a timeout. A test counts once: the tests a file defines are counted from its
 source (functions and methods named `test*`, each parametrization once per case where pytest
 could collect it), so a file that pytest cannot even import counts all its tests as failed, as
-they are for a user. Tests of rclpy's C extension rather than its API (`private_tests`: the
-binding module's handles and wait sets, C structs) are left out and counted apart. The linters' test files (copyright, flake8, pep257, xmllint, mypy) are
+they are for a user. Tests of internals rather than the API (`private_tests`: rclpy's C
+binding module, C structs, class-private attributes) are left out and counted apart. The linters' test files (copyright, flake8, pep257, xmllint, mypy) are
 left out: they test the upstream sources, not the API.
 
 The table printed (and `--json`) gives per suite the tests passed of those counted, and per
@@ -48,12 +48,14 @@ _FILE_TIMEOUT = 180
 
 _C_MODULES = ('implementation_singleton', '_rclpy_pybind11')
 _C_ATTRIBUTES = {'get_c_qos_profile'}   # returns rmw's C struct of a QoS profile
+#: `obj._Node__parameters`: a class-private attribute, as Python mangles `self.__parameters`
+_MANGLED = re.compile(r'^_[A-Za-z][A-Za-z0-9]*__[A-Za-z0-9]\w*(?<!__)$')
 
 
 def defined_tests(path: Path) -> int:
     """The public-API tests a file defines, read from its source: `test*` functions at module
     level and in classes (a class named Test* or any unittest.TestCase), without running
-    anything, less the tests of C internals (`private_tests`)."""
+    anything, less the tests of internals (`private_tests`)."""
     tree = _parse(path)
     if tree is None:
         return 0
@@ -80,18 +82,19 @@ def _test_functions(tree: ast.Module):
 
 
 def private_tests(tree: ast.Module) -> set[tuple[str, str]]:
-    """The tests that exercise rclpy's C extension rather than its Python API, as the issue
-    leaves them out: a test that reaches into the binding module (`_rclpy.WaitSet`,
-    `_rclpy.Client`, ... imported from `rclpy.impl.implementation_singleton`; its exception
-    classes are API and do not count) or a C struct (`get_c_qos_profile`), directly or through a
-    helper of the same file (a module-level function or class, or a method called on `self`)."""
+    """The tests of internals rather than the public API, as the issue leaves them out: a test
+    that reaches into rclpy's C binding module (`_rclpy.WaitSet`, `_rclpy.Client`, ... imported
+    from `rclpy.impl.implementation_singleton`; its exception classes are API and do not count),
+    a C struct (`get_c_qos_profile`), or a class-private attribute (`node._Node__parameters`,
+    which only the class itself is meant to read), directly or through a helper of the same
+    file (a module-level function or class, or a method called on `self`)."""
     bindings = {alias.asname or alias.name for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)
                 and any(part in (node.module or '') for part in _C_MODULES) for alias in node.names}
 
     def touches_c(node: ast.AST, helpers: set[str]) -> bool:
         for sub in ast.walk(node):
             if isinstance(sub, ast.Attribute):
-                if sub.attr in _C_ATTRIBUTES:
+                if sub.attr in _C_ATTRIBUTES or _MANGLED.match(sub.attr):
                     return True
                 if isinstance(sub.value, ast.Name):
                     if sub.value.id in bindings and not sub.attr.endswith(('Error', 'Exception')):
@@ -175,9 +178,9 @@ def run_suite(name: str, folder: Path, env: dict[str, str], work: Path) -> dict:
         private = private_tests(tree) if tree is not None else set()
         outcome = run_file(path, env, work, private)
         outcome['defined'] = max(defined_tests(path), outcome['collected'])
-        outcome['c_internals'] = len(private)
+        outcome['internals'] = len(private)
         results[str(path.relative_to(folder))] = outcome
-        left_out = f' ({len(private)} on C internals left out)' if private else ''
+        left_out = f' ({len(private)} on internals left out)' if private else ''
         print(f'  {name}/{path.relative_to(folder)}: {outcome["passed"]}/{outcome["defined"]}{left_out}'
               f'{"  " + outcome["first_failure"] if outcome["first_failure"] else ""}', flush=True)
     passed = sum(r['passed'] for r in results.values())

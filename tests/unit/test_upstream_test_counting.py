@@ -1,5 +1,6 @@
 """How benchmarks/upstream_tests.py counts an upstream suite's tests: from the source, once per
-test, leaving out those that reach into rclpy's C extension rather than its Python API."""
+test, leaving out those that reach into internals (rclpy's C extension, class-private
+attributes) rather than the public API."""
 from __future__ import annotations
 
 import ast
@@ -54,19 +55,28 @@ _SOURCE = textwrap.dedent('''
 
         def helper_not_a_test(self):
             pass
+
+
+    def test_reads_a_class_private_attribute(node):
+        assert node._Node__parameters == []
+
+
+    def test_dunder_methods_are_public(node):
+        assert node.__class__.__name__ == 'Node'
 ''')
 
 
-def test_c_internals_are_found_directly_and_through_helpers():
+def test_internals_are_found_directly_and_through_helpers():
     private = upstream_tests.private_tests(ast.parse(_SOURCE))
-    assert private == {('', 'test_through_two_helpers'), ('TestProfiles', 'test_uses_the_round_trip')}
+    assert private == {('', 'test_through_two_helpers'), ('TestProfiles', 'test_uses_the_round_trip'),
+                       ('', 'test_reads_a_class_private_attribute')}
 
 
 def test_defined_tests_counts_the_public_ones(tmp_path):
     path = tmp_path / 'test_sample.py'
     path.write_text(_SOURCE)
-    # five tests, two of them on C internals; the binding's exception classes are API
-    assert upstream_tests.defined_tests(path) == 3
+    # seven tests, three of them on internals; the binding's exception classes are API
+    assert upstream_tests.defined_tests(path) == 4
 
 
 def test_a_file_python_cannot_parse_defines_nothing(tmp_path):
