@@ -38,7 +38,7 @@ REQUIRED_ARGUMENTS = {
     'map': str(REPO / 'nodes' / 'turtlebot3_navigation2' / 'map' / 'map.yaml'),
     'namespace': '',
 }
-_REQUIRED = re.compile(r"required launch argument '(\w+)' was not given|launch configuration '(\w+)' is not set")
+_REQUIRED = re.compile(r"[Rr]equired launch argument '(\w+)' was not given|launch configuration '(\w+)' is not set")
 _LAUNCH_FILE = re.compile(r'.*(launch\.(py|xml|ya?ml)|_launch\.py)$')
 
 
