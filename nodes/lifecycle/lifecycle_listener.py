@@ -10,12 +10,11 @@ from __future__ import annotations
 
 import sys
 
-import zros
-from zros.executors import ExternalShutdownException
 from zros.node import Node
 
 from interfaces.lifecycle_msgs.msg import TransitionEvent
 from interfaces.std_msgs.msg import String
+from nodes.lifecycle.lifecycle_talker import spin_main
 
 
 class LifecycleListener(Node):
@@ -36,12 +35,7 @@ class LifecycleListener(Node):
 
 
 def main(args: list[str] | None = None) -> int:
-    try:
-        with zros.init(args=args):
-            zros.spin(LifecycleListener())
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    return 0
+    return spin_main(LifecycleListener, args)
 
 
 if __name__ == '__main__':
