@@ -13,6 +13,7 @@ import re
 from typing import Any
 
 __all__ = ['Parameter', 'parameter_value_to_python', 'load_parameter_file', 'parameter_dict_from_yaml_file',
+           'flatten_parameters',
            'parse_parameter_value', 'get_parameter_value', 'ParameterFileError',
            'ParameterFileNotFoundError']
 
@@ -251,6 +252,13 @@ def _flatten(prefix: str, tree: dict, out: dict) -> None:
             _flatten(name, value, out)
         else:
             out[name] = value
+
+
+def flatten_parameters(tree: dict) -> dict[str, Any]:
+    """`{a: {b: 1}}` -> `{'a.b': 1}`: nested YAML maps give dotted parameter names."""
+    out: dict[str, Any] = {}
+    _flatten('', tree, out)
+    return out
 
 
 def _node_pattern_matches(pattern: str, node_fqn: str) -> bool:

@@ -143,7 +143,7 @@ def test_composable_nodes_in_yaml_run_as_processes(plan_of):
     notes = [e.message for e in plan.effects if isinstance(e, LogMessage)]
     assert notes == ["zros has no component containers: composable node 'talker' of container '/my_container' "
                      'runs as its own process',
-                     "zros has no component containers: composable node 'listener' of container 'my_container' "
+                     "zros has no component containers: composable node 'listener' of container '/my_container' "
                      'runs as its own process']
     talker, listener = processes(plan)
     assert (talker.node.name, talker.node.namespace, talker.node.executable) == ('talker', '/test_namespace', 'talker')
@@ -152,6 +152,7 @@ def test_composable_nodes_in_yaml_run_as_processes(plan_of):
     assert listener.node.executable == 'listener'
     message = error_of(plan_of, '''
         launch:
+        - node_container: {pkg: rclcpp_components, exec: component_container, name: c, namespace: ''}
         - load_composable_node:
             target: c
             composable_node: [{pkg: demo_nodes, plugin: demo_nodes::Nothing, name: x}]

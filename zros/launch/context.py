@@ -126,6 +126,9 @@ class LaunchContext(EventDispatch):
         # nodes started per fully qualified name (launch_ros.utilities.track_node_names), shared
         # with snapshots: a duplicate name anywhere in the launch is one to warn about
         self.node_names: Counter[str] = Counter()
+        # fully qualified names of the component containers this launch starts: a
+        # LoadComposableNodes aimed at one runs its nodes as processes (zros.launch.actions.composable)
+        self.containers: set[str] = set()
         self._asyncio_loop: Any = None
         # SetUseSimTime: the launch's ROS time (ROSTimer's) follows /clock
         self.launch_use_sim_time = False

@@ -17,7 +17,7 @@ from zros.launch.context import DeclaredArgument
 from zros.launch.errors import Origin
 
 __all__ = ['ParamsFile', 'GeneratedParams', 'NodeInfo', 'ProcessSpec', 'LogMessage', 'TimerEffect',
-           'ShutdownEffect', 'EventHandlerEffect', 'CallEffect', 'ChangeStateEffect', 'Effect', 'Plan',
+           'ShutdownEffect', 'EventHandlerEffect', 'CallEffect', 'TaskEffect', 'ChangeStateEffect', 'Effect', 'Plan',
            'OUTPUT_MODES']
 
 OUTPUT_MODES = ('log', 'screen', 'both', 'own_log')
@@ -101,6 +101,7 @@ class LogMessage(NamedTuple):
     level: str            # DEBUG, INFO, WARNING, ERROR
     message: str
     origin: Origin | None = None
+    logger: str = 'launch.user'   # the name in the line's prefix, as launch's logger names
 
 
 class TimerEffect(NamedTuple):
@@ -132,6 +133,19 @@ class CallEffect(NamedTuple):
     must return at once."""
 
     label: str                 # what `--print` shows: 'ready to test'
+    function: Any
+    origin: Origin | None = None
+
+
+class TaskEffect(NamedTuple):
+    """Work that waits on something outside the launch (a component container's service), so
+    it runs on a thread of its own while the supervisor keeps watching its processes; the launch
+    is not done before it returns. `function(stop)` gets a threading.Event set when the launch
+    shuts down (it should then return soon) and returns the effects to carry out, on the
+    supervisor's thread, once it is done; a LaunchError it raises fails the launch (its message
+    logged, exit code 1)."""
+
+    label: str                 # what `--print` shows
     function: Any
     origin: Origin | None = None
 
@@ -188,7 +202,8 @@ class EventHandlerEffect(NamedTuple):
         return self.deferred(Shutdown(reason=reason))
 
 
-Effect = Union[ProcessSpec, LogMessage, TimerEffect, ShutdownEffect, EventHandlerEffect, CallEffect, ChangeStateEffect]
+Effect = Union[ProcessSpec, LogMessage, TimerEffect, ShutdownEffect, EventHandlerEffect, CallEffect, TaskEffect,
+               ChangeStateEffect]
 
 
 @dataclass
@@ -247,7 +262,7 @@ class Plan:
                 self._describe_effects(effect.effects, lines, numbers, indent + '  ')
             elif isinstance(effect, ShutdownEffect):
                 lines.append(f'{indent}shutdown' + (f': {effect.reason}' if effect.reason else ''))
-            elif isinstance(effect, CallEffect):
+            elif isinstance(effect, (CallEffect, TaskEffect)):
                 lines.append(f'{indent}{effect.label}')
             elif isinstance(effect, ChangeStateEffect):
                 lines.append(f'{indent}change state of {self._targets(effect, numbers, "a lifecycle node")}: '

@@ -33,8 +33,9 @@ import time
 from pathlib import Path
 from typing import Any, Callable, Iterator, TextIO
 
+from zros.launch.errors import LaunchError
 from zros.launch.plan import (CallEffect, ChangeStateEffect, EventHandlerEffect, GeneratedParams, LogMessage, Plan,
-                              ProcessSpec, ShutdownEffect, TimerEffect)
+                              ProcessSpec, ShutdownEffect, TaskEffect, TimerEffect)
 
 __all__ = ['Supervisor', 'ProcessObserver', 'LaunchLog', 'make_log_dir', 'default_log_base']
 
@@ -224,6 +225,26 @@ class _Transition:
             self.popen.stdout.close()
 
 
+class _Task:
+    """A TaskEffect under way on its own thread; the supervisor collects what it returned."""
+
+    def __init__(self, effect: TaskEffect, wake: Callable[[], None]) -> None:
+        self.effect = effect
+        self.stop = threading.Event()
+        self.effects: list = []
+        self.error: Exception | None = None
+        self._wake = wake
+        self.thread = threading.Thread(target=self._run, name=effect.label, daemon=True)
+
+    def _run(self) -> None:
+        try:
+            self.effects = list(self.effect.function(self.stop) or [])
+        except Exception as exc:  # noqa: BLE001 - reported by the supervisor's thread, which fails the launch
+            self.error = exc
+        finally:
+            self._wake()
+
+
 class Supervisor:
     """Runs a Plan to the end.
 
@@ -272,6 +293,7 @@ class Supervisor:
         self._context = None
         self._handlers: list[EventHandlerEffect] = []
         self._transitions: list[_Transition] = []
+        self._tasks: list[_Task] = []
         self._child_exited = False      # SIGCHLD came in since the last `_reap()`
         self._reaped_at = 0.0
         self._unflushed: set[_Process] = set()   # per-process logs written since the last flush
@@ -320,6 +342,7 @@ class Supervisor:
             yield
         finally:
             self._cancel_sim_waits()
+            self._stop_tasks(wait=2.0)
             self._kill_all()
             if self._temporary_params_dir is not None:
                 shutil.rmtree(self._temporary_params_dir, ignore_errors=True)
@@ -424,7 +447,7 @@ class Supervisor:
                 self._processes.append(process)
                 self._start(process)
             elif isinstance(effect, LogMessage):
-                self.log.message(effect.level, 'launch.user', effect.message)
+                self.log.message(effect.level, effect.logger, effect.message)
             elif isinstance(effect, TimerEffect):
                 if effect.sim_time is not None and effect.sim_time():
                     from zros.launch.ros_time import SimTimeWait
@@ -439,6 +462,11 @@ class Supervisor:
                 return
             elif isinstance(effect, CallEffect):
                 effect.function()
+            elif isinstance(effect, TaskEffect):
+                task = _Task(effect, self.wake)
+                self._tasks.append(task)
+                self.log.debug('launch', effect.label)
+                task.thread.start()
             elif isinstance(effect, ChangeStateEffect):
                 self._change_state(effect)
 
@@ -450,7 +478,7 @@ class Supervisor:
             return
         for effect in effects:
             if isinstance(effect, LogMessage):
-                self.log.message(effect.level, 'launch.user', effect.message)
+                self.log.message(effect.level, effect.logger, effect.message)
             elif isinstance(effect, ShutdownEffect):
                 self._announce_shutdown(effect.reason or 'shutdown requested by the launch file')
 
@@ -531,6 +559,23 @@ class Supervisor:
             self._transitions.remove(transition)
             kill_group(transition.popen)
             transition.popen.stdout.close()
+
+    def _collect_tasks(self) -> None:
+        """Carry out what finished tasks returned (only their log lines once shutting down)."""
+        for task in [t for t in self._tasks if not t.thread.is_alive()]:
+            self._tasks.remove(task)
+            if isinstance(task.error, LaunchError):
+                self.fail('launch', str(task.error))
+            elif task.error is not None:
+                self.fail('launch', f'{task.effect.label}: {type(task.error).__name__}: {task.error}')
+            else:
+                self._run_kept(task.effects)
+
+    def _stop_tasks(self, wait: float = 0.0) -> None:
+        for task in self._tasks:
+            task.stop.set()
+        for task in self._tasks:
+            task.thread.join(wait)
 
     def _schedule(self, delay: float, kind: str, callback: Callable[[], None]) -> None:
         heapq.heappush(self._timers, (time.monotonic() + delay, next(self._timer_seq), kind, callback))
@@ -726,6 +771,7 @@ class Supervisor:
         heapq.heapify(self._timers)
         self._cancel_sim_waits()
         self._abandon_transitions()
+        self._stop_tasks()
         for process in self._processes:
             if not process.running:
                 continue
@@ -752,7 +798,7 @@ class Supervisor:
                 continue
             for effect in effects or []:
                 if isinstance(effect, LogMessage):
-                    self.log.message(effect.level, 'launch.user', effect.message)
+                    self.log.message(effect.level, effect.logger, effect.message)
                 else:
                     self.log.warning('launch', f'OnShutdown: {type(effect).__name__} not carried out '
                                                'while the launch shuts down')
@@ -824,7 +870,7 @@ class Supervisor:
         # Escalation timers of processes that already exited keep nothing alive.
         if self._keep_alive and not self._shutting_down:
             return True
-        return (any(p.running for p in self._processes) or bool(self._transitions)
+        return (any(p.running for p in self._processes) or bool(self._transitions) or bool(self._tasks)
                 or any(t[2] != 'escalate' for t in self._timers) or bool(self._sim_waits))
 
     def _flush_logs(self) -> None:
@@ -840,6 +886,7 @@ class Supervisor:
         self._handle_signals()
         if self._child_exited or time.monotonic() - self._reaped_at >= _POLL_INTERVAL_S:
             self._reap()
+        self._collect_tasks()
         now = time.monotonic()
         while self._timers and self._timers[0][0] <= now:
             _, _, _, callback = heapq.heappop(self._timers)

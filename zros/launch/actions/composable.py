@@ -1,11 +1,15 @@
 """Composable nodes: `ComposableNodeContainer` (`node_container`), `LoadComposableNodes`
 (`load_composable_node`) and the `ComposableNode` description.
 
-zros has no component containers (no shared-library plugins to load), so a composable node runs
-as its own process: its plugin `pkg_ns::ClassName` names an executable of its package
-(`ClassName`, or `class_name`), started like a `Node` with the same name, namespace,
-parameters and remappings. The container itself is not started; a one-line note in the launch
-output says so.
+zros has no component containers of its own (no shared-library plugins to load), so a
+composable node of a container the launch starts runs as its own process: its plugin
+`pkg_ns::ClassName` names an executable of its package (`ClassName`, or `class_name`), started
+like a `Node` with the same name, namespace, parameters and remappings. The container itself is
+not started; a one-line note in the launch output says so.
+
+A `LoadComposableNodes` aimed at a container this launch does not start (one already running,
+or a node of anyone's that serves `~/_container/load_node`) does what launch_ros does: it sends
+the container one LoadNode request per node (zros.launch.load_node).
 """
 from __future__ import annotations
 
@@ -17,6 +21,7 @@ from zros.launch.actions.process import Node
 from zros.launch.conditions import Condition
 from zros.launch.entity import Entity, Scalar
 from zros.launch.errors import LaunchFileError, Origin
+from zros.launch.namespace_utils import make_namespace_absolute
 from zros.launch.origin import origin_here
 from zros.launch.parameters import param_entries, yaml_param_entries
 from zros.launch.plan import LogMessage
@@ -152,6 +157,7 @@ class ComposableNodeContainer(Node):
         self._count_node_name(context)   # the container is a node of the launch, as in launch_ros
         name, namespace = self.resolve_names(context)
         container = f"{(namespace or '/').rstrip('/')}/{name or self.executable.perform(context)}"
+        context.containers.add(container)
         if nodes:
             _note(context, self.origin, f"container '{container}'", nodes)
         return nodes
@@ -165,8 +171,10 @@ class LoadKwargs(ActionKwargs, total=False):
 @launch_tag('load_composable_node')
 class LoadComposableNodes(Action):
     """`LoadComposableNodes(target_container=..., composable_node_descriptions=[...])`;
-    YAML `load_composable_node: {target, composable_node: [...]}`: each node runs as its own
-    process (the target is only named in the note)."""
+    YAML `load_composable_node: {target, composable_node: [...]}`. Into a container this launch
+    starts (its action, or the name of a ComposableNodeContainer or rclcpp_components Node
+    executed before), each node runs as its own process; into any other, the container gets
+    launch_ros's LoadNode requests, in order, and the launch waits for its answers."""
 
     def __init__(self, *, composable_node_descriptions: Any, target_container: Any = None, **kwargs: Any) -> None:
         super().__init__(**kwargs)
@@ -183,15 +191,28 @@ class LoadComposableNodes(Action):
         return cls, kwargs
 
     def execute(self, context: Any) -> list[Action]:
-        nodes = _selected(context, self.composable_node_descriptions, None)
         target = self.target_container
         if isinstance(target, Node):
             where = "the container" if target.given_name is None else f"container '{target.given_name.perform(context)}'"
         elif target is not None:
-            where = f"container '{Text.of(target, self.origin).perform(context)}'"
+            name = make_namespace_absolute(Text.of(target, self.origin.with_key('target_container')).perform(context))
+            if name not in context.containers:
+                self._load_into(name, context)
+                return []
+            where = f"container '{name}'"
         else:
             where = 'the container'
+        nodes = _selected(context, self.composable_node_descriptions, None)
         if nodes:
             _note(context, self.origin, where, nodes)
         return nodes
 
+    def _load_into(self, container: str, context: Any) -> None:
+        """launch_ros's way, for a container the launch does not start: the requests are built
+        now (the scope of a GroupAction ends after this) and sent by the supervisor."""
+        from zros.launch.load_node import get_composable_node_load_request, load_task
+        requests = [request for request in (get_composable_node_load_request(description, context)
+                                            for description in self.composable_node_descriptions)
+                    if request is not None]
+        if requests:
+            context.emit(load_task(container, requests, context, self.origin))

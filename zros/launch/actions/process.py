@@ -127,6 +127,10 @@ def remap_pairs(owner: Action, remappings: Any) -> list[tuple[Text, Text]]:
     return pairs
 
 
+#: The package of ROS's component containers: a Node of it is a container of this launch.
+CONTAINER_PACKAGE = 'rclcpp_components'
+
+
 class NodeKwargs(ExecuteKwargs, total=False):
     package: Text | None
     executable: Text
@@ -304,6 +308,8 @@ class Node(ExecuteProcess):
         ros = self.ros_arguments_for(context, name, namespace)
         self._count_node_name(context)
         fqn = f"{'' if namespace == '/' else namespace}/{name or executable}"
+        if package == CONTAINER_PACKAGE:   # Nav2's bringup starts its container this way
+            context.containers.add(fqn)
         params = self.param_sources(context, fqn)
         user_args = self.arguments.perform(context) if self.arguments is not None else []
         tail = self.ros_arguments.perform(context) if self.ros_arguments is not None else []
