@@ -23,7 +23,7 @@ PERIOD = 1.0
 
 
 def qos_profile(reliable: bool) -> QoSProfile:
-    """Depth 10, reliable or best effort as asked."""
+    """Depth 10, reliable or best effort as asked (shared with listener_qos)."""
     policy = QoSReliabilityPolicy.RELIABLE if reliable else QoSReliabilityPolicy.BEST_EFFORT
     return QoSProfile(depth=10, reliability=policy)
 
@@ -38,7 +38,7 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
 
 def run_cycles(make_node: Callable[[QoSProfile], Node], args: list[str] | None) -> None:
     """Parse the options, make the node with the QoS they ask for, spin it `number_of_cycles`
-    times."""
+    times (talker_qos and listener_qos alike)."""
     argv = sys.argv if args is None else args
     options = parse_arguments(argv)
     try:

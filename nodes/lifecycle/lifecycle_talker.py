@@ -10,10 +10,12 @@ return FAILURE, to try what a manager does with a node that refuses.
 from __future__ import annotations
 
 import sys
+from typing import Callable
 
 import zros
 from zros.executors import ExternalShutdownException
 from zros.lifecycle import LifecycleNode, State, TransitionCallbackReturn
+from zros.node import Node
 
 from interfaces.std_msgs.msg import String
 
@@ -66,13 +68,19 @@ class LifecycleTalker(LifecycleNode):
         return TransitionCallbackReturn.SUCCESS
 
 
-def main(args: list[str] | None = None) -> int:
+def spin_main(make_node: Callable[[], Node], args: list[str] | None) -> int:
+    """The lifecycle demo's executables: spin the node `make_node` builds until shut down (a
+    signal or Ctrl-C ends it quietly); exit status 0."""
     try:
         with zros.init(args=args):
-            zros.spin(LifecycleTalker())
+            zros.spin(make_node())
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     return 0
+
+
+def main(args: list[str] | None = None) -> int:
+    return spin_main(LifecycleTalker, args)
 
 
 if __name__ == '__main__':

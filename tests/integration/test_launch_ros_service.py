@@ -76,3 +76,52 @@ def test_a_ros_timer_without_sim_time_is_a_wall_clock_timer():
     started = time.monotonic()
     assert run(ROSTimer(period=0.5, actions=[])) == 0
     assert time.monotonic() - started >= 0.5
+
+
+def run_for(seconds: float, *actions) -> int:
+    """Run `actions` under run_async for `seconds`, then shut down from the loop, as launch_ros's
+    tests drive nodes that never end by themselves."""
+    import asyncio
+    service = LaunchService()
+    service.include_launch_description(LaunchDescription(list(actions)))
+    loop = asyncio.new_event_loop()
+    try:
+        task = loop.create_task(service.run_async())
+        loop.run_until_complete(asyncio.sleep(seconds))
+        assert not task.done()
+        loop.create_task(service.shutdown())
+        return loop.run_until_complete(task)
+    finally:
+        loop.close()
+
+
+def test_composition_components_and_listener_qos_hear_the_chatter(capfd):
+    from zros.launch_ros.actions import ComposableNodeContainer
+    from zros.launch_ros.descriptions import ComposableNode
+    container = ComposableNodeContainer(
+        package='rclcpp_components', executable='component_container', name='box', namespace='',
+        composable_node_descriptions=[ComposableNode(package='composition', plugin='composition::Talker'),
+                                      ComposableNode(package='composition', plugin='composition::Listener')],
+        output='screen')
+    listener = Node(package='demo_nodes_py', executable='listener_qos', output='screen')
+    assert run_for(6.0, container, listener) == 0
+    out = capfd.readouterr().out
+    assert 'Best effort listener' in out
+    assert "Publishing: 'Hello World: " in out and 'I heard: [Hello World: ' in out
+    heard_by = {line.split(']')[0] for line in out.splitlines() if 'I heard: [Hello World' in line}
+    assert {'[listener-2', '[listener_qos-3'} <= heard_by, out
+
+
+def test_lifecycle_listener_reports_the_talkers_transitions(capfd):
+    from zros.launch.actions import EmitEvent
+    from zros.launch.events import matches_action
+    from zros.launch_ros.actions import LifecycleNode
+    from zros.launch_ros.events.lifecycle import ChangeState
+    from interfaces.lifecycle_msgs.msg import Transition
+    talker = LifecycleNode(package='lifecycle', executable='lifecycle_talker', name='lc_talker', namespace='',
+                           output='screen')
+    listener = Node(package='lifecycle', executable='lifecycle_listener', output='screen')
+    configure = EmitEvent(event=ChangeState(lifecycle_node_matcher=matches_action(talker),
+                                            transition_id=Transition.TRANSITION_CONFIGURE))
+    assert run_for(6.0, listener, talker, configure) == 0
+    assert 'notify callback: Transition from state unconfigured to configuring' in capfd.readouterr().out

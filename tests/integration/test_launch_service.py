@@ -170,3 +170,56 @@ def test_emulate_tty_gives_stdout_and_stderr_terminals_by_argument_or_configurat
     assert exit_code_of(ExecuteProcess(cmd=probe, emulate_tty=True)) == 3
     assert exit_code_of(ExecuteProcess(cmd=probe), SetLaunchConfiguration('emulate_tty', 'true')) == 3
     assert exit_code_of(ExecuteProcess(cmd=probe, emulate_tty=False), SetLaunchConfiguration('emulate_tty', 'true')) == 0
+
+
+def _sleeper_launch(seen: list) -> LaunchService:
+    """A launch of one process that never ends by itself, recording its exit."""
+    service = LaunchService()
+    service.include_launch_description(LaunchDescription([
+        recorder(seen, ProcessExited),
+        ExecuteProcess(cmd=[PY, '-c', 'import time; time.sleep(60)']),
+    ]))
+    return service
+
+
+def test_run_async_leaves_the_loop_free_until_an_awaited_shutdown_stops_the_process():
+    import asyncio
+    seen: list = []
+    service = _sleeper_launch(seen)
+    assert service.shutdown() is None          # not running: nothing to shut down
+    loop = asyncio.new_event_loop()
+    ticks: list = []
+
+    async def tick():
+        # runs beside the launch only if run_async awaits between the supervisor's passes
+        for _ in range(10):
+            ticks.append(service.context.asyncio_loop)
+            await asyncio.sleep(0.1)
+    try:
+        task = loop.create_task(service.run_async())
+        loop.run_until_complete(tick())
+        assert not task.done() and ticks == [loop] * 10
+        shutdown = service.shutdown()            # on the loop's thread: a coroutine, as launch's
+        assert asyncio.iscoroutine(shutdown)
+        loop.create_task(shutdown)
+        began = time.monotonic()
+        assert loop.run_until_complete(task) == 0
+        assert time.monotonic() - began < 20
+    finally:
+        loop.close()
+    assert len(seen) == 1 and seen[0].returncode != 0    # stopped by a signal
+    assert service.context.asyncio_loop is None
+
+
+def test_run_async_stops_on_a_shutdown_from_another_thread():
+    import asyncio
+    seen: list = []
+    service = _sleeper_launch(seen)
+    answers: list = []
+    threading.Timer(1.0, lambda: answers.append(service.shutdown())).start()
+    loop = asyncio.new_event_loop()
+    try:
+        assert loop.run_until_complete(service.run_async(shutdown_when_idle=False)) == 0
+    finally:
+        loop.close()
+    assert answers == [None] and len(seen) == 1 and seen[0].returncode != 0

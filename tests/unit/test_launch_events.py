@@ -209,14 +209,16 @@ def test_register_event_handler_describes_its_actions_as_conditional():
 
 def test_context_has_the_run_async_loop_only_while_it_runs():
     import asyncio
-    from zros.launch import LaunchContext, LaunchService
+    from zros.launch import LaunchContext, LaunchDescription, LaunchService
+    from zros.launch.actions import OpaqueFunction
     assert LaunchContext().asyncio_loop is None
     seen = []
     service = LaunchService()
-    service.run = lambda **kwargs: seen.append(service.context.asyncio_loop) or 0
+    service.include_launch_description(LaunchDescription([
+        OpaqueFunction(function=lambda context: seen.append(context.asyncio_loop))]))
     loop = asyncio.new_event_loop()
     try:
-        assert loop.run_until_complete(service.run_async()) == 0
+        assert loop.run_until_complete(service.run_async()) == 0   # no process: idle at once
     finally:
         loop.close()
     assert seen == [loop] and service.context.asyncio_loop is None

@@ -228,3 +228,24 @@ def test_a_named_container_counts_as_a_node_of_the_launch():
                                         name='box', namespace='ns', composable_node_descriptions=[])
     container.visit(context)
     assert get_node_name_count(context, '/ns/box') == 1 and container.node_name == '/ns/box'
+
+
+def test_a_component_is_counted_under_the_full_name_its_container_would_report():
+    """Unlike a Node, a component always has a full name: '/' when no namespace is given, and
+    the component's own node name (its executable's) when no name is."""
+    from zros.launch_ros.actions import ComposableNodeContainer
+    context = LaunchContext()
+    container = ComposableNodeContainer(
+        package='rclcpp_components', executable='component_container', name='box', namespace='/ns',
+        composable_node_descriptions=[
+            ComposableNode(package='composition', plugin='composition::Listener'),
+            ComposableNode(package='composition', plugin='composition::Talker', name='t'),
+            ComposableNode(package='composition', plugin='composition::Talker', name='box', namespace='ns')])
+    context.begin_capture()
+    try:
+        for node in container.execute(context):
+            node.execute(context)
+    finally:
+        effects = context.end_capture()
+    assert dict(context.node_names) == {'/ns/box': 2, '/listener': 1, '/t': 1}
+    assert any('at least 2 nodes with the name /ns/box' in getattr(e, 'message', '') for e in effects)

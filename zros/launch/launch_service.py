@@ -11,10 +11,12 @@ its own thread between the things it watches.
 """
 from __future__ import annotations
 
+import contextlib
 import queue
 import sys
+import threading
 from pathlib import Path
-from typing import Any
+from typing import Any, Coroutine, Iterator
 
 from zros.launch.action import report_completion
 from zros.launch.context import LaunchContext
@@ -46,8 +48,9 @@ class LaunchService(ProcessObserver):
         noninteractive: the launch runs without a terminal (`context.noninteractive`).
         debug: DEBUG messages too (command lines, environment, signals).
 
-    `run()` must be called from the main thread (the supervisor forks and handles signals);
-    `emit_event`, `include_launch_description` and `shutdown` may be called from any thread.
+    `run()`, or `run_async()` on the main thread's asyncio loop, must be called from the main
+    thread (the supervisor forks and handles signals); `emit_event`,
+    `include_launch_description` and `shutdown` may be called from any thread.
     """
 
     def __init__(self, *, argv: list[str] | None = None, noninteractive: bool = False, debug: bool = False,
@@ -61,6 +64,7 @@ class LaunchService(ProcessObserver):
         self._shutting_down = False
         self._announcing = False      # the supervisor is stopping for a Shutdown event being dispatched
         self._running: dict[str, tuple[int, list[str]]] = {}   # process name -> (pid, argv)
+        self._loop_thread: threading.Thread | None = None   # the thread of run_async()'s loop
         # The launch's own handler, registered after those already on the context (a resolved
         # file's) so that users' handlers see events first.
         self.__context.register_event_handler(OnIncludeLaunchDescription(), append=True)
@@ -78,25 +82,52 @@ class LaunchService(ProcessObserver):
         """Visit `launch_description` in this launch (queued as an IncludeLaunchDescription event)."""
         self.emit_event(IncludeLaunchDescription(launch_description))
 
-    def shutdown(self, force_sync: bool = False) -> None:
-        """End the launch: a Shutdown event, which its handlers see before the processes stop."""
-        self.emit_event(Shutdown(reason='LaunchService.shutdown() called'))
+    def shutdown(self, force_sync: bool = False) -> Coroutine[Any, Any, None] | None:
+        """End the launch: a Shutdown event, which its handlers see before the processes stop.
+
+        launch's contract: on the thread whose asyncio loop runs `run_async()`, it returns a
+        coroutine that queues the event when awaited (`loop.create_task(ls.shutdown())`), unless
+        `force_sync`; from any other thread, or under `run()`, the event is queued now and it
+        returns None. A launch that is not running is left alone (None).
+        """
+        if self._supervisor is None:
+            return None
+        event = Shutdown(reason='LaunchService.shutdown() called')
+        if not force_sync and self._loop_thread is threading.current_thread():
+            return self.__context.emit_event(event)
+        self.emit_event(event)
+        return None
 
     # -- running -----------------------------------------------------------------------------------
     def run(self, *, shutdown_when_idle: bool = True) -> int:
         """Run until shut down, or (with `shutdown_when_idle`) until nothing is left to do, then
         a Shutdown event; 0, or 1 when a process could not be started or an action failed
         (a LaunchError, logged)."""
-        self._shutdown_when_idle = shutdown_when_idle
-        supervisor = Supervisor(Plan('<LaunchService>'), log_dir=None, debug=self.debug, hub=False,
-                                observer=self, keep_alive=not shutdown_when_idle)
+        supervisor = self._supervisor_for(shutdown_when_idle)
         try:
-            return self._supervise(supervisor)
+            with self._supervising(supervisor):
+                return supervisor.run()
         except LaunchError as exc:
-            # launch's contract: a launch that fails (a node whose package is missing, ...)
-            # is a return code, with the reason logged; the supervisor has stopped its processes
-            print(f'[ERROR] [launch]: {exc}', file=sys.stderr, flush=True)
-            return 1
+            return _failed(exc)
+
+    async def run_async(self, *, shutdown_when_idle: bool = True) -> int:
+        """`run()` as a coroutine of the main thread's asyncio loop, as launch's users drive it:
+        `task = loop.create_task(ls.run_async())`, other work on the loop, then
+        `loop.create_task(ls.shutdown())` and `loop.run_until_complete(task)`. The supervisor
+        runs on the loop's thread and awaits between its passes, so the loop keeps running;
+        `context.asyncio_loop` is the loop meanwhile."""
+        import asyncio
+        supervisor = self._supervisor_for(shutdown_when_idle)
+        self.__context._set_asyncio_loop(asyncio.get_running_loop())
+        self._loop_thread = threading.current_thread()
+        try:
+            with self._supervising(supervisor):
+                return await supervisor.run_async()
+        except LaunchError as exc:
+            return _failed(exc)
+        finally:
+            self._loop_thread = None
+            self.__context._set_asyncio_loop(None)
 
     @classmethod
     def run_plan(cls, plan: Plan, *, log_dir: Path | None, debug: bool = False) -> int:
@@ -105,27 +136,28 @@ class LaunchService(ProcessObserver):
         without a Shutdown event, as `zros launch` always has."""
         service = cls(debug=debug, context=plan.context)
         service._shutdown_when_idle = None
-        return service._supervise(Supervisor(plan, log_dir=log_dir, debug=debug, observer=service))
+        supervisor = Supervisor(plan, log_dir=log_dir, debug=debug, observer=service)
+        with service._supervising(supervisor):
+            return supervisor.run()
 
-    def _supervise(self, supervisor: Supervisor) -> int:
+    def _supervisor_for(self, shutdown_when_idle: bool) -> Supervisor:
+        """The supervisor of a run from code: no plan of its own (the queued events bring the
+        actions), no log directory and no discovery hub."""
+        self._shutdown_when_idle = shutdown_when_idle
+        return Supervisor(Plan('<LaunchService>'), log_dir=None, debug=self.debug, hub=False,
+                          observer=self, keep_alive=not shutdown_when_idle)
+
+    @contextlib.contextmanager
+    def _supervising(self, supervisor: Supervisor) -> Iterator[None]:
+        """While `supervisor` runs, events emitted from any thread wake it to drain the queue."""
         self._shutting_down = False
         self._supervisor = supervisor
         self.__context._wakeup = supervisor.wake
         try:
-            return supervisor.run()
+            yield
         finally:
             self.__context._wakeup = lambda: None
             self._supervisor = None
-
-    async def run_async(self, *, shutdown_when_idle: bool = True) -> int:
-        """`run()` as a coroutine, for `loop.run_until_complete(ls.run_async())`. It runs the
-        supervisor to the end on the calling thread, so the asyncio loop waits meanwhile."""
-        import asyncio
-        self.__context._set_asyncio_loop(asyncio.get_running_loop())
-        try:
-            return self.run(shutdown_when_idle=shutdown_when_idle)
-        finally:
-            self.__context._set_asyncio_loop(None)
 
     # -- the supervisor's thread (ProcessObserver) ---------------------------------------------
     def pump(self) -> None:
@@ -218,3 +250,10 @@ class LaunchService(ProcessObserver):
             effects = context.end_capture()
         if self._supervisor is not None:
             self._supervisor.carry_out(effects)
+
+
+def _failed(exc: LaunchError) -> int:
+    """launch's contract: a launch that fails (a node whose package is missing, ...) is a return
+    code, with the reason logged; the supervisor has stopped its processes."""
+    print(f'[ERROR] [launch]: {exc}', file=sys.stderr, flush=True)
+    return 1

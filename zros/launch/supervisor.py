@@ -14,6 +14,7 @@ launch; the context is closed only after every child is gone.
 """
 from __future__ import annotations
 
+import contextlib
 import ctypes
 import datetime
 import errno
@@ -30,7 +31,7 @@ import tempfile
 import threading
 import time
 from pathlib import Path
-from typing import Any, Callable, TextIO
+from typing import Any, Callable, Iterator, TextIO
 
 from zros.launch.errors import LaunchError
 from zros.launch.plan import (CallEffect, ChangeStateEffect, EventHandlerEffect, GeneratedParams, LogMessage, Plan,
@@ -248,7 +249,8 @@ class Supervisor:
     """Runs a Plan to the end.
 
     Construct it and call `run()` from the main thread (it installs signal handlers and must
-    be the thread that forks the children). `run()` returns when every process has exited and
+    be the thread that forks the children), or await `run_async()` on an asyncio loop that the
+    main thread runs. `run()` returns when every process has exited and
     no timer or respawn is pending, or after a shutdown; the exit status is 0, or 1 when a
     process could not be started at all.
 
@@ -298,6 +300,29 @@ class Supervisor:
 
     # -- life cycle ----------------------------------------------------------------------------
     def run(self) -> int:
+        """Run the plan to the end on this (the main) thread; the exit status."""
+        with self._running():
+            while self._pass():
+                self._serve(self._selector.select(self._wait_s()))
+        return 1 if self._failed else 0
+
+    async def run_async(self) -> int:
+        """`run()` as a coroutine of the running asyncio loop, which must be the main thread's:
+        the same passes, but each wait for output, signals or timers is awaited, so the loop's
+        other tasks (a caller's `asyncio.sleep`, then its shutdown) run meanwhile. The children
+        are forked from this thread as under `run()`, so they still die with it."""
+        import asyncio
+        loop = asyncio.get_running_loop()
+        with self._running():
+            while self._pass():
+                await _readable(loop, self._selector, self._wait_s())
+                self._serve(self._selector.select(0))
+        return 1 if self._failed else 0
+
+    @contextlib.contextmanager
+    def _running(self) -> Iterator[None]:
+        """Set up (log, selector, signals, hub, the plan's first effects) and, however the run
+        ends, stop every child and put the signals back."""
         if threading.current_thread() is not threading.main_thread():
             raise RuntimeError('Supervisor.run() must be called from the main thread')
         if self.log_dir is not None:
@@ -314,7 +339,7 @@ class Supervisor:
             if self.hub:
                 self._open_hub()
             self._run_effects(self.plan.effects)
-            self._loop()
+            yield
         finally:
             self._cancel_sim_waits()
             self._stop_tasks(wait=2.0)
@@ -327,7 +352,6 @@ class Supervisor:
                 process.close()
             self._selector.close()
             self.log.close()
-        return 1 if self._failed else 0
 
     def _open_hub(self) -> None:
         from zros.context import Context
@@ -856,34 +880,60 @@ class Supervisor:
                 process.log.flush()
         self._unflushed.clear()
 
-    def _loop(self) -> None:
-        while True:
+    def _pass(self) -> bool:
+        """One pass of the loop: signals, exits, due timers, the observer's work. False when
+        the launch has ended (nothing left to do and the observer adds nothing)."""
+        self._handle_signals()
+        if self._child_exited or time.monotonic() - self._reaped_at >= _POLL_INTERVAL_S:
+            self._reap()
+        self._collect_tasks()
+        now = time.monotonic()
+        while self._timers and self._timers[0][0] <= now:
+            _, _, _, callback = heapq.heappop(self._timers)
+            callback()
             self._handle_signals()
-            if self._child_exited or time.monotonic() - self._reaped_at >= _POLL_INTERVAL_S:
-                self._reap()
-            self._collect_tasks()
-            now = time.monotonic()
-            while self._timers and self._timers[0][0] <= now:
-                _, _, _, callback = heapq.heappop(self._timers)
-                callback()
-                self._handle_signals()
-            for wait, effects in [item for item in self._sim_waits if item[0].due()]:
-                self._sim_waits.remove((wait, effects))
-                self._run_effects(effects)
-            self._observer.pump()
-            if not self._busy() and not self._observer.idle():
-                return
-            timeout = _POLL_INTERVAL_S
-            if self._timers:
-                timeout = max(0.0, min(timeout, self._timers[0][0] - time.monotonic()))
-            for key, _ in self._selector.select(timeout):
-                if key.data is None:
-                    _drain(self._wakeup_read)
-                else:
-                    process, stream = key.data
-                    if not stream.closed:
-                        self._read(process, stream)
-            self._flush_logs()
+        for wait, effects in [item for item in self._sim_waits if item[0].due()]:
+            self._sim_waits.remove((wait, effects))
+            self._run_effects(effects)
+        self._observer.pump()
+        return self._busy() or self._observer.idle()
+
+    def _wait_s(self) -> float:
+        """[s] the loop may wait for output or a wakeup before the next pass is due."""
+        timeout = _POLL_INTERVAL_S
+        if self._timers:
+            timeout = max(0.0, min(timeout, self._timers[0][0] - time.monotonic()))
+        return timeout
+
+    def _serve(self, ready: list) -> None:
+        """Read what the selector found ready (children's output, the wakeup pipe)."""
+        for key, _ in ready:
+            if key.data is None:
+                _drain(self._wakeup_read)
+            else:
+                process, stream = key.data
+                if not stream.closed:
+                    self._read(process, stream)
+        self._flush_logs()
+
+
+async def _readable(loop: Any, selector: selectors.BaseSelector, timeout: float) -> None:
+    """Wait, without blocking `loop`, until `selector` has something ready or `timeout` [s]
+    passed. An epoll selector is itself a file descriptor the loop can watch; one without
+    (select or poll) is polled in short sleeps instead."""
+    import asyncio
+    try:
+        fd = selector.fileno()
+    except (AttributeError, NotImplementedError):
+        await asyncio.sleep(min(timeout, 0.02))
+        return
+    ready = loop.create_future()
+    loop.add_reader(fd, lambda: ready.done() or ready.set_result(None))
+    try:
+        await asyncio.wait({ready}, timeout=timeout)
+    finally:
+        loop.remove_reader(fd)
+        ready.cancel()
 
 
 def _open_terminals() -> tuple[tuple[int, int], tuple[int, int]]:

@@ -92,8 +92,20 @@ class ComposableNode:
             raise LaunchFileError(self.plugin.origin, f"composable node plugin '{plugin}': no executable "
                                   f"{' or '.join(candidates)} in package '{package}' (zros runs composable "
                                   f"nodes as processes; executables: {', '.join(available) or 'none'})")
-        return Node(package=self.package, executable=executable, name=self.name, namespace=self.namespace,
-                    parameters=self.parameters, remappings=self.remappings, output=output, origin=self.origin)
+        return _ComponentNode(package=self.package, executable=executable, name=self.name, namespace=self.namespace,
+                              parameters=self.parameters, remappings=self.remappings, output=output,
+                              origin=self.origin)
+
+
+class _ComponentNode(Node):
+    """The process a composable node runs as. launch_ros counts a loaded component under the
+    full name its container reports, which always exists: the namespace given or pushed, else
+    '/', and the name given, else the component's own; zros's component executables name their
+    node after themselves (composition::Listener runs `listener`, node 'listener')."""
+
+    def _counted_name(self, context: Any) -> str | None:
+        name, namespace = self.resolve_names(context)
+        return f"{(namespace or '/').rstrip('/')}/{name or self.executable.perform(context)}"
 
 
 def _note(context: Any, origin: Origin, where: str, nodes: list[Node]) -> None:

@@ -256,11 +256,15 @@ class Node(ExecuteProcess):
         """Whether both the name and the namespace are known (launch_ros tracks only those)."""
         return all(part not in self.node_name for part in (self.UNSPECIFIED_NODE_NAME, self.UNSPECIFIED_NODE_NAMESPACE))
 
+    def _counted_name(self, context: Any) -> str | None:
+        """The full name launch_ros counts this node under: only one fully specified."""
+        return self.node_name if self.is_node_name_fully_specified() else None
+
     def _count_node_name(self, context: Any) -> None:
         """launch_ros's duplicate-name warning: two nodes of one name confuse the ROS graph."""
-        if not self.is_node_name_fully_specified():
+        fqn = self._counted_name(context)
+        if fqn is None:
             return
-        fqn = self.node_name
         context.node_names[fqn] += 1
         count = context.node_names[fqn]
         if count > 1:
