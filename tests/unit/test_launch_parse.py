@@ -354,9 +354,10 @@ def test_node_command_line(plan_of):
             - {from: /a, to: /b}
         '''))
     assert spec.cmd_head[:6] == (sys.executable, '-m', 'zros', 'run', 'demo_nodes', 'talker')
-    assert spec.cmd_head[6:9] == ('--flag', 'two words', '--ros-args')
-    assert ros_part(spec) == ['-r', '__node:=my_talker', '-r', '__ns:=/robot', '-r', 'chatter:=news', '-r', '/a:=/b']
-    assert spec.cmd_tail == ('--log-level', 'debug')
+    # as launch_ros: the user's ROS arguments in a --ros-args section of their own, before the launch's
+    assert spec.cmd_head[6:12] == ('--flag', 'two words', '--ros-args', '--log-level', 'debug', '--ros-args')
+    assert spec.cmd_head[12:] == ('-r', '__node:=my_talker', '-r', '__ns:=/robot', '-r', 'chatter:=news',
+                                  '-r', '/a:=/b')
     assert spec.label == 'talker' and spec.node.name == 'my_talker' and spec.node.namespace == '/robot'
     assert spec.output == 'log' and not spec.respawn and spec.sigterm_timeout == 5.0
 

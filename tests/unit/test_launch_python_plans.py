@@ -89,7 +89,8 @@ def generate_launch_description():
 ''')
     node, echo, shell = [e for e in plan.effects if isinstance(e, ProcessSpec)]
     assert node.label == 'speaker'
-    assert node.cmd_head[:2] == ('nice', '-n') and node.cmd_tail == ('--log-level', 'debug')
+    assert node.cmd_head[:2] == ('nice', '-n') and ('--ros-args', '--log-level', 'debug') == tuple(
+        node.cmd_head[node.cmd_head.index('--ros-args'):][:3])
     assert node.respawn and node.respawn_delay == 2.5 and node.sigterm_timeout == 3.0
     assert dict(node.env) == {'A': '1', 'B': '2'}
     assert node.params[0].document['/**']['ros__parameters'] == {

@@ -52,7 +52,7 @@ class NodeInfo(NamedTuple):
 
 @dataclass(frozen=True)
 class ProcessSpec:
-    """One process to start: `cmd_head + --params-file ... + cmd_tail`, fully resolved.
+    """One process to start: `cmd_head + --params-file ...`, fully resolved.
 
     `label` is the name in output prefixes without the counter (`talker` -> `[talker-1]`).
     """
@@ -60,7 +60,6 @@ class ProcessSpec:
     label: str
     cmd_head: tuple[str, ...]
     params: tuple[Union[ParamsFile, GeneratedParams], ...] = ()
-    cmd_tail: tuple[str, ...] = ()
     env: tuple[tuple[str, str | None], ...] = ()   # changes to the supervisor's environment
     cwd: str | None = None
     shell_text: str | None = None                   # the command line as written, for `shell: true`
@@ -82,7 +81,7 @@ class ProcessSpec:
         middle: list[str] = []
         for path in params_paths:
             middle += ['--params-file', path]
-        return [*self.cmd_head, *middle, *self.cmd_tail]
+        return [*self.cmd_head, *middle]
 
     def generated_params_paths(self, directory: Path, process_name: str) -> list[str]:
         """Where the supervisor writes this process's parameter files (and --print shows)."""

@@ -312,13 +312,14 @@ class Node(ExecuteProcess):
             context.containers.add(fqn)
         params = self.param_sources(context, fqn)
         user_args = self.arguments.perform(context) if self.arguments is not None else []
-        tail = self.ros_arguments.perform(context) if self.ros_arguments is not None else []
         head = [*self.process_description.prefix_args(context, executable), *program, *user_args]
-        if ros or params or tail:
+        if self.ros_arguments is not None:   # as launch_ros: the user's ROS arguments come first
+            head += ['--ros-args', *self.ros_arguments.perform(context)]
+        if ros or params:
             head += ['--ros-args', *ros]
         label = self.process_description.label(context, executable)
         return self.emit_process(context, ProcessSpec(
-            label=process_label(label), cmd_head=tuple(head), params=tuple(params), cmd_tail=tuple(tail),
+            label=process_label(label), cmd_head=tuple(head), params=tuple(params),
             node=NodeInfo(package, executable, name, namespace), **options))
 
     # -- parameters ----------------------------------------------------------------------------
