@@ -19,7 +19,10 @@ __all__ = ['add_arguments', 'main_passthrough']
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument('file', help='a ROS 2 Python program, e.g. my_pkg/my_node.py')
+    # (main_passthrough reads the command line itself; this parser is for --help and checks)
+    parser.add_argument('-m', dest='module', nargs=argparse.REMAINDER, metavar='MODULE',
+                        help='run a module as `python -m` does, then its arguments (e.g. -m pytest test/)')
+    parser.add_argument('file', nargs='?', help='a ROS 2 Python program, e.g. my_pkg/my_node.py')
     parser.add_argument('argv', nargs=argparse.REMAINDER, help='arguments for the program (and --ros-args ...)')
 
 
