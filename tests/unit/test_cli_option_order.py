@@ -69,3 +69,12 @@ def test_option_values_before_positionals_and_negative_values():
     assert once.once and once.values == '{data: hi}'
     param = build_parser('param').parse_args(['param', 'set', '--timeout', '2', '/n', 'p', '-5'])
     assert (param.timeout, param.node_name, param.parameter_name, param.value) == (2.0, '/n', 'p', '-5')
+
+
+def test_python_takes_a_file_or_a_module_with_their_arguments():
+    parser = build_parser()
+    as_module = parser.parse_args(['python', '-m', 'pytest', '-q', 'test/'])
+    assert as_module.module == ['pytest', '-q', 'test/'] and as_module.file is None
+    as_file = parser.parse_args(['python', 'node.py', '-m', 'x', '--ros-args', '-r', 'a:=b'])
+    assert as_file.module is None and as_file.file == 'node.py'
+    assert as_file.argv == ['-m', 'x', '--ros-args', '-r', 'a:=b']   # the program's own -m
