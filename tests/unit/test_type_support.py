@@ -12,7 +12,10 @@ from zros.type_support import check_for_type_support, check_is_valid_msg_type, c
 
 def test_zros_classes_have_type_support_and_are_told_apart():
     check_for_type_support(String)
+    check_for_type_support(String())   # an instance too
     check_for_type_support(Trigger)
+    with pytest.raises(AttributeError, match='no type support'):
+        check_for_type_support(dict)
     check_is_valid_msg_type(String)
     check_is_valid_srv_type(Trigger)
     with pytest.raises(RuntimeError, match='might be a service'):

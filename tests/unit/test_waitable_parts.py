@@ -4,8 +4,6 @@ from __future__ import annotations
 import pytest
 
 from zros.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
-from zros.exceptions import NoTypeSupportImportedException
-from zros.type_support import check_for_type_support, check_is_valid_msg_type, check_is_valid_srv_type
 from zros.waitable import NumberOfEntities, Waitable, WaitSet
 
 
@@ -67,35 +65,3 @@ def test_groups_answer_to_rclpys_bracket_names():
     assert group.beginning_execution('b')
     reentrant = ReentrantCallbackGroup()
     assert reentrant.beginning_execution('a') and reentrant.beginning_execution('b')
-
-
-def test_type_support_is_checked_by_being_an_interface_class():
-    from interfaces.std_msgs.msg import String
-    from interfaces.std_srvs.srv import Trigger
-    check_for_type_support(String)
-    check_for_type_support(String())
-    check_for_type_support(Trigger)
-    with pytest.raises(AttributeError, match='no type support'):
-        check_for_type_support(dict)
-    check_is_valid_msg_type(String)
-    check_is_valid_srv_type(Trigger)
-    with pytest.raises(RuntimeError, match='might be a service'):
-        check_is_valid_msg_type(Trigger)
-    with pytest.raises(RuntimeError, match='might be a message'):
-        check_is_valid_srv_type(String)
-
-
-class _NeverLoads(type):
-    """A metaclass in rclpy's generated shape whose type support never loads."""
-
-    _TYPE_SUPPORT = None
-
-    @classmethod
-    def __import_type_support__(cls):
-        pass
-
-
-def test_a_type_in_rclpys_shape_without_support_is_refused():
-    unsupported = _NeverLoads('Unsupported', (), {})
-    with pytest.raises(NoTypeSupportImportedException):
-        check_for_type_support(unsupported)
