@@ -20,7 +20,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-__all__ = ['Topology', 'unavailable_reason', 'ROBOT_ADDRESS', 'LAPTOP_ADDRESS', 'LINK_ADDRESS', 'ROBOT_CONNECT',
+__all__ = ['Topology', 'unavailable_reason', 'remove_namespace', 'remove_stale', 'ROBOT_ADDRESS', 'LAPTOP_ADDRESS', 'LINK_ADDRESS', 'ROBOT_CONNECT',
            'SHAPER']
 
 PREFIX = 'zroslink'
@@ -51,7 +51,8 @@ def unavailable_reason() -> str | None:
     return None
 
 
-def _remove(ns: str) -> None:
+def remove_namespace(ns: str) -> None:
+    """Kill what still runs in `ns` (the namespace is its creator's), then delete it."""
     for pid in _run('netns', 'pids', ns, check=False).split():
         try:
             os.kill(int(pid), signal.SIGKILL)
@@ -60,15 +61,24 @@ def _remove(ns: str) -> None:
     _run('netns', 'del', ns, check=False)
 
 
-def _remove_stale() -> None:
+def remove_stale(prefix: str) -> None:
+    """Delete the namespaces `<prefix>-<pid>-*` whose creating process `<pid>` is gone (a run
+    that died without cleaning up)."""
     for line in _run('netns', 'list', check=False).splitlines():
         name = (line.split() or [''])[0]
         parts = name.split('-')
-        if len(parts) == 3 and parts[0] == PREFIX and parts[1].isdigit():
-            try:
-                os.kill(int(parts[1]), 0)
-            except ProcessLookupError:
-                _remove(name)
+        if len(parts) == 3 and parts[0] == prefix and parts[1].isdigit() and not _alive(int(parts[1])):
+            remove_namespace(name)
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        pass
+    return True
 
 
 class Topology:
@@ -80,7 +90,7 @@ class Topology:
         self.robot, self.mid, self.laptop = (f'{self.tag}-{n}' for n in ('robot', 'mid', 'laptop'))
         self._namespaces: list[str] = []
         self._procs: list[subprocess.Popen] = []
-        _remove_stale()
+        remove_stale(PREFIX)
         try:
             self._build()
         except BaseException:
@@ -133,7 +143,7 @@ class Topology:
         for proc in list(self._procs):
             self.stop(proc)
         for ns in reversed(self._namespaces):
-            _remove(ns)
+            remove_namespace(ns)
         self._namespaces.clear()
 
     def __enter__(self) -> 'Topology':

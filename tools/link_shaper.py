@@ -32,6 +32,7 @@ import argparse
 import asyncio
 import bisect
 import collections
+import contextlib
 import json
 import os
 import random
@@ -45,7 +46,7 @@ __all__ = ['LinkSettings', 'TokenBucket', 'Outages', 'Direction', 'Link', 'stall
            'main']
 
 CHUNK = 4096               # [bytes] read at a time: a few frames, so a big message is paced, not sent whole
-WINDOW = 1 << 20           # [bytes] held per direction before the proxy stops reading (TCP's window)
+WINDOW = 1 << 18           # [bytes] held per direction before the proxy stops reading: about 1 s at 2 Mbit/s, an access point's queue
 
 
 @dataclass
@@ -411,13 +412,12 @@ def main(argv: list[str] | None = None) -> int:
         settings.update({f.name: getattr(args, f.name) for f in fields(LinkSettings)})
     except ValueError as exc:
         parser.error(str(exc))
-    try:
-        asyncio.run(_run(Shaper(Link(settings, args.seed), args.forward), args.control))
-    except KeyboardInterrupt:
-        pass
-    except OSError as exc:
-        print(f'link_shaper: {exc}', file=sys.stderr)
-        return 1
+    shaper = Shaper(Link(settings, args.seed), args.forward)
+    with contextlib.suppress(KeyboardInterrupt):
+        try:
+            asyncio.run(_run(shaper, args.control))
+        except OSError as exc:           # the address is taken, or not in this namespace
+            parser.exit(1, f'link_shaper: {exc}\n')
     return 0
 
 
