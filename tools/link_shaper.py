@@ -42,7 +42,7 @@ import sys
 import time
 from dataclasses import dataclass, field, fields
 
-__all__ = ['LinkSettings', 'TokenBucket', 'Outages', 'Direction', 'Link', 'stall_schedule', 'Shaper', 'control',
+__all__ = ['LinkSettings', 'TokenBucket', 'Outages', 'AnyOutage', 'Direction', 'Link', 'stall_schedule', 'Shaper', 'control',
            'main']
 
 CHUNK = 4096               # [bytes] read at a time: a few frames, so a big message is paced, not sent whole
@@ -135,6 +135,31 @@ class Outages:
         keep = bisect.bisect_left(self._ends, t)
         del self._starts[:keep], self._ends[:keep]
 
+    def forget_after(self, t: float) -> None:
+        """Drop outages that start after `t` (one in progress runs on)."""
+        keep = bisect.bisect_right(self._starts, t)
+        del self._starts[keep:], self._ends[keep:]
+
+
+class AnyOutage:
+    """The link is down while any of `parts` is (drop-outs and loss bursts are kept apart, so
+    that new loss settings re-plan the bursts without ending a drop-out)."""
+
+    def __init__(self, *parts: Outages) -> None:
+        self._parts = parts
+
+    def up_at(self, t: float) -> float:
+        while True:
+            later = t
+            for part in self._parts:
+                later = part.up_at(later)
+            if later == t:
+                return t
+            t = later
+
+    def down(self, t: float) -> bool:
+        return self.up_at(t) > t
+
 
 def stall_schedule(rng: random.Random, rate: float, seconds: float, start: float, horizon: float
                    ) -> list[tuple[float, float]]:
@@ -152,7 +177,7 @@ def stall_schedule(rng: random.Random, rate: float, seconds: float, start: float
 class Direction:
     """One direction of the link: when does a chunk offered now reach the other end?"""
 
-    def __init__(self, settings: LinkSettings, outages: Outages, rng: random.Random) -> None:
+    def __init__(self, settings: LinkSettings, outages: Outages | AnyOutage, rng: random.Random) -> None:
         self._settings = settings
         self._outages = outages
         self._rng = rng
@@ -178,7 +203,9 @@ class Link:
     seed: int = 0
 
     def __post_init__(self) -> None:
-        self.outages = Outages()
+        self.drops = Outages()       # from the control socket
+        self.stalls = Outages()      # loss bursts, planned ahead at random
+        self.outages = AnyOutage(self.drops, self.stalls)
         self._rng = random.Random(self.seed)
         self.up = Direction(self.settings, self.outages, self._rng)      # the dialling side -> target
         self.down = Direction(self.settings, self.outages, self._rng)    # target -> the dialling side
@@ -191,9 +218,15 @@ class Link:
         begin = max(now, self._stalls_until)
         for start, seconds in stall_schedule(self._rng, self.settings.stall_rate, self.settings.stall, begin,
                                              now + horizon - begin):
-            self.outages.add(start, seconds)
+            self.stalls.add(start, seconds)
         self._stalls_until = now + horizon
-        self.outages.forget_before(now - 1.0)
+        self.stalls.forget_before(now - 1.0)
+        self.drops.forget_before(now - 1.0)
+
+    def replan_stalls(self, now: float) -> None:
+        """The loss settings changed: forget the bursts planned after `now`."""
+        self.stalls.forget_after(now)
+        self._stalls_until = now
 
 
 # -- the proxy ---------------------------------------------------------------------------------
@@ -298,7 +331,7 @@ class Shaper:
     def drop(self, seconds: float) -> None:
         """A drop-out from now on; in 'reset' mode every connection is reset as well."""
         now = asyncio.get_running_loop().time()
-        self.link.outages.add(now, seconds)
+        self.link.drops.add(now, seconds)
         if self.link.settings.dropout_mode == 'reset':
             for writer in list(self._connections):
                 _reset(writer)
@@ -312,14 +345,18 @@ class Shaper:
         """One control request: set, drop, up (end every outage), stats."""
         cmd = request.get('cmd')
         if cmd == 'set':
-            self.link.settings.update({k: v for k, v in request.items() if k != 'cmd'})
+            values = {k: v for k, v in request.items() if k != 'cmd'}
+            self.link.settings.update(values)
+            if {'stall_rate', 'stall'} & values.keys():
+                self.link.replan_stalls(asyncio.get_running_loop().time())
         elif cmd == 'drop':
             seconds = request.get('seconds')
             if not isinstance(seconds, (int, float)) or seconds <= 0:
                 raise ValueError(f'drop needs seconds > 0, got {seconds!r}')
             self.drop(float(seconds))
         elif cmd == 'up':
-            self.link.outages.clear()
+            self.link.drops.clear()
+            self.link.stalls.clear()
         elif cmd != 'stats':
             raise ValueError(f'unknown command {cmd!r} (set, drop, up, stats)')
         return self.stats()

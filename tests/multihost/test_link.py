@@ -131,3 +131,20 @@ def test_the_laptop_lists_the_robots_node_right_after_a_drop_out(link):
                 break
         control(link['sock'], cmd='set', dropout_mode='hold')
         assert '/robot_pub' in names, f'after a {mode} drop-out: {names} (the command took {took:.1f} s)'
+
+
+def test_loss_bursts_stall_the_stream_without_losing_it(link):
+    """Two 0.2 s loss bursts a second: samples come late, in bursts, all of them, in order."""
+    sub = link['sub']
+    before = _arrivals(sub.log)[-1][0]
+    control(link['sock'], cmd='set', stall_rate=2.0, stall=0.2)
+    try:
+        time.sleep(4.0)
+    finally:
+        control(link['sock'], cmd='set', stall_rate=0.0)
+    time.sleep(1.0)
+    seen = [a for a in _arrivals(sub.log) if a[0] > before]
+    assert max(d for _, _, d in seen) >= 150.0, 'no sample waited for a loss burst'
+    seqs = [n for n, _, _ in seen]
+    assert seqs == list(range(before + 1, before + 1 + len(seqs))), 'a reliable topic lost samples in loss bursts'
+    assert statistics.median(d for _, _, d in _arrivals(sub.log)[-10:]) < 80.0   # and back to the plain latency

@@ -9,7 +9,7 @@ import random
 
 import pytest
 
-from tools.link_shaper import Direction, Link, LinkSettings, Outages, TokenBucket, _forward, stall_schedule
+from tools.link_shaper import AnyOutage, Direction, Link, LinkSettings, Outages, TokenBucket, _forward, stall_schedule
 
 
 def direction(**settings) -> Direction:
@@ -76,7 +76,7 @@ def test_outages_merge_and_say_when_the_link_is_back():
 
 def test_a_drop_out_holds_what_is_sent_during_it_and_in_flight():
     link = Link(LinkSettings(latency=0.03))
-    link.outages.add(1.0, 5.0)
+    link.drops.add(1.0, 5.0)
     assert link.up.schedule(0.99, 100) == pytest.approx(6.0)   # in flight when the link went: held
     assert link.down.schedule(2.0, 100) == pytest.approx(6.03)  # sent during it: leaves at the end
     assert link.up.schedule(7.0, 100) == pytest.approx(7.03)
@@ -113,3 +113,26 @@ def test_forward_argument_shape():
     assert _forward('10.0.0.1:7447=10.0.0.2:7448') == (('10.0.0.1', 7447), ('10.0.0.2', 7448))
     with pytest.raises(Exception, match='LISTEN_HOST:PORT=TARGET_HOST:PORT'):
         _forward('10.0.0.1:7447')
+
+
+def test_drop_outs_and_loss_bursts_add_up_and_replanning_keeps_the_drop_out():
+    link = Link(LinkSettings(stall_rate=1.0, stall=0.5), seed=2)
+    link.plan_stalls(0.0, horizon=100.0)
+    link.drops.add(10.0, 5.0)
+    assert link.outages.up_at(12.0) >= 15.0          # the drop-out, and any burst right after it
+    link.settings.update({'stall_rate': 0.0})
+    link.replan_stalls(12.0)                         # during the drop-out...
+    link.plan_stalls(12.0)
+    assert link.outages.up_at(12.0) == 15.0          # ...which runs on, but no burst follows it
+    assert not any(link.outages.down(15.0 + t / 10) for t in range(700))
+
+
+def test_any_outage_chains_overlapping_parts():
+    a, b = Outages(), Outages()
+    a.add(0.0, 1.0)
+    b.add(0.9, 1.0)                                  # starts before a ends, ends after it
+    a.add(1.8, 1.0)
+    assert AnyOutage(a, b).up_at(0.5) == pytest.approx(2.8)
+    assert AnyOutage(a, b).up_at(3.0) == 3.0
+    b.forget_after(0.5)
+    assert AnyOutage(a, b).up_at(0.5) == 1.0
