@@ -437,8 +437,12 @@ def main(argv: list[str] | None = None) -> int:
         if args.request[0] != 'ctl' or len(args.request) != 2 or not args.control:
             parser.error("give --control SOCKET ctl '{\"cmd\": ...}'")
         try:
-            print(json.dumps(control(args.control, **json.loads(args.request[1]))))
-        except (OSError, ValueError, RuntimeError) as exc:
+            request = json.loads(args.request[1])
+        except ValueError as exc:
+            parser.exit(1, f'link_shaper: the request is not JSON ({exc}): {args.request[1]!r}\n')
+        try:
+            print(json.dumps(control(args.control, **request)))
+        except (OSError, ValueError, RuntimeError, TypeError) as exc:
             print(f'link_shaper: {exc}', file=sys.stderr)
             return 1
         return 0
