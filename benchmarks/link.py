@@ -219,6 +219,9 @@ def run(args: argparse.Namespace) -> dict:
         # process that takes its own start-up time, so the attempts are kept: (started after
         # the return [s], took [s], listed the robot's nodes)
         result['graph'], result['graph_attempts'] = {}, {}
+        started = time.monotonic()
+        listed = all(n in _zros(topo, topo.laptop, 'node', 'list').split() for n in ROBOT_NODES)
+        result['graph_baseline_s'] = time.monotonic() - started if listed else None   # the command alone
         for mode in ('hold', 'reset'):
             control(sock, cmd='set', dropout_mode=mode)
             control(sock, cmd='drop', seconds=args.drop)
@@ -252,6 +255,9 @@ def table(r: dict) -> str:
         detail = ', '.join(f"{'yes' if ok else 'no'} at {t0:.1f}+{took:.1f} s" for t0, took, ok in tries)
         rows.append(f"| robot's nodes in `zros node list` after a {mode} drop-out | "
                     f"{'not within 30 s' if seconds is None else f'{seconds:.1f} s'} ({detail}) | <= 2 s |")
+    base = r.get('graph_baseline_s')
+    rows.append(f"| `zros node list` on the laptop with the link up (the command alone) | "
+                f"{'did not list them' if base is None else f'{base:.1f} s'} | |")
     rows += ['', '| Topic (payload, probe on the laptop) | msg/s | kB/s |', '|---|---|---|']
     for name, (rate, bps) in sorted(r['topics'].items(), key=lambda kv: -kv[1][1]):
         if rate > 0:
