@@ -124,11 +124,7 @@ def test_the_laptop_lists_the_robots_node_right_after_a_drop_out(link):
         control(link['sock'], cmd='set', dropout_mode=mode)
         control(link['sock'], cmd='drop', seconds=3.0)
         time.sleep(3.0)
-        deadline = time.monotonic() + 2.0
-        while True:
-            names, took = _node_list(link)
-            if '/robot_pub' in names or time.monotonic() > deadline:
-                break
+        names, took = _node_list(link)
         control(link['sock'], cmd='set', dropout_mode='hold')
         assert '/robot_pub' in names, f'after a {mode} drop-out: {names} (the command took {took:.1f} s)'
 
