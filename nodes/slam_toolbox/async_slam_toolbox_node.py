@@ -434,10 +434,11 @@ def _pose2d(transform: TransformStamped) -> tuple[float, float, float]:
     return float(t.translation.x), float(t.translation.y), yaw_from_quaternion(r.x, r.y, r.z, r.w)
 
 
-def main(args: list[str] | None = None) -> int:
+def main(args: list[str] | None = None, *, node_class: type[SlamNode] = SlamNode) -> int:
+    """Run the node (`node_class`: the mode's SlamNode subclass) until Ctrl-C."""
     try:
         with zros.init(args=args):
-            spin_nodes(SlamNode())
+            spin_nodes(node_class())
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     return 0

@@ -18,14 +18,13 @@ from __future__ import annotations
 import sys
 from typing import Any
 
-import zros
-from zros.executors import ExternalShutdownException, spin_nodes
 from zros.rotations import yaw_from_quaternion
 
 from interfaces.geometry_msgs.msg import PoseWithCovarianceStamped
 from interfaces.slam_toolbox.srv import DeserializePoseGraph
 from interfaces.std_srvs.srv import Empty
 from nodes.slam_toolbox.async_slam_toolbox_node import SlamNode
+from nodes.slam_toolbox.async_slam_toolbox_node import main as slam_main
 
 __all__ = ['LocalizationNode', 'main']
 
@@ -67,12 +66,7 @@ class LocalizationNode(SlamNode):
 
 
 def main(args: list[str] | None = None) -> int:
-    try:
-        with zros.init(args=args):
-            spin_nodes(LocalizationNode())
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    return 0
+    return slam_main(args, node_class=LocalizationNode)
 
 
 if __name__ == '__main__':

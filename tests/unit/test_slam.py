@@ -9,10 +9,11 @@ import pytest
 
 from zros.slam import PoseGraphFileError, Slam, SlamParameters, scan_points
 from zros.slam.geometry import compose, inverse, relative
-from zros.slam.grid import LogOddsGrid
+from zros.slam.grid import LogOddsGrid, occupancy_from_scans
 from zros.slam.match_grid import MatchGrid
 from zros.slam.matcher import SearchWindow, match_scan
 from zros.slam.pose_graph import PoseGraph
+from zros.slam.serialization import read_pose_graph
 
 
 def test_geometry_compose_inverse_relative():
@@ -151,6 +152,10 @@ def test_serialize_and_deserialize_the_pose_graph(tmp_path):
     assert all(np.array_equal(a.scan.hits, b.scan.hits) for a, b in zip(again.keyframes, slam.keyframes))
     assert np.allclose(again.trajectory(), slam.trajectory())
     assert np.array_equal(again.occupancy_map().data, slam.occupancy_map().data)
+    # merge_maps_kinematic draws a saved graph from scratch: the same map as the mapper's.
+    saved = read_pose_graph(tmp_path / 'graph')
+    drawn = occupancy_from_scans(saved.poses, saved.scans, 0.05)
+    assert np.array_equal(drawn.data, slam.occupancy_map().data) and drawn.origin == slam.occupancy_map().origin
     (tmp_path / 'junk.posegraph').write_bytes(b'not a graph')
     with pytest.raises(PoseGraphFileError, match='junk.posegraph'):
         again.deserialize(tmp_path / 'junk.posegraph')
