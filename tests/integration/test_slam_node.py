@@ -10,7 +10,7 @@ turns on the spot, serialize_map writes the pose graph, and localization_slam_to
 (started by slam_toolbox's localization_launch.py with `map_file_name` and `map_start_pose`)
 finds the robot, teleported elsewhere so that its odometry knows nothing of the move, to within a
 few centimetres of the simulator's truth; /initialpose relocalizes it after a second teleport;
-merge_maps_kinematic merges the saved graph."""
+lifelong_slam_toolbox_node maps on in the graph; merge_maps_kinematic merges it."""
 from __future__ import annotations
 
 import math
@@ -232,6 +232,7 @@ def test_save_the_pose_graph_then_localize_in_it_elsewhere(spawn, make_context, 
     from zros.qos import DurabilityPolicy, QoSProfile
     from zros.rotations import quaternion_from_yaw, yaw_from_quaternion, wrap_angle
     from zros.slam.geometry import relative
+    from zros.slam.serialization import read_pose_graph
     from interfaces.gazebo_msgs.srv import GetEntityState, SetEntityState
     from interfaces.geometry_msgs.msg import PoseWithCovarianceStamped, Twist
     from interfaces.nav_msgs.msg import OccupancyGrid
@@ -318,7 +319,20 @@ def test_save_the_pose_graph_then_localize_in_it_elsewhere(spawn, make_context, 
     localization.signal(signal.SIGINT)
     assert localization.wait(15) == 0, localization.output()
 
-    # 4. merge_maps_kinematic: the saved graph as a submap, then merged onto /map.
+    # 4. Lifelong mapping: the graph loaded where the robot is, and mapping goes on in it.
+    lifelong = spawn.command(sys.executable, '-m', 'zros', 'run', 'slam_toolbox', 'lifelong_slam_toolbox_node',
+                             '--ros-args', '-p', 'use_sim_time:=true', '-p', f'map_file_name:={graph}',
+                             '-p', f'map_start_pose:=[{expected[0]:.4f}, {expected[1]:.4f}, {expected[2]:.4f}]',
+                             name='lifelong')
+    lifelong.wait_for_output('mapping from', timeout=60)
+    wait_until(lambda: near(expected), 30, message=lambda: f'lifelong: {robot_in_map()}\n{lifelong.output()}')
+    grown = tmp_path / 'grown'
+    assert serialize.call(SerializePoseGraph.Request(filename=str(grown)), timeout_sec=20).result == 0
+    assert len(read_pose_graph(grown).poses) > len(read_pose_graph(graph).poses)      # the old graph, and more
+    lifelong.signal(signal.SIGINT)
+    assert lifelong.wait(15) == 0, lifelong.output()
+
+    # 5. merge_maps_kinematic: the saved graph as a submap, then merged onto /map.
     maps.clear()
     merge = spawn.command(sys.executable, '-m', 'zros', 'launch', 'slam_toolbox', 'merge_maps_kinematic_launch.py',
                           name='merge')
