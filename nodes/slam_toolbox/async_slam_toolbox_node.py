@@ -223,7 +223,7 @@ class SlamNode(LifecycleNodeMixin, Node):
                 path = self._slam.deserialize(filename, pose=pose, localize=self.LOCALIZING)
                 self._last_scan_time = None
         except PoseGraphFileError as exc:
-            self.get_logger().error(f'deserialize_map failed, the current map is kept: {exc}')
+            self.get_logger().error(f'Cannot load the pose graph, the current map is kept: {exc}')
             return False
         self._map_stale = True
         where = 'its first node' if pose is None else f'({pose[0]:.2f}, {pose[1]:.2f}), theta={pose[2]:.2f}'
