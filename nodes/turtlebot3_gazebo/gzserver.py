@@ -194,11 +194,12 @@ class GazeboNode(Node):
             self._sim.remove_robot(name)
             raise
         robot = self._robots[name] = _Robot(sim_robot, endpoints)
+        where = f"Gazebo topics, commands on '{topics.cmd_vel}'" if self._gz else f"topics under '/{namespace}'"
         endpoints.publish_static_frames()
         endpoints.publish_collisions()
         self.get_logger().info(
             f"Spawned {spec.model} '{name}' at x={pose.x:g} y={pose.y:g} yaw={pose.yaw:g} "
-            f"(commands on '{topics.cmd_vel}' as {endpoints.cmd_type._TYPE})")
+            f"({where}, cmd_vel as {endpoints.cmd_type._TYPE})")
         return robot
 
     def _sim_lidar(self) -> LidarSpec:
