@@ -3,7 +3,9 @@
 Names are relative to the robot's namespace, so the first robot (no namespace) publishes
 `/scan`, `/odom`, `/tf`, ... and a robot spawned in `tb3_1` publishes `/tb3_1/scan`,
 `/tb3_1/tf`, ... with the same, unprefixed frame names (`odom`, `base_footprint`), as
-multi-robot ROS setups do. QoS are the real robot's (docs/robot.md): `/scan` is reliable with
+multi-robot ROS setups do. A robot of Gazebo Sim (ros_gz_sim's `create`) publishes where its
+model's plugins say instead, on the hidden Gazebo side (zros.sim.gz_topics.RobotTopics), with the
+frames they name; only zros's own ground truth stays under `sim/`. QoS are the real robot's (docs/robot.md): `/scan` is reliable with
 depth 5 (Gazebo's sensor QoS made reliable), so a plain depth-10 subscription gets it, and so do
 best-effort ones (AMCL, SLAM).
 
@@ -20,6 +22,7 @@ import numpy as np
 from zros.qos import DurabilityPolicy, QoSProfile
 from zros.rotations import quaternion_from_yaw
 from zros.sim import SimRobot
+from zros.sim.gz_topics import RobotTopics
 
 from interfaces.geometry_msgs.msg import Twist, TwistStamped, TransformStamped
 from interfaces.nav_msgs.msg import Odometry
@@ -64,10 +67,11 @@ class RobotEndpoints:
     the executor; the `publish_*` methods from the simulation thread).
     """
 
-    def __init__(self, node: 'Node', robot: SimRobot, namespace: str, *, stamped_cmd_vel: bool,
+    def __init__(self, node: 'Node', robot: SimRobot, topics: RobotTopics, *, stamped_cmd_vel: bool,
                  publish_frames: bool) -> None:
         self.robot = robot
-        self.namespace = namespace.strip('/')
+        self.topics = topics
+        self.namespace = topics.namespace.strip('/')
         self.publish_frames = publish_frames
         self._node = node
         self._warned_bad_command = False
@@ -75,12 +79,12 @@ class RobotEndpoints:
         name = lambda n: topic_name(self.namespace, n)  # noqa: E731
         try:
             self.cmd_type = TwistStamped if stamped_cmd_vel else Twist
-            self._keep(node.create_subscription(self.cmd_type, name('cmd_vel'), self.on_command, 10))
-            self.scan_pub = self._keep(node.create_publisher(LaserScan, name('scan'), SCAN_QOS))
-            self.odom_pub = self._keep(node.create_publisher(Odometry, name('odom'), SENSOR_QOS))
-            self.tf_pub = self._keep(node.create_publisher(TFMessage, name('tf'), TF_QOS))
-            self.joint_pub = self._keep(node.create_publisher(JointState, name('joint_states'), SENSOR_QOS))
-            self.imu_pub = self._keep(node.create_publisher(Imu, name('imu'), SENSOR_QOS))
+            self._keep(node.create_subscription(self.cmd_type, topics.cmd_vel, self.on_command, 10))
+            self.scan_pub = self._keep(node.create_publisher(LaserScan, topics.scan, SCAN_QOS))
+            self.odom_pub = self._keep(node.create_publisher(Odometry, topics.odom, SENSOR_QOS))
+            self.tf_pub = self._keep(node.create_publisher(TFMessage, topics.tf, TF_QOS))
+            self.joint_pub = self._keep(node.create_publisher(JointState, topics.joint_states, SENSOR_QOS))
+            self.imu_pub = self._keep(node.create_publisher(Imu, topics.imu, SENSOR_QOS))
             self.truth_pub = self._keep(node.create_publisher(Odometry, name('sim/ground_truth'), SENSOR_QOS))
             self.collisions_pub = self._keep(node.create_publisher(UInt32, name('sim/collisions'), LATCHED_QOS))
             if publish_frames:
@@ -101,20 +105,20 @@ class RobotEndpoints:
         self.entities.clear()
 
     def _build_messages(self) -> None:
-        spec, lidar = self.robot.spec, self.robot.lidar
+        spec, lidar, frames = self.robot.spec, self.robot.lidar, self.topics
         self.scan = LaserScan(angle_min=lidar.angle_min, angle_max=lidar.angle_max,
                               angle_increment=lidar.angle_increment, time_increment=0.0, scan_time=0.0,
                               range_min=lidar.range_min, range_max=lidar.range_max)
-        self.scan.header.frame_id = 'base_scan'
+        self.scan.header.frame_id = frames.scan_frame
         self.scan.intensities = np.zeros(lidar.samples, dtype=np.float32)
-        self.odom = Odometry(child_frame_id='base_footprint')
-        self.odom.header.frame_id = 'odom'
+        self.odom = Odometry(child_frame_id=frames.base_frame)
+        self.odom.header.frame_id = frames.odom_frame
         self.odom.pose.covariance = _POSE_COVARIANCE
         self.odom.twist.covariance = _TWIST_COVARIANCE
-        self.truth = Odometry(child_frame_id='base_footprint')
+        self.truth = Odometry(child_frame_id=frames.base_frame)
         self.truth.header.frame_id = 'world'
-        self.odom_tf = TransformStamped(child_frame_id='base_footprint')
-        self.odom_tf.header.frame_id = 'odom'
+        self.odom_tf = TransformStamped(child_frame_id=frames.base_frame)
+        self.odom_tf.header.frame_id = frames.odom_frame
         self.wheel_tfs = [TransformStamped(child_frame_id=child) for _, child, _, _ in wheel_frames(spec, (0.0, 0.0))]
         for tf, (parent, _, (x, y, z), _) in zip(self.wheel_tfs, wheel_frames(spec, (0.0, 0.0))):
             tf.header.frame_id = parent
@@ -122,7 +126,7 @@ class RobotEndpoints:
         self.tf = TFMessage(transforms=[self.odom_tf, *self.wheel_tfs] if self.publish_frames else [self.odom_tf])
         self.joints = JointState(name=list(WHEEL_JOINTS))
         self.imu = Imu()
-        self.imu.header.frame_id = 'imu_link'
+        self.imu.header.frame_id = frames.imu_frame
         gyro, accel = self.robot.imu_spec.gyro_noise_stddev ** 2, self.robot.imu_spec.accel_noise_stddev ** 2
         self.imu.orientation_covariance = np.diag([1e-6, 1e-6, 1e-6]).ravel()
         self.imu.angular_velocity_covariance = np.diag([gyro, gyro, gyro]).ravel()

@@ -13,6 +13,12 @@ and Gazebo publish: `/clock` (rosgraph_msgs/Clock), and per robot `scan`, `odom`
 Gazebo Sim's `/world/<world>/control` (ros_gz_interfaces/ControlWorld: pause, step N, reset),
 and `/sim/get_map` (nav_msgs/GetMap: the world's exact occupancy, `map_resolution` m cells).
 
+With `gz=True` it plays Gazebo Sim instead (ros_gz_sim's `gz sim`): `/clock`, the robots' topics
+and the world's services (`/world/<world>/create`, `/remove`, `/control`) are on the hidden
+Gazebo side (zros.sim.gz_topics), where only ros_gz_bridge makes ROS topics of them; a robot's
+topics and frames are the ones its model's gz-sim plugins name, and Gazebo classic's ROS
+services are not there.
+
 Time: the simulation owns it. Steps never depend on when the thread wakes up, only on their
 count, so a run at 20x and one at 1x with the same commands at the same simulated times give
 the same trajectory; pacing only decides when steps happen on the wall clock. If the machine
@@ -36,6 +42,7 @@ from zros.qos import QoSProfile
 from zros.rotations import quaternion_from_yaw, yaw_from_quaternion
 from zros.sim import (LDS_01, TURTLEBOT3_IMU, LidarSpec, Pose2D, RobotSpec, SimError, SimRobot, Simulation, load_world,
                       rasterize, robot_spec, wrap_angle)
+from zros.sim.gz_topics import RobotTopics, default_topics, gz_key, ros_topics
 from zros.sim.model_file import robot_from_xml, turtlebot3_named
 from zros.sim.sdf import SdfError
 
@@ -74,8 +81,9 @@ class _Robot:
 
 class GazeboNode(Node):
 
-    def __init__(self, **kwargs: Any) -> None:
+    def __init__(self, *, gz: bool = False, **kwargs: Any) -> None:
         super().__init__('gazebo', **kwargs)
+        self._gz = gz
         self._lock = threading.RLock()
         self._stop = threading.Event()
         self._wake = threading.Event()
@@ -94,7 +102,7 @@ class GazeboNode(Node):
         self._slip = self._number('wheel_slip_stddev', 0.002, minimum=0.0)
         self._number('map_resolution', 0.05, minimum=1e-4)
         self._run_until_ns: int | None = None
-        self._clock_pub = self.create_publisher(Clock, '/clock', QoSProfile(depth=1))
+        self._clock_pub = self.create_publisher(Clock, gz_key('/clock') if gz else '/clock', QoSProfile(depth=1))
         self._clock_msg = Clock()
         self.add_on_set_parameters_callback(self._check_parameters)
         self.add_post_set_parameters_callback(self._on_parameters_set)
@@ -164,12 +172,15 @@ class GazeboNode(Node):
 
     # -- robots -------------------------------------------------------------------------------
     def _spawn(self, name: str, model: str, namespace: str, pose: Pose2D, publish_frames: bool, *,
-               spec: RobotSpec | None = None, lidar: LidarSpec | None = None) -> _Robot:
+               spec: RobotSpec | None = None, lidar: LidarSpec | None = None,
+               topics: RobotTopics | None = None) -> _Robot:
         """Add a robot and its topics (caller holds the lock, or is the constructor);
         `publish_frames`: publish its fixed and wheel frames (no robot_state_publisher for it);
-        `spec`, `lidar`: from its model file (else the TurtleBot3 `model`'s)."""
+        `spec`, `lidar`: from its model file (else the TurtleBot3 `model`'s); `topics`: where it
+        talks (else the TurtleBot3's topics under `namespace`)."""
         spec = spec or robot_spec(model)
-        namespace = namespace.strip('/')
+        topics = topics or ros_topics(namespace)
+        namespace = topics.namespace
         if any(r.io.namespace == namespace for r in self._robots.values()):
             raise SimError(f"namespace '/{namespace}' is already used by another robot; give each "
                            'robot its own robot_namespace')
@@ -177,17 +188,18 @@ class GazeboNode(Node):
         sim_robot = self._sim.add_robot(name, pose, spec=spec, lidar=lidar, slip_stddev=self._slip)
         sim_robot.command_timeout = self._cmd_vel_timeout or None
         try:
-            endpoints = RobotEndpoints(self, sim_robot, namespace, stamped_cmd_vel=self._stamped,
+            endpoints = RobotEndpoints(self, sim_robot, topics, stamped_cmd_vel=self._stamped,
                                        publish_frames=publish_frames)
         except Exception:
             self._sim.remove_robot(name)
             raise
         robot = self._robots[name] = _Robot(sim_robot, endpoints)
+        where = f"Gazebo topics, commands on '{topics.cmd_vel}'" if self._gz else f"topics under '/{namespace}'"
         endpoints.publish_static_frames()
         endpoints.publish_collisions()
         self.get_logger().info(
             f"Spawned {spec.model} '{name}' at x={pose.x:g} y={pose.y:g} yaw={pose.yaw:g} "
-            f"(topics under '/{namespace}', cmd_vel as {endpoints.cmd_type._TYPE})")
+            f"({where}, cmd_vel as {endpoints.cmd_type._TYPE})")
         return robot
 
     def _sim_lidar(self) -> LidarSpec:
@@ -205,6 +217,13 @@ class GazeboNode(Node):
 
     # -- services ----------------------------------------------------------------------------
     def _create_services(self) -> None:
+        self.create_service(GetMap, '/sim/get_map', self._on_get_map)
+        if self._gz:    # Gazebo Sim's world services, on its side: ros_gz_sim's create calls them
+            world = f'/world/{self._world_name}'
+            self.create_service(SpawnEntity, gz_key(f'{world}/create'), self._on_spawn_entity)
+            self.create_service(DeleteEntity, gz_key(f'{world}/remove'), self._on_delete_entity)
+            self.create_service(ControlWorld, gz_key(f'{world}/control'), self._on_control_world)
+            return
         self.create_service(Empty, '/reset_simulation', self._on_reset_simulation)
         self.create_service(Empty, '/reset_world', self._on_reset_world)
         self.create_service(Empty, '/pause_physics', lambda req, res: self._set_paused(True, res))
@@ -217,7 +236,6 @@ class GazeboNode(Node):
         self.create_service(GetModelState, '/get_model_state', self._on_get_model_state)    # ROS 1's names,
         self.create_service(SetModelState, '/set_model_state', self._on_set_model_state)    # still in courses
         self.create_service(ControlWorld, f'/world/{self._world_name}/control', self._on_control_world)
-        self.create_service(GetMap, '/sim/get_map', self._on_get_map)
 
     def _set_paused(self, paused: bool, response: Any) -> Any:
         with self._lock:
@@ -255,23 +273,32 @@ class GazeboNode(Node):
 
     def _on_spawn_entity(self, request: Any, response: Any) -> Any:
         model = turtlebot3_named(request.xml, _default_model())
-        spec = lidar = None
+        spec = lidar = topics = None
+        name = request.name or f'{model}_{len(self._robots)}'
         if '<model' in request.xml or '<robot' in request.xml:
             try:
-                robot_model = robot_from_xml(request.xml, fallback=_default_model(), source=f'<{request.name} XML>')
+                robot_model = robot_from_xml(request.xml, fallback=_default_model(), source=f'<{name} XML>',
+                                             world=self._world_name)
             except SdfError as exc:
                 response.success, response.status_message = False, str(exc)
                 return response
-            spec, lidar = robot_model.spec, robot_model.lidar
+            spec, lidar, topics = robot_model.spec, robot_model.lidar, robot_model.topics
             if robot_model.warning:
                 self.get_logger().warn(robot_model.warning)
+        if self._gz:    # its topics on Gazebo's side, as its gz-sim plugins name them
+            topics = topics or default_topics(name, self._world_name)
+            topics = topics._replace(**{key: gz_key(getattr(topics, key))
+                                        for key in ('cmd_vel', 'odom', 'tf', 'joint_states', 'scan', 'imu')})
+        else:
+            topics = None
         p = request.initial_pose
         pose = Pose2D(p.position.x, p.position.y, _yaw(p.orientation))
-        name = request.name or f'{model}_{len(self._robots)}'
         with self._lock:
             try:
-                # No launch file started a robot_state_publisher for it: its frames come from here.
-                self._spawn(name, model, request.robot_namespace, pose, True, spec=spec, lidar=lidar)
+                # Gazebo classic: no launch file started a robot_state_publisher for it, so its
+                # frames come from here. Gazebo Sim publishes no fixed frames.
+                self._spawn(name, model, request.robot_namespace, pose, not self._gz, spec=spec, lidar=lidar,
+                            topics=topics)
             except (SimError, ValueError) as exc:
                 response.success, response.status_message = False, str(exc)
                 return response
