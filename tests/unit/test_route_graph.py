@@ -141,3 +141,26 @@ def test_progress_passes_nodes_as_the_robot_drives():
     assert passed[0][0] == 0.0 and 2.0 <= passed[1][0] <= 2.5
     assert passed[3][0] >= 1.7
     assert progress.done and progress.current_edge is None
+
+
+def test_the_shipped_turtlebot3_graph_lies_in_free_space():
+    """nav2_route/graphs/turtlebot3_graph.geojson (zros's own): a lattice around the nine pillars
+    of zros's turtlebot3_world, every node and edge at least 0.2 m from an obstacle."""
+    from pathlib import Path
+
+    from scipy import ndimage
+
+    from zros.sim import load_world, rasterize
+    graph = load_graph(Path(__file__).resolve().parents[2] / 'nodes/nav2_route/graphs/turtlebot3_graph.geojson')
+    assert len(graph.node_ids) == 16 and len(graph.edge_ids) == 48
+    raster = rasterize(load_world('turtlebot3_world'), 0.05)
+    clearance = ndimage.distance_transform_edt(~raster.cells.astype(bool)) * 0.05
+    t = np.linspace(0.0, 1.0, 40)[:, None]
+    a, b = graph.xy[graph.edge_start], graph.xy[graph.edge_end]
+    points = (a[:, None, :] + t * (b - a)[:, None, :]).reshape(-1, 2)
+    cols = ((points[:, 0] - raster.origin[0]) / 0.05).astype(int)
+    rows = ((points[:, 1] - raster.origin[1]) / 0.05).astype(int)
+    assert clearance[rows, cols].min() >= 0.2
+    route = find_route(graph, int(nearest_nodes(graph, (-2.0, -0.5))[0]), int(nearest_nodes(graph, (1.7, 1.7))[0]),
+                       distance_costs(graph))
+    assert route.cost == pytest.approx(3 * 1.1 + 2 * 1.1)
