@@ -160,3 +160,39 @@ def test_route_server_plans_and_tracks(spawn, probe, tmp_path):
     assert len(feedback[1].route.nodes) == 4 and feedback[1].path.poses
     out = server.output()
     assert 'CostmapScorer' in out and 'not implemented in zros' in out
+
+
+# Jazzy's nav2_params.yaml sets no graph and no dock instances: both servers still come up.
+JAZZY_BRINGUP = """\
+route_server:
+  ros__parameters:
+    boundary_radius_to_achieve_node: 1.0
+    radius_to_achieve_node: 2.0
+    smooth_corners: true
+docking_server:
+  ros__parameters:
+    dock_plugins: ['simple_charging_dock']
+    simple_charging_dock:
+      plugin: 'opennav_docking::SimpleChargingDock'
+      use_battery_status: false
+"""
+
+
+def test_the_lifecycle_manager_brings_up_jazzys_two_servers(spawn, probe, tmp_path):
+    """As Jazzy's navigation_launch.py starts them, beside the others, under one manager."""
+    from zros.action import ActionClient
+    from interfaces.action_msgs.msg import GoalStatus
+    from interfaces.nav2_msgs.action import ComputeRoute
+    params = tmp_path / 'nav2_params.yaml'
+    params.write_text(JAZZY_BRINGUP)
+    route = spawn.node('nav2_route', 'route_server', '--ros-args', '--params-file', str(params))
+    docking = spawn.node('opennav_docking', 'opennav_docking', '--ros-args', '-r', '__node:=docking_server',
+                         '--params-file', str(params))
+    manager = spawn.node('nav2_lifecycle_manager', 'lifecycle_manager', '--ros-args', '-r',
+                         '__node:=lifecycle_manager_navigation', '-p', "node_names:=['route_server', 'docking_server']",
+                         '-p', 'autostart:=true')
+    manager.wait_for_output('Managed nodes are active', timeout=60)
+    assert 'No graph file provided to load yet.' in route.output()
+    assert '1 dock types and 0 dock instances' in docking.output()
+    status, result = _run(ActionClient(probe, ComputeRoute, 'compute_route'), ComputeRoute.Goal(start_id=1, goal_id=2))
+    assert status == GoalStatus.STATUS_ABORTED and result.error_code == ComputeRoute.Result.NO_VALID_GRAPH
