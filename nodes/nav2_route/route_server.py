@@ -25,7 +25,7 @@ import zros
 from zros.executors import ExternalShutdownException, spin_nodes
 from zros.lifecycle import LifecycleNode, State, TransitionCallbackReturn
 from zros.navigation.node_support import Nav2Params, duration_msg, lookup_pose, path_msg, pose_in_frame
-from zros.navigation.route_graph import (NoValidGraph, Route, RouteError, RouteGraph, RouteProgress,
+from zros.navigation.route_graph import (NoValidGraph, Route, RouteError, RouteGraph, RouteProgress, densify,
                                          distance_costs, edge_costs, find_route, load_graph, nearest_nodes,
                                          prune_ends)
 from zros.navigation.servers import GoalRunner, gated_action_server
@@ -47,7 +47,7 @@ _IGNORED = {'costmap_topic': 'global_costmap/costmap_raw', 'action_server_result
 class RouteServer(LifecycleNode):
     def __init__(self) -> None:
         super().__init__('route_server')
-        prm = self._prm = Nav2Params(self)
+        prm = Nav2Params(self)
         self.route_frame = prm.get('route_frame', 'map')
         self.base_frame = prm.get('base_frame', 'base_link')
         prm.get('global_frame', 'map')
@@ -155,7 +155,6 @@ class RouteServer(LifecycleNode):
 
     def _messages(self, route: Route) -> tuple[Any, Any]:
         """nav2_msgs/Route and the dense nav_msgs/Path of a route, stamped now in the route frame."""
-        from zros.navigation.route_graph import densify
         graph = self.graph
         stamp = self.get_clock().now().to_msg()
         msg = RouteMsg()

@@ -94,7 +94,7 @@ class DockPlugin:
 class DockingServer(LifecycleNode):
     def __init__(self) -> None:
         super().__init__('docking_server')
-        prm = self.prm = Nav2Params(self)
+        prm = Nav2Params(self)
         self.frequency = prm.get('controller_frequency', 50.0)
         self.initial_perception_timeout = prm.get('initial_perception_timeout', 5.0)
         self.wait_charge_timeout = prm.get('wait_charge_timeout', 5.0)
