@@ -196,3 +196,13 @@ def test_the_lifecycle_manager_brings_up_jazzys_two_servers(spawn, probe, tmp_pa
     assert '1 dock types and 0 dock instances' in docking.output()
     status, result = _run(ActionClient(probe, ComputeRoute, 'compute_route'), ComputeRoute.Goal(start_id=1, goal_id=2))
     assert status == GoalStatus.STATUS_ABORTED and result.error_code == ComputeRoute.Result.NO_VALID_GRAPH
+    # A dock database given later, over docking_server's service; a wrong one is refused.
+    from interfaces.nav2_msgs.srv import ReloadDockDatabase
+    database = tmp_path / 'docks.yaml'
+    database.write_text('docks:\n  home:\n    type: simple_charging_dock\n    pose: [0.5, 0.0, 0.0]\n')
+    reload = probe.create_client(ReloadDockDatabase, 'docking_server/reload_database')
+    assert reload.wait_for_service(timeout_sec=10)
+    assert reload.call(ReloadDockDatabase.Request(filepath=str(database)), timeout_sec=10).success
+    database.write_text('docks:\n  home:\n    type: other_dock\n    pose: [0.5, 0.0, 0.0]\n')
+    assert not reload.call(ReloadDockDatabase.Request(filepath=str(database)), timeout_sec=10).success
+    assert 'has type other_dock, which is not in dock_plugins' in docking.output()
