@@ -68,7 +68,9 @@ class GoalRunner:
         """Abort the goal with Nav2's error code and message (when its result has them), logged."""
         self.node.get_logger().warn(f'{message} (error code {code})')
         if hasattr(result, 'error_code'):
-            result.error_code, result.error_msg = code, message
+            result.error_code = code
+        if hasattr(result, 'error_msg'):     # nav2_route's results have a code only
+            result.error_msg = message
         self.stop_if_current(handle)
         handle.abort()
         return result
