@@ -111,3 +111,9 @@ def test_navigation2_reads_the_humble_params_under_ros_distro_humble(tmp_path: P
         monkeypatch.setenv('ROS_DISTRO', distro)
         plan = resolve(str(launch), launch_arguments={'rviz': 'false'}, log_dir=str(tmp_path))
         assert expected in plan.describe()
+
+
+def test_a_launch_file_beside_the_scripts_is_no_executable() -> None:
+    """nav2_loopback_sim's launch file sits in the package folder, where ROS installs it."""
+    from zros.ament_index_python.executables import executables
+    assert executables('nav2_loopback_sim') == ['loopback_simulator']
