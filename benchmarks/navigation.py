@@ -58,6 +58,7 @@ REPO = Path(__file__).resolve().parents[1]
 if str(REPO) not in sys.path:
     sys.path.insert(0, str(REPO))
 
+from zros.ament_index_python.packages import get_package_share_directory  # noqa: E402
 from zros.amcl import Amcl, AmclParameters, MapGrid  # noqa: E402
 from zros.amcl.localizer import compose  # noqa: E402
 from zros.map_io import load_map  # noqa: E402
@@ -426,7 +427,9 @@ def run_explore(rtf: float, budget_s: float = 300.0) -> dict:
     context = None
     try:
         stack.launch('world', 'turtlebot3_gazebo', 'turtlebot3_world.launch.yaml', f'real_time_factor:={rtf}')
-        stack.launch('nav', 'nav2_bringup', 'bringup_launch.py', 'use_sim_time:=True', 'slam:=True')
+        burger = os.path.join(get_package_share_directory('turtlebot3_navigation2'), 'param', 'burger.yaml')
+        stack.launch('nav', 'nav2_bringup', 'bringup_launch.py', 'use_sim_time:=True', 'slam:=True',
+                     f'params_file:={burger}')
         stack.wait_for_output('nav', 'Managed nodes are active', 180)
         context = zros.init(args=[], domain_id=stack.lock.domain, signal_handler_options=False)
         node = Node('navigation_benchmark')
