@@ -30,7 +30,7 @@ from interfaces.action_msgs.msg import GoalStatus
 from interfaces.geometry_msgs.msg import PoseWithCovarianceStamped
 from interfaces.lifecycle_msgs.srv import GetState
 from interfaces.nav2_msgs.action import (AssistedTeleop, BackUp, ComputePathThroughPoses, ComputePathToPose,
-                                         DockRobot, DriveOnHeading, FollowPath, FollowWaypoints,
+                                         DockRobot, DriveOnHeading, FollowGPSWaypoints, FollowPath, FollowWaypoints,
                                          NavigateThroughPoses, NavigateToPose, SmoothPath, Spin, UndockRobot)
 from interfaces.nav2_msgs.srv import (ClearCostmapAroundPose, ClearCostmapAroundRobot, ClearCostmapExceptRegion,
                                       ClearEntireCostmap, GetCostmap, LoadMap, ManageLifecycleNodes)
@@ -71,6 +71,7 @@ class BasicNavigator(Node):
         self.nav_through_poses_client = ActionClient(self, NavigateThroughPoses, 'navigate_through_poses')
         self.nav_to_pose_client = ActionClient(self, NavigateToPose, 'navigate_to_pose')
         self.follow_waypoints_client = ActionClient(self, FollowWaypoints, 'follow_waypoints')
+        self.follow_gps_waypoints_client = ActionClient(self, FollowGPSWaypoints, 'follow_gps_waypoints')
         self.follow_path_client = ActionClient(self, FollowPath, 'follow_path')
         self.compute_path_to_pose_client = ActionClient(self, ComputePathToPose, 'compute_path_to_pose')
         self.compute_path_through_poses_client = ActionClient(self, ComputePathThroughPoses, 'compute_path_through_poses')
@@ -105,6 +106,7 @@ class BasicNavigator(Node):
     def destroy_node(self) -> None:
         """Destroy the navigator's action clients, then the node."""
         for client in (self.nav_through_poses_client, self.nav_to_pose_client, self.follow_waypoints_client,
+                       self.follow_gps_waypoints_client,
                        self.follow_path_client, self.compute_path_to_pose_client,
                        self.compute_path_through_poses_client, self.spin_client, self.backup_client,
                        self.drive_on_heading_client, self.assisted_teleop_client, self.docking_client,
@@ -181,6 +183,17 @@ class BasicNavigator(Node):
         """
         self.info(f'Following {len(poses)} goals....')
         return self._send(self.follow_waypoints_client, FollowWaypoints.Goal(poses=list(poses)), 'FollowWaypoints')
+
+    def followGpsWaypoints(self, gps_poses: list) -> bool:
+        """Send a FollowGPSWaypoints goal (Nav2 Jazzy): the waypoint follower converts each pose
+        with robot_localization's /fromLL service, then stops at each in turn.
+
+        :param gps_poses: geographic_msgs/msg/GeoPose waypoints, in order.
+        :return: ``True`` if the goal was accepted; then poll `isTaskComplete()`.
+        """
+        self.info(f'Following {len(gps_poses)} gps goals....')
+        return self._send(self.follow_gps_waypoints_client, FollowGPSWaypoints.Goal(gps_poses=list(gps_poses)),
+                          'FollowGPSWaypoints')
 
     def spin(self, spin_dist: float = 1.57, time_allowance: int = 10) -> bool:
         """Ask the behavior server to turn the robot in place.
