@@ -11,7 +11,11 @@ is this class plus topics, services and pacing; benchmarks drive it directly:
     robot = sim.add_robot('burger')                     # at the world's spawn pose
     robot.command(0.2, 0.0)                             # [m/s], [rad/s]; holds until changed
     sim.step(5.0)                                       # 5 s of simulated time
-    robot.pose, robot.odometry(), robot.scan()          # truth, encoder odometry, lidar
+    robot.pose, robot.odometry(), robot.scan()          # truth, odometry (here the truth too), lidar
+
+Odometry is Gazebo's `world` source unless `add_robot(..., odometry='encoder')` asks for wheel
+odometry that starts at (0, 0) and drifts (zros.sim.robot); benchmarks of SLAM and localization
+ask for it, to be scored against a robot's real errors.
 
 Physics: each robot is a pymunk disc (`RobotSpec.body_radius`) whose velocity is set every step
 from its diff drive (at the step's mid heading, so straight and curved motion integrate the way
@@ -32,7 +36,7 @@ import pymunk
 from zros.errors import ZrosError
 from zros.rotations import wrap_angle
 from zros.sim.raster import OccupancyRaster, rasterize
-from zros.sim.robot import BURGER, DiffDrive, RobotSpec, WheelOdometry
+from zros.sim.robot import BURGER, DiffDrive, RobotSpec, WheelOdometry, odometry_source
 from zros.sim.sensors import GRAVITY, LDS_01, TURTLEBOT3_IMU, ImuReading, ImuSpec, LidarSpec, scan_ranges
 from zros.sim.world import Pose2D, World
 
@@ -49,7 +53,7 @@ class SimError(ZrosError, ValueError):
 
 @dataclass(frozen=True)
 class OdometryState:
-    """Encoder odometry in the `odom` frame: pose x, y [m], yaw [rad]; body-frame speeds."""
+    """Odometry in the `odom` frame: pose x, y [m], yaw [rad]; body-frame speeds [m/s], [rad/s]."""
     x: float
     y: float
     yaw: float
@@ -61,8 +65,10 @@ class SimRobot:
     """One robot in a Simulation. Made by `Simulation.add_robot`, never directly."""
 
     def __init__(self, sim: 'Simulation', name: str, index: int, spec: RobotSpec, pose: Pose2D,
-                 lidar: LidarSpec, imu: ImuSpec, slip_stddev: float) -> None:
+                 lidar: LidarSpec, imu: ImuSpec, slip_stddev: float, odometry: str) -> None:
         self.name = name
+        #: 'world' (odom is the world frame, exact) or 'encoder' (wheel odometry from the spawn pose).
+        self.odometry_source = odometry_source(odometry)
         self.spec = spec
         self.lidar = lidar
         self.imu_spec = imu
@@ -84,7 +90,9 @@ class SimRobot:
         self._lidar_rng = np.random.default_rng([seed, self._index, 1])
         self._imu_rng = np.random.default_rng([seed, self._index, 2])
         self.drive = DiffDrive(self.spec)
-        self.odom = WheelOdometry(self.spec, self._odom_rng, self._slip_stddev)
+        # With world odometry the wheels only turn the joints, which Gazebo reports exactly.
+        slip = self._slip_stddev if self.odometry_source == 'encoder' else 0.0
+        self.odom = WheelOdometry(self.spec, self._odom_rng, slip)
         self._last_command_ns = self._sim.time_ns
         self._velocity = (0.0, 0.0)
         self._acceleration = 0.0
@@ -128,6 +136,11 @@ class SimRobot:
         return self._contacts > 0
 
     def odometry(self) -> OdometryState:
+        """The pose in `odom` and the body's speeds: the true ones with `world` odometry, the
+        wheels' integration (from (0, 0) at spawn or reset) with `encoder` odometry."""
+        if self.odometry_source == 'world':
+            pose, (linear, angular) = self.pose, self._velocity
+            return OdometryState(pose.x, pose.y, pose.yaw, linear, angular)
         o = self.odom
         return OdometryState(o.x, o.y, o.yaw, o.linear, o.angular)
 
@@ -253,17 +266,22 @@ class Simulation:
     # -- robots ------------------------------------------------------------------------------
     def add_robot(self, name: str = 'burger', pose: Pose2D | tuple[float, float, float] | None = None, *,
                   spec: RobotSpec = BURGER, lidar: LidarSpec = LDS_01, imu: ImuSpec = TURTLEBOT3_IMU,
-                  slip_stddev: float = DEFAULT_SLIP_STDDEV) -> SimRobot:
+                  slip_stddev: float = DEFAULT_SLIP_STDDEV, odometry: str = 'world') -> SimRobot:
         """Put a robot in the world at `pose` (x, y, yaw; default: the world's spawn pose).
+
+        Args:
+            odometry: 'world' (Gazebo's default: odom is the world frame, exact) or 'encoder'
+                (wheel odometry from (0, 0) at `pose`, drifting by `slip_stddev`); 1 and 0 too.
 
         Raises:
             SimError: the name is taken, or the robot would overlap an obstacle or a robot.
+            ValueError: an unknown odometry source.
         """
         if name in self.robots:
             raise SimError(f"a robot named '{name}' already exists")
         pose = self.world.spawn if pose is None else Pose2D(*pose) if not isinstance(pose, Pose2D) else pose
         self._check_free(pose, spec.body_radius, None)
-        robot = SimRobot(self, name, self._next_index, spec, pose, lidar, imu, slip_stddev)
+        robot = SimRobot(self, name, self._next_index, spec, pose, lidar, imu, slip_stddev, odometry)
         self._next_index += 1
         self.space.add(robot._body, robot._shape)
         self.robots[name] = robot
@@ -281,7 +299,8 @@ class Simulation:
             raise SimError(f"no robot named '{name}' (robots: {', '.join(self.robots) or 'none'})") from None
 
     def teleport(self, name: str, pose: Pose2D | tuple[float, float, float]) -> None:
-        """Move a robot (Gazebo's set_entity_state): stopped at `pose`, odometry untouched."""
+        """Move a robot (Gazebo's set_entity_state): stopped at `pose`. Encoders do not see the
+        jump (encoder odometry goes on from where it was); world odometry is the new pose."""
         robot = self.robot(name)
         pose = pose if isinstance(pose, Pose2D) else Pose2D(*pose)
         self._check_free(pose, robot.spec.body_radius, robot)
