@@ -15,7 +15,7 @@ import numpy as np
 
 from conftest import assert_clean_failure, wait_until
 
-SPAWN = (-2.0, -0.5, 0.0)          # turtlebot3_world's spawn pose: the map frame's place in the world
+SPAWN = (-2.0, -0.5, 0.0)          # turtlebot3_world's spawn pose: with encoder odometry, the map frame's place
 
 #: slam_toolbox's online_async_launch.py of the ros2 (Jazzy) branch, in shape.
 JAZZY_SLAM_LAUNCH = '''
@@ -81,8 +81,9 @@ def test_slam_node_maps_the_world_and_corrects_an_odometry_error(spawn, make_con
 
     params = tmp_path / 'slam.yaml'
     params.write_text('slam_toolbox:\n  ros__parameters:\n    map_update_interval: 0.5\n')
+    # Encoder odometry (from (0, 0) at the spawn pose): a teleport is then an odometry error.
     sim = spawn.node('turtlebot3_gazebo', 'gzserver', '--ros-args', '-p', 'world:=turtlebot3_world',
-                     '-p', 'real_time_factor:=2.0')
+                     '-p', 'real_time_factor:=2.0', '-p', 'odometry_source:=encoder')
     slam = spawn.command(sys.executable, '-m', 'zros', 'launch', 'slam_toolbox', 'online_async_launch.py',
                          f'slam_params_file:={params}', 'use_sim_time:=true', name='slam_launch')
 
@@ -177,8 +178,9 @@ def test_jazzy_launch_shape_configures_and_activates_the_lifecycle_node(spawn, m
                  'on state transition configuring -> inactive of [async_slam_toolbox_node-1]:',
                  '  change state of [async_slam_toolbox_node-1]: activate [3]'):
         assert line in printed.stdout.splitlines(), printed
+    # Encoder odometry (from (0, 0) at the spawn pose): a teleport is then an odometry error.
     sim = spawn.node('turtlebot3_gazebo', 'gzserver', '--ros-args', '-p', 'world:=turtlebot3_world',
-                     '-p', 'real_time_factor:=2.0')
+                     '-p', 'real_time_factor:=2.0', '-p', 'odometry_source:=encoder')
     slam = spawn.command(sys.executable, '-m', 'zros', 'launch', str(launch_file), f'slam_params_file:={params}',
                          name='slam_launch')
     slam.wait_for_output('Waiting unconfigured for its lifecycle transitions', timeout=60)
