@@ -217,3 +217,30 @@ def test_bad_spawns_and_teleports_are_refused() -> None:
         sim.teleport('ghost', (0.5, 0.5, 0.0))
     sim.teleport('burger', (0.55, 0.55, 1.0))
     assert sim.robot('burger').pose.x == 0.55 and sim.robot('burger').odometry().x == 0.0   # encoders feel nothing
+
+
+def test_the_robot_pushes_a_loose_box_and_its_lidar_sees_it_move() -> None:
+    from zros.sim import Pose2D
+    from zros.sim.sdf import parse_sdf_world
+    world = parse_sdf_world(
+        '<sdf version="1.6"><world name="w"><model name="box"><pose>0.6 0 0.1 0 0 0</pose><link name="l">'
+        '<inertial><mass>0.5</mass></inertial><collision name="c"><geometry><box><size>0.2 0.2 0.2</size></box>'
+        '</geometry></collision></link></model></world></sdf>')
+    sim = Simulation(world)
+    robot = sim.add_robot('burger', (0.0, 0.0, 0.0))
+    lidar_x = robot.sensor_pose(BURGER.lidar_mount)[0]
+    assert robot.scan(noise=False)[0] == pytest.approx(0.5 - lidar_x, abs=1e-3)      # the box's near face
+    robot.command(0.2, 0.0)
+    sim.step(5.0)
+    box = sim.body_pose('box')
+    assert box.x > 1.0 and abs(box.y) < 1e-6                       # pushed straight ahead
+    assert robot.pose.x == pytest.approx(0.97, abs=0.02)           # the robot hardly slowed
+    assert robot.scan(noise=False)[0] == pytest.approx(box.x - 0.1 - robot.sensor_pose(BURGER.lidar_mount)[0],
+                                                       abs=2e-3)
+    robot.command(0.0, 0.0)
+    sim.step(2.0)
+    assert sim.body_pose('box').x - box.x < 0.1                     # the floor stops it
+    sim.reset()
+    assert sim.body_pose('box') == Pose2D(0.6, 0.0, 0.0)                # back where the file puts it
+    with pytest.raises(SimError, match="no pushable body named 'crate'"):
+        sim.body_pose('crate')

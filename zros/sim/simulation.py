@@ -22,6 +22,10 @@ from its diff drive (at the step's mid heading, so straight and curved motion in
 the odometry does); obstacles are static segments and discs; pymunk's contact solver stops a
 robot at a wall, and a robot sliding along a wall keeps only the tangential part of its motion.
 A collision is a robot going from touching nothing to touching something; each is counted.
+The world's pushable bodies (non-static models of an SDF world) are dynamic pymunk bodies with
+their mass: a robot drives them before it (its own speed is commanded, so it wins any push),
+the floor's friction is a damping that stops a body within about a second once nothing pushes
+it (`BODY_DAMPING`), and lidars see them where they are.
 Not thread-safe: one caller at a time.
 """
 from __future__ import annotations
@@ -38,13 +42,16 @@ from zros.rotations import wrap_angle
 from zros.sim.raster import OccupancyRaster, rasterize
 from zros.sim.robot import BURGER, DiffDrive, RobotSpec, WheelOdometry, odometry_source
 from zros.sim.sensors import GRAVITY, LDS_01, TURTLEBOT3_IMU, ImuReading, ImuSpec, LidarSpec, scan_ranges
-from zros.sim.world import Pose2D, World
+from zros.sim.world import Body, Pose2D, World
 
-__all__ = ['Simulation', 'SimRobot', 'OdometryState', 'SimError', 'DEFAULT_DT', 'DEFAULT_SLIP_STDDEV']
+__all__ = ['Simulation', 'SimRobot', 'OdometryState', 'SimError', 'DEFAULT_DT', 'DEFAULT_SLIP_STDDEV',
+           'BODY_DAMPING']
 
 DEFAULT_DT = 0.005               # [s] physics step
 DEFAULT_SLIP_STDDEV = 0.002      # [m per sqrt(m)] wheel odometry error
 _ROBOT, _OBSTACLE = 1, 2         # pymunk collision types
+#: Fraction of a pushable body's speed left after one second without a push (floor friction).
+BODY_DAMPING = 0.01
 
 
 class SimError(ZrosError, ValueError):
@@ -252,9 +259,46 @@ class Simulation:
             self._add_static(space, pymunk.Segment(space.static_body, (x1, y1), (x2, y2), 0.0))
         for cx, cy, r in self.world.circles:
             self._add_static(space, pymunk.Circle(space.static_body, r, (cx, cy)))
+        self.bodies: dict[str, pymunk.Body] = {}
+        for body in self.world.bodies:
+            self.bodies[body.name] = self._add_body(space, body)
         space.on_collision(_ROBOT, _OBSTACLE, begin=_begin, separate=_separate)
         space.on_collision(_ROBOT, _ROBOT, begin=_begin, separate=_separate)
         self.space = space
+
+    @staticmethod
+    def _add_body(space: pymunk.Space, body: 'Body') -> pymunk.Body:
+        """A pushable body: convex polygons (hulls) and circles about their common centroid."""
+        points = [loop for loop in body.polygons] + [c[None, :2] for c in body.circles]
+        centre = np.vstack(points).mean(axis=0)
+        shapes_of = []
+        moment = 0.0
+        share = body.mass / max(1, len(body.polygons) + len(body.circles))
+        for loop in body.polygons:
+            vertices = [tuple(v) for v in (loop - centre)]
+            moment += pymunk.moment_for_poly(share, vertices)
+            shapes_of.append(lambda b, v=vertices: pymunk.Poly(b, v))
+        for cx, cy, r in body.circles:
+            offset = (cx - centre[0], cy - centre[1])
+            moment += pymunk.moment_for_circle(share, 0.0, r, offset)
+            shapes_of.append(lambda b, r=r, o=offset: pymunk.Circle(b, r, o))
+        dynamic = pymunk.Body(body.mass, moment)
+        dynamic.position = tuple(centre)
+        dynamic.velocity_func = _floor_friction
+        space.add(dynamic)
+        for make in shapes_of:
+            shape = make(dynamic)
+            shape.friction, shape.elasticity, shape.collision_type = 0.0, 0.0, _OBSTACLE
+            space.add(shape)
+        return dynamic
+
+    def body_pose(self, name: str) -> Pose2D:
+        """Where a pushable body's centroid is now, and how far it has turned [rad] since the start."""
+        try:
+            body = self.bodies[name]
+        except KeyError:
+            raise SimError(f"no pushable body named '{name}' (bodies: {', '.join(self.bodies) or 'none'})") from None
+        return Pose2D(float(body.position.x), float(body.position.y), wrap_angle(float(body.angle)))
 
     @staticmethod
     def _add_static(space: pymunk.Space, shape: pymunk.Shape) -> None:
@@ -360,17 +404,37 @@ class Simulation:
     # -- sensing ---------------------------------------------------------------------------
     def _scan(self, robot: SimRobot, noise: bool) -> np.ndarray:
         x, y, yaw = robot.sensor_pose(robot.spec.lidar_mount)
-        circles = self.world.circles
+        circles, edges = self.world.circles, self.world.edges
         others = [o for o in self.robots.values() if o is not robot]
         if others:
             housings = [(*o.sensor_pose(o.spec.lidar_mount)[:2], o.spec.lidar_housing_radius) for o in others]
             circles = np.vstack([circles, np.array(housings)])
-        return scan_ranges(robot.lidar, (x, y, yaw), self.world.edges, circles,
-                           robot._lidar_rng if noise else None)
+        if self.bodies:
+            moved_edges, moved_circles = self._body_geometry()
+            edges, circles = np.vstack([edges, moved_edges]), np.vstack([circles, moved_circles])
+        return scan_ranges(robot.lidar, (x, y, yaw), edges, circles, robot._lidar_rng if noise else None)
+
+    def _body_geometry(self) -> tuple[np.ndarray, np.ndarray]:
+        """The pushable bodies where they are now: edges (N, 4) and circles (M, 3)."""
+        edges, circles = [np.zeros((0, 4))], [np.zeros((0, 3))]
+        for body in self.bodies.values():
+            for shape in body.shapes:
+                if isinstance(shape, pymunk.Poly):
+                    loop = np.array([tuple(body.local_to_world(v)) for v in shape.get_vertices()])
+                    edges.append(np.hstack([loop, np.roll(loop, -1, axis=0)]))
+                else:
+                    centre = body.local_to_world(shape.offset)
+                    circles.append(np.array([[centre.x, centre.y, shape.radius]]))
+        return np.vstack(edges), np.vstack(circles)
 
     def occupancy(self, resolution: float, **kwargs: object) -> OccupancyRaster:
         """The world's exact ground-truth occupancy grid (see zros.sim.raster.rasterize)."""
         return rasterize(self.world, resolution, **kwargs)  # type: ignore[arg-type]
+
+
+def _floor_friction(body: pymunk.Body, gravity: object, damping: float, dt: float) -> None:
+    """A pushable body's velocity function: the floor slows it (BODY_DAMPING per second)."""
+    pymunk.Body.update_velocity(body, (0.0, 0.0), BODY_DAMPING ** dt, dt)
 
 
 def _robots_of(arbiter: pymunk.Arbiter) -> list[SimRobot]:
