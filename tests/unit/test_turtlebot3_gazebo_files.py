@@ -4,12 +4,12 @@ the model.sdf files (through zros.sim.model_file) to the robots zros simulates, 
 give robot_state_publisher the frames the simulator uses."""
 from __future__ import annotations
 
-import importlib.util
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from conftest import load_tool
 from zros.sim import LDS_01, load_world, parse_world, rasterize
 from zros.sim.raycast import cast_fan
 from zros.sim.sdf import parse_sdf_world
@@ -61,16 +61,9 @@ def test_segments_become_millimetre_boxes_and_odd_polygons_are_refused() -> None
         world_to_sdf(odd)
 
 
-def _tool():
-    spec = importlib.util.spec_from_file_location('write_turtlebot3_gazebo', ROOT / 'tools' / 'write_turtlebot3_gazebo.py')
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
 def test_the_shipped_files_are_what_the_tool_writes_today() -> None:
     """Rerun tools/write_turtlebot3_gazebo.py after changing a YAML world or a TurtleBot3 number."""
-    written = _tool().files()
+    written = load_tool('write_turtlebot3_gazebo').files()
     assert len(written) == 4 + 3 * 3
     for relative, text in written.items():
         assert (PACKAGE / relative).read_text(encoding='utf-8') == text, relative

@@ -30,7 +30,7 @@ from dataclasses import dataclass, replace
 from typing import NamedTuple
 
 from zros.sim.robot import RobotSpec, odometry_source, robot_spec
-from zros.sim.sdf import SdfError, XmlElement, numbers, parse_xml
+from zros.sim.sdf import SdfError, XmlElement, flag, numbers, parse_xml
 from zros.sim.sensors import LDS_01, TURTLEBOT3_IMU, ImuSpec, LidarSpec
 
 __all__ = ['RobotModel', 'DiffDrivePlugin', 'SensorOutput', 'JointStateOutput', 'robot_from_xml',
@@ -165,16 +165,6 @@ def _rate(parent: XmlElement, default: float, source: str) -> float:
     return rate if rate > 0 else _EVERY_STEP
 
 
-def _flag(parent: XmlElement, tag: str, default: bool, source: str) -> bool:
-    element = parent.find(tag)
-    if element is None:
-        return default
-    text = element.text.strip().lower()
-    if text not in ('true', 'false', '1', '0'):
-        raise SdfError(f'{source}:{element.line}: <{tag}> must be true or false, got {element.text.strip()!r}')
-    return text in ('true', '1')
-
-
 def _remapped(plugin: XmlElement, *names: str) -> str:
     """The target of a `<ros><remapping>NAME:=TARGET` for one of `names`, or ''."""
     for remapping in plugin.iter('remapping'):
@@ -192,9 +182,9 @@ def _drive(plugin: XmlElement, source: str) -> DiffDrivePlugin:
         raise SdfError(f'{source}:{element.line}: {exc}') from None
     return DiffDrivePlugin(
         odometry_source=odometry,
-        publish_odom=_flag(plugin, 'publish_odom', False, source),
-        publish_odom_tf=_flag(plugin, 'publish_odom_tf', False, source),
-        publish_wheel_tf=_flag(plugin, 'publish_wheel_tf', False, source),
+        publish_odom=flag(plugin, 'publish_odom', False, source),
+        publish_odom_tf=flag(plugin, 'publish_odom_tf', False, source),
+        publish_wheel_tf=flag(plugin, 'publish_wheel_tf', False, source),
         odometry_frame=plugin.findtext('odometry_frame', 'odom') or 'odom',
         robot_base_frame=plugin.findtext('robot_base_frame', 'base_footprint') or 'base_footprint',
         update_rate=_rate(plugin, 100.0, source),

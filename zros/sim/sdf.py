@@ -44,7 +44,7 @@ import numpy as np
 from zros.sim.world import Body, World
 from zros.sim.world_file import WorldFileError
 
-__all__ = ['SdfError', 'XmlElement', 'parse_xml', 'pose_matrix', 'default_model_path', 'find_model',
+__all__ = ['SdfError', 'XmlElement', 'parse_xml', 'numbers', 'flag', 'pose_matrix', 'default_model_path', 'find_model',
            'parse_sdf_world', 'load_sdf_world', 'DEFAULT_SLICE_HEIGHT']
 
 DEFAULT_SLICE_HEIGHT = 0.18     # [m] above the ground: the TurtleBot3 burger's lidar plane
@@ -376,15 +376,20 @@ class _Slicer:
         self.segments.extend(_cut_triangles(world[faces], self.height))
 
 
-def _static(model: XmlElement, source: str) -> bool:
-    """A model's (or include's) `<static>`: true/1 or false/0, false when absent (SDF's default)."""
-    element = model.find('static')
+def flag(parent: XmlElement, tag: str, default: bool, source: str) -> bool:
+    """A boolean child element `<tag>` (true/1 or false/0), `default` when absent; SdfError otherwise."""
+    element = parent.find(tag)
     if element is None:
-        return False
+        return default
     text = element.text.strip().lower()
     if text not in ('true', 'false', '1', '0'):
-        raise SdfError(f'{source}:{element.line}: <static> must be true or false, got {element.text.strip()!r}')
+        raise SdfError(f'{source}:{element.line}: <{tag}> must be true or false, got {element.text.strip()!r}')
     return text in ('true', '1')
+
+
+def _static(model: XmlElement, source: str) -> bool:
+    """A model's (or include's) `<static>`, false when absent (SDF's default)."""
+    return flag(model, 'static', False, source)
 
 
 def _mass(link: XmlElement, source: str) -> float:
