@@ -4,6 +4,7 @@
     python benchmarks/navigation.py --part goals --goals 5
     python benchmarks/navigation.py --part explore     # processes over Zenoh, about 3 min
     python benchmarks/navigation.py --part cpu         # processes over Zenoh at real time, 1 min
+    python benchmarks/navigation.py --part load --load 4 --goals 20   # the same beside 4 busy processes
 
 Part `goals` (in one process, no Zenoh, as fast as the simulation allows), per world
 (turtlebot3_world, turtlebot3_house):
@@ -32,7 +33,8 @@ including rebuilding the search graph after a costmap update, as the planner_ser
 
 Goals (issue 18): success >= 95 %, 0 collisions, time ratio <= 1.5, planning < 50 ms per
 request; exploration: >= 95 % of the reachable free area mapped within 300 s of sim time; the
-whole stack's CPU at real time < 1 core.
+whole stack's CPU at real time < 1 core; under load (issue 34): >= 95 % of goals in
+turtlebot3_world with 4 busy processes beside the stack on 2 cores, no collision.
 """
 from __future__ import annotations
 
@@ -56,6 +58,7 @@ REPO = Path(__file__).resolve().parents[1]
 if str(REPO) not in sys.path:
     sys.path.insert(0, str(REPO))
 
+from zros.ament_index_python.packages import get_package_share_directory  # noqa: E402
 from zros.amcl import Amcl, AmclParameters, MapGrid  # noqa: E402
 from zros.amcl.localizer import compose  # noqa: E402
 from zros.map_io import load_map  # noqa: E402
@@ -424,7 +427,9 @@ def run_explore(rtf: float, budget_s: float = 300.0) -> dict:
     context = None
     try:
         stack.launch('world', 'turtlebot3_gazebo', 'turtlebot3_world.launch.yaml', f'real_time_factor:={rtf}')
-        stack.launch('nav', 'nav2_bringup', 'bringup_launch.py', 'use_sim_time:=True', 'slam:=True')
+        burger = os.path.join(get_package_share_directory('turtlebot3_navigation2'), 'param', 'burger.yaml')
+        stack.launch('nav', 'nav2_bringup', 'bringup_launch.py', 'use_sim_time:=True', 'slam:=True',
+                     f'params_file:={burger}')
         stack.wait_for_output('nav', 'Managed nodes are active', 180)
         context = zros.init(args=[], domain_id=stack.lock.domain, signal_handler_options=False)
         node = Node('navigation_benchmark')
@@ -459,21 +464,29 @@ def run_explore(rtf: float, budget_s: float = 300.0) -> dict:
             'sim_s': sim_s, 'cores_per_sim_s': cpu_s / sim_s if sim_s else math.nan, 'logs': str(stack.dir)}
 
 
-def run_cpu(seconds: float) -> dict:
-    """The course's navigation day at real time: gzserver (turtlebot3_world), navigation2.launch.py
-    (map_server, AMCL, the navigation servers) and BasicNavigator driving goal after goal; the CPU
-    of every process of the stack over `seconds` of wall time."""
+@contextlib.contextmanager
+def navigation_day(busy: int = 0):
+    """The course's navigation day at real time, as a user starts it: gzserver (turtlebot3_world),
+    turtlebot3_navigation2's navigation2.launch.py (map_server, AMCL, the navigation servers) and a
+    BasicNavigator with AMCL's initial pose set, its stack up; `busy` processes spinning a core
+    each beside it (a loaded machine). Yields (stack, navigator, pose(x, y), state), where state
+    holds the sim clock ('clock' [s]) and the simulator's collision count ('collisions')."""
     import zros
     from zros.nav2_simple_commander.robot_navigator import BasicNavigator
+    from zros.qos import DurabilityPolicy, QoSProfile
     from interfaces.geometry_msgs.msg import PoseStamped
     from interfaces.rosgraph_msgs.msg import Clock
+    from interfaces.std_msgs.msg import UInt32
     stack = Stackprocs()
+    hogs = [subprocess.Popen([sys.executable, '-c', 'while True: pass'], start_new_session=True)
+            for _ in range(busy)]
     context = None
     try:
         stack.launch('world', 'turtlebot3_gazebo', 'turtlebot3_world.launch.yaml', 'real_time_factor:=1.0')
         stack.launch('nav', 'turtlebot3_navigation2', 'navigation2.launch.py', 'use_sim_time:=True', 'rviz:=false')
         context = zros.init(args=[], domain_id=stack.lock.domain, signal_handler_options=False)
         navigator = BasicNavigator()
+        state = {'clock': 0.0, 'collisions': 0}
 
         def pose(x: float, y: float) -> PoseStamped:
             p = PoseStamped()
@@ -482,34 +495,76 @@ def run_cpu(seconds: float) -> dict:
             p.pose.position.x, p.pose.position.y = x, y
             p.pose.orientation.w = 1.0
             return p
-        clock = [0.0]
-        navigator.create_subscription(Clock, '/clock', lambda m: clock.__setitem__(0, m.clock.sec + m.clock.nanosec / 1e9),
-                                      10)
+        navigator.create_subscription(Clock, '/clock',
+                                      lambda m: state.__setitem__('clock', m.clock.sec + m.clock.nanosec / 1e9), 10)
+        navigator.create_subscription(UInt32, 'sim/collisions', lambda m: state.__setitem__('collisions', m.data),
+                                      QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
         navigator.setInitialPose(pose(-2.0, -0.5))
         navigator.waitUntilNav2Active()
-        route = [(-0.55, 0.55), (0.55, -0.55), (1.65, 1.65), (-1.65, -1.65)]
-        cpu0, wall0, sim0 = stack.cpu_seconds(), time.monotonic(), clock[0]
-        goals = 0
-        while time.monotonic() - wall0 < seconds:
-            navigator.goToPose(pose(*route[goals % len(route)]))
-            while not navigator.isTaskComplete() and time.monotonic() - wall0 < seconds:
-                pass
-            goals += 1
-        cpu1, wall, sim_s = stack.cpu_seconds(), time.monotonic() - wall0, clock[0] - sim0
+        yield stack, navigator, pose, state
         navigator.cancelTask()
         navigator.destroy_node()
     finally:
         if context is not None:
             zros.shutdown()
         stack.close()
+        for hog in hogs:
+            hog.kill()
+            hog.wait(timeout=10)
+
+
+#: Goals of the real-time parts: across turtlebot3_world's pillars and back, in the map frame.
+ROUTE = [(-0.55, 0.55), (0.55, -0.55), (1.65, 1.65), (-1.65, -1.65)]
+
+
+def run_cpu(seconds: float) -> dict:
+    """The navigation day at real time, BasicNavigator driving goal after goal; the CPU of every
+    process of the stack over `seconds` of wall time."""
+    with navigation_day() as (stack, navigator, pose, state):
+        cpu0, wall0, sim0 = stack.cpu_seconds(), time.monotonic(), state['clock']
+        goals = 0
+        while time.monotonic() - wall0 < seconds:
+            navigator.goToPose(pose(*ROUTE[goals % len(ROUTE)]))
+            while not navigator.isTaskComplete() and time.monotonic() - wall0 < seconds:
+                pass
+            goals += 1
+        cpu1, wall, sim_s = stack.cpu_seconds(), time.monotonic() - wall0, state['clock'] - sim0
     per = {name: (cpu1[name] - cpu0.get(name, 0.0)) / wall for name in cpu1}
     return {'cores': sum(per.values()), 'per_process': sorted(per.items(), key=lambda kv: -kv[1]), 'goals': goals,
             'wall_s': wall, 'rtf': sim_s / wall}
 
 
+def run_load(busy: int, goals: int, goal_timeout_s: float = 120.0) -> dict:
+    """The navigation day with `busy` processes spinning beside the stack: `goals` goals along
+    ROUTE, each given `goal_timeout_s` of wall time; how many succeeded, the collisions, and what
+    the stack said about the load (missed control rates, failed lifecycle steps)."""
+    from zros.nav2_simple_commander.robot_navigator import TaskResult
+    outcomes: list[str] = []
+    with navigation_day(busy) as (stack, navigator, pose, state):
+        wall0, sim0, load0 = time.monotonic(), state['clock'], os.getloadavg()[0]
+        for index in range(goals):
+            navigator.goToPose(pose(*ROUTE[index % len(ROUTE)]))
+            deadline = time.monotonic() + goal_timeout_s
+            while not navigator.isTaskComplete() and time.monotonic() < deadline:
+                pass
+            if not navigator.isTaskComplete():
+                navigator.cancelTask()
+                outcomes.append('timed out')
+                continue
+            result = navigator.getResult()
+            outcomes.append('succeeded' if result == TaskResult.SUCCEEDED else str(result).split('.')[-1].lower())
+        wall, sim_s, load1 = time.monotonic() - wall0, state['clock'] - sim0, os.getloadavg()[0]
+        log = stack.output('nav')
+        collisions = state['collisions']
+    return {'busy': busy, 'goals': goals, 'success': outcomes.count('succeeded') / goals, 'outcomes': outcomes,
+            'collisions': collisions, 'missed_rate_warnings': log.count('Control loop missed its desired rate'),
+            'failed_transitions': log.count('Failed to change state'), 'rtf': sim_s / wall if wall else math.nan,
+            'load': (load0 + load1) / 2, 'logs': str(stack.dir)}
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument('--part', choices=('goals', 'explore', 'cpu', 'all'), default='all')
+    parser.add_argument('--part', choices=('goals', 'explore', 'cpu', 'load', 'all'), default='all')
     parser.add_argument('--goals', type=int, default=20)
     parser.add_argument('--seed', type=int, default=1)
     parser.add_argument('--world', action='append', choices=WORLDS, help='default: both (goals part)')
@@ -519,6 +574,7 @@ def main() -> int:
                         help="goals on the world's exact raster instead of the SLAM-made map (AMCL still localises)")
     parser.add_argument('--rtf', type=float, default=2.0, help='real-time factor of the exploration run')
     parser.add_argument('--seconds', type=float, default=60.0, help='wall seconds of the real-time CPU run')
+    parser.add_argument('--load', type=int, default=4, help='busy processes beside the stack (part load)')
     args = parser.parse_args()
     if args.part in ('goals', 'all'):
         map_dir = None if args.exact_map else args.map_dir
@@ -539,6 +595,15 @@ def main() -> int:
         print(f"\n| whole stack at real time (gzserver, map_server, AMCL, navigation; {r['goals']} goals in "
               f"{r['wall_s']:.0f} s, sim ran at {r['rtf']:.2f}x) | value | goal |\n|---|---|---|\n"
               f"| CPU | {r['cores']:.2f} cores | < 1 |\n(largest: {top})")
+    if args.part == 'load':
+        r = run_load(args.load, args.goals)
+        print(f"\n| navigation at real time with {r['busy']} busy processes beside it ({os.cpu_count()} CPUs, "
+              f"load average {r['load']:.1f}, sim ran at {r['rtf']:.2f}x) | value | goal |\n|---|---|---|\n"
+              f"| goals reached | {100 * r['success']:.0f} % of {r['goals']} | >= 95 % |\n"
+              f"| collisions | {r['collisions']} | 0 |\n"
+              f"| 'Control loop missed its desired rate' warnings | {r['missed_rate_warnings']} | (information) |\n"
+              f"| failed lifecycle transitions | {r['failed_transitions']} | 0 |")
+        print(f"(outcomes: {', '.join(r['outcomes'])}; logs: {r['logs']})")
     return 0
 
 

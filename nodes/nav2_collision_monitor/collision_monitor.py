@@ -35,6 +35,7 @@ from zros.navigation.collision_monitor import ACTIONS, Decision, Zone, decide, s
 from zros.navigation.node_support import Nav2Params, lookup_pose
 from zros.navigation.velocity_smoother import twist_vector
 from zros.tf2_ros import Buffer, TransformListener
+from zros.qos import qos_profile_sensor_data
 
 from interfaces.geometry_msgs.msg import PolygonStamped, Twist
 from interfaces.nav2_msgs.msg import CollisionMonitorState
@@ -118,7 +119,7 @@ class CollisionMonitor(LifecycleNode):
         if not enabled:
             return None
         source = _Source(name, topic, timeout)
-        self.create_subscription(LaserScan, topic, source.on_scan, 5)
+        self.create_subscription(LaserScan, topic, source.on_scan, qos_profile_sensor_data)   # as Nav2's sources
         return source
 
     def on_activate(self, state: State) -> TransitionCallbackReturn:

@@ -139,7 +139,7 @@ class ControllerServer(LifecycleNode):
             feedback.distance_to_goal = float(self.follower.remaining_distance(pose[0], pose[1]))
             handle.publish_feedback(feedback)
             return None
-        return self.goals.loop(handle, result, self.frequency, step)
+        return self.goals.loop(handle, result, self.frequency, step, report_missed_rate=True)
 
 
 def _cost_in(costmap: CostmapNode, pose: tuple, local: tuple) -> Any:

@@ -7,7 +7,10 @@ order, and watches them while they run.
 Parameters (Nav2's): `node_names` (configured then activated in this order, brought down in
 reverse), `autostart` (start up at once), `bond_timeout` (0 turns the health check off),
 `attempt_respawn_reconnection` and `bond_respawn_max_duration` (after a crash, start the stack
-up again when every node answers once more, if that happens within this many seconds).
+up again when every node answers once more, if that happens within this many seconds),
+`service_timeout` (seconds to wait for a node's lifecycle services and for its `get_state`
+answer, as in Nav2 after Jazzy: a busy machine answers late, and a late answer is not a
+failed node; the transition itself is waited for as long as its callback runs).
 Services: `<manager>/manage_nodes` (nav2_msgs/srv/ManageLifecycleNodes: STARTUP, PAUSE,
 RESUME, RESET, SHUTDOWN) and `<manager>/is_active` (std_srvs/srv/Trigger).
 
@@ -65,6 +68,8 @@ class LifecycleManager(Node):
         self.declare_parameter('bond_timeout', 4.0)
         self.declare_parameter('bond_respawn_max_duration', 10.0)
         self.declare_parameter('attempt_respawn_reconnection', True)
+        self.declare_parameter('service_timeout', 5.0)
+        self.declare_parameter('bond_heartbeat_period', 0.25)   # Nav2's; liveliness needs no heartbeat
         self.node_names = [n for n in self.get_parameter('node_names').value if n]
         self._lifecycle = {name: LifecycleClient(self, name) for name in self.node_names}
         self._fqn = {name: self.resolve_topic_name(name) for name in self.node_names}
@@ -85,6 +90,9 @@ class LifecycleManager(Node):
 
     def _message(self, text: str) -> None:
         self.get_logger().info(text)
+
+    def _service_timeout(self) -> float:
+        return float(self.get_parameter('service_timeout').value)
 
     def _stopping(self) -> bool:
         """Whether this manager is being stopped (Ctrl-C, SIGTERM, its context shut down)."""
@@ -114,7 +122,8 @@ class LifecycleManager(Node):
         try:
             if wait and not self._wait_for(name):
                 return False
-            if client.change_state(transition) and client.get_state().label == _GOAL[transition]:
+            if (client.change_state(transition)
+                    and client.get_state(timeout_sec=self._service_timeout()).label == _GOAL[transition]):
                 return True
         except ServiceCallError as exc:
             self._failure(f'Failed to change state for node: {name}. Exception: {exc}.')
@@ -250,7 +259,7 @@ class LifecycleManager(Node):
             return
         try:
             for client in self._lifecycle.values():
-                client.get_state(timeout_sec=0.5)
+                client.get_state(timeout_sec=self._service_timeout())
         except ServiceCallError:
             if time.monotonic() - self._respawn_started >= self.get_parameter('bond_respawn_max_duration').value:
                 self._message('Failed to re-establish connection from a server crash after maximum timeout.')

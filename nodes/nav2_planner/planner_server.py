@@ -22,11 +22,10 @@ import zros
 from zros.executors import ExternalShutdownException, spin_nodes
 from zros.lifecycle import LifecycleNode, State, TransitionCallbackReturn
 from zros.navigation.costmap_ros import CostmapNode
-from zros.navigation.node_support import Nav2Params, duration_msg, path_msg, yaw_of
+from zros.navigation.node_support import Nav2Params, duration_msg, path_msg, pose_in_frame
 from zros.navigation.planner import UNKNOWN, GridPlanner, PlanningError, path_yaws
 from zros.navigation.servers import GoalRunner, gated_action_server
 from zros.tf2_ros import Buffer, TransformListener
-from zros.time import Time
 
 from interfaces.nav2_msgs.action import ComputePathThroughPoses, ComputePathToPose
 from interfaces.nav_msgs.msg import Path
@@ -98,8 +97,8 @@ class PlannerServer(LifecycleNode):
             if start is None:
                 sx, sy, _ = self.costmap.robot_pose()
             else:
-                sx, sy, _ = self._in_frame(start, frame)
-            targets = [self._in_frame(g, frame) for g in goals]
+                sx, sy, _ = pose_in_frame(self.tf_buffer, start, frame)
+            targets = [pose_in_frame(self.tf_buffer, g, frame) for g in goals]
         except Exception as exc:  # noqa: BLE001 - tf2's exceptions
             return self.goals.fail(handle, result, _TF_ERROR + code_offset, f'Could not transform the poses into {frame}: {exc}')
         pieces = []
@@ -122,17 +121,6 @@ class PlannerServer(LifecycleNode):
                                    f'Current loop rate is {1.0 / elapsed:.4f} Hz', throttle_duration_sec=10.0)
         handle.succeed()
         return result
-
-    def _in_frame(self, pose: Any, frame: str) -> tuple[float, float, float]:
-        p = pose.pose
-        x, y, yaw = p.position.x, p.position.y, yaw_of(p.orientation)
-        source = pose.header.frame_id or frame
-        if source == frame:
-            return x, y, yaw
-        t = self.tf_buffer.lookup_transform(frame, source, Time()).transform
-        tyaw = yaw_of(t.rotation)
-        c, s = np.cos(tyaw), np.sin(tyaw)
-        return (t.translation.x + c * x - s * y, t.translation.y + s * x + c * y, tyaw + yaw)
 
 
 def main(args: list[str] | None = None) -> int:

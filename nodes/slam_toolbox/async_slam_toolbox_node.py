@@ -28,8 +28,10 @@ online_async_launch.py) or with `use_lifecycle_manager: true`, it waits in `unco
 the launch's ChangeState events or a lifecycle manager (zros.lifecycle.autostart).
 
 Parameters: the frames and timing above (slam_toolbox's names and defaults where they
-exist), `mode` (mapping), `use_lifecycle_manager` (false), and every field of
-zros.slam.SlamParameters by its name. A parameter of the wrong type or out of range stops the
+exist), `mode` (mapping or localization: the executable decides, as in slam_toolbox),
+`use_lifecycle_manager` (false), every field of zros.slam.SlamParameters by its name, and
+`map_file_name` with `map_start_pose` [x, y, theta] or `map_start_at_dock`: a serialized graph
+loaded at configure, as `deserialize_map` would (mapping goes on in it: lifelong mapping). A parameter of the wrong type or out of range stops the
 node with one line naming it (when it waits for transitions: fails `configure`, and says why).
 """
 from __future__ import annotations
@@ -45,11 +47,13 @@ import zros
 from zros.clock import Clock, ClockType
 from zros.duration import Duration
 from zros.errors import CliError
+from zros.exceptions import ParameterUninitializedException
 from zros.executors import ExternalShutdownException, spin_nodes
 from zros.lifecycle import LifecycleNodeMixin, State, TransitionCallbackReturn
 from zros.lifecycle.autostart import waits_for_transitions
 from zros.map_io import MapFileError, map_to_msg, save_map
 from zros.node import Node
+from zros.parameter import Parameter
 from zros.qos import DurabilityPolicy, QoSProfile, qos_profile_sensor_data
 from zros.rotations import quaternion_from_yaw, yaw_from_quaternion
 from zros.slam import PoseGraphFileError, Slam, SlamParameters, scan_points
@@ -75,11 +79,17 @@ NODE_PARAMETERS: dict[str, Any] = {
     'transform_publish_period': 0.02,    # [s, wall] between map -> odom publications (0: none)
     'transform_timeout': 0.2,            # [s] wait for odometry at a scan's stamp; future-dating of map -> odom
     'minimum_time_interval': 0.2,        # [s] scans closer than this (scan time) are skipped (slam_toolbox: 0.5)
+    'map_file_name': '',                 # a serialized pose graph to start in ('' none)
 }
+#: Parameters that are unset unless given (slam_toolbox tells "not given" from any value).
+START_PARAMETERS = {'map_start_pose': Parameter.Type.DOUBLE_ARRAY, 'map_start_at_dock': Parameter.Type.BOOL}
 
 
 class SlamNode(LifecycleNodeMixin, Node):
-    """The ROS face of zros.slam.Slam (module docstring)."""
+    """The ROS face of zros.slam.Slam (module docstring). Subclasses change the mode:
+    `LOCALIZING` (a fixed map) and `START_MATCH_TYPE` (how `map_file_name` is loaded)."""
+
+    LOCALIZING = False
 
     def __init__(self, node_name: str = 'slam_toolbox', *, publish_map: bool = True, **kwargs: Any) -> None:
         """`publish_map`: publish /map and /map_metadata (cartographer_ros's cartographer_node
@@ -93,6 +103,8 @@ class SlamNode(LifecycleNodeMixin, Node):
         self._entities: list[Any] = []
         for name, default in NODE_PARAMETERS.items():
             self.declare_parameter(name, default)
+        for name, kind in START_PARAMETERS.items():
+            self.declare_parameter(name, kind)
         defaults = SlamParameters()
         for f in fields(SlamParameters):
             self.declare_parameter(f.name, getattr(defaults, f.name))
@@ -119,8 +131,8 @@ class SlamNode(LifecycleNodeMixin, Node):
             raise CliError(f'{self.get_name()}: parameter {exc}') from None
 
     def _check_node_parameters(self, p: dict[str, Any]) -> None:
-        if p['mode'] != 'mapping':
-            raise CliError(f"{self.get_name()}: parameter 'mode': only 'mapping' is supported, got {p['mode']!r}")
+        if p['mode'] not in ('mapping', 'localization'):
+            raise CliError(f"{self.get_name()}: parameter 'mode': 'mapping' or 'localization', got {p['mode']!r}")
         for name in ('map_update_interval', 'transform_timeout'):
             if not p[name] > 0:
                 raise CliError(f"{self.get_name()}: parameter '{name}' must be > 0 [s], got {p[name]!r}")
@@ -156,10 +168,10 @@ class SlamNode(LifecycleNodeMixin, Node):
             keep(entity)
         keep(self.create_subscription(LaserScan, self._p['scan_topic'], self._on_scan, qos_profile_sensor_data))
         keep(self.create_service(GetMap, '~/dynamic_map', self._on_dynamic_map))
-        keep(self.create_service(SaveMap, '~/save_map', self._on_save_map))
         keep(self.create_service(SerializePoseGraph, '~/serialize_map', self._on_serialize))
         keep(self.create_service(DeserializePoseGraph, '~/deserialize_map', self._on_deserialize))
         keep(self.create_service(Pause, '~/pause_new_measurements', self._on_pause))
+        self._create_mode_entities(keep)
         wall = Clock(clock_type=ClockType.STEADY_TIME)
         if self._map_publishing:
             keep(self.create_timer(self._p['map_update_interval'], self._publish_map, clock=wall))
@@ -168,9 +180,56 @@ class SlamNode(LifecycleNodeMixin, Node):
         self._stopping = False
         self._worker = threading.Thread(target=self._work, name='slam', daemon=True)
         self._worker.start()
-        self.get_logger().info(f"Mapping at {parameters.resolution:g} m/cell from '{self._p['scan_topic']}' "
+        doing = 'Localizing' if self.LOCALIZING else 'Mapping'
+        self.get_logger().info(f"{doing} at {parameters.resolution:g} m/cell from '{self._p['scan_topic']}' "
                                f"({self._p['odom_frame']} -> {self._p['base_frame']}); map -> odom on /tf")
+        self._load_by_parameters()
         return TransitionCallbackReturn.SUCCESS
+
+    def _create_mode_entities(self, keep: Any) -> None:
+        """What mapping has and localization has not: slam_toolbox's map saver service."""
+        keep(self.create_service(SaveMap, '~/save_map', self._on_save_map))
+
+    def _load_by_parameters(self) -> None:
+        """`map_file_name` given: load it as slam_toolbox does at start, at `map_start_pose` or at
+        its first node (`map_start_at_dock`); with neither, say so and map from scratch."""
+        filename = self._p['map_file_name']
+        if not filename:
+            return
+        pose, dock = (self._given(name) for name in START_PARAMETERS)
+        if pose is not None:
+            if len(pose) != 3:
+                self.get_logger().error('map_start_pose must be [x, y, theta]; starting at the origin')
+                pose = (0.0, 0.0, 0.0)
+        elif dock is None:
+            self.get_logger().error('map_file_name is set but not where to start in it: set map_start_pose or '
+                                    'map_start_at_dock; the map is not loaded')
+            return
+        elif not dock:
+            pose = (0.0, 0.0, 0.0)       # slam_toolbox: map_start_at_dock false starts at the origin
+        self._load(filename, pose=None if pose is None else tuple(pose))
+
+    def _given(self, name: str) -> Any:
+        """A START_PARAMETERS value, None when not given."""
+        try:
+            return self.get_parameter(name).value
+        except ParameterUninitializedException:
+            return None
+
+    def _load(self, filename: str, *, pose: tuple[float, float, float] | None) -> bool:
+        """Load a serialized graph (at `pose`, or at its first node), in this node's mode."""
+        try:
+            with self._lock:
+                path = self._slam.deserialize(filename, pose=pose, localize=self.LOCALIZING)
+                self._last_scan_time = None
+        except PoseGraphFileError as exc:
+            self.get_logger().error(f'Cannot load the pose graph, the current map is kept: {exc}')
+            return False
+        self._map_stale = True
+        where = 'its first node' if pose is None else f'({pose[0]:.2f}, {pose[1]:.2f}), theta={pose[2]:.2f}'
+        self.get_logger().info(f'Pose graph loaded from {path}: {len(self._slam.keyframes)} nodes; '
+                               f'{"localizing" if self.LOCALIZING else "mapping"} from {where}')
+        return True
 
     def on_activate(self, state: State) -> TransitionCallbackReturn:
         self._active = True
@@ -334,33 +393,32 @@ class SlamNode(LifecycleNodeMixin, Node):
     def _on_serialize(self, request: Any, response: Any) -> Any:
         try:
             with self._lock:
-                path = self._slam.serialize(request.filename or 'map')
+                path, _ = self._slam.serialize(request.filename or 'map')
         except PoseGraphFileError as exc:
             self.get_logger().error(f'serialize_map failed: {exc}')
             response.result = response.RESULT_UNDEFINED_FAILURE
             return response
-        self.get_logger().info(f'Pose graph ({len(self._slam.keyframes)} nodes) saved to {path}')
+        self.get_logger().info(f'Pose graph ({len(self._slam.keyframes)} nodes) saved to {path} and .data')
         response.result = response.RESULT_SUCCESS
         return response
 
+    #: deserialize_map's match types this mode takes.
+    MATCH_TYPES = {DeserializePoseGraph.Request.START_AT_FIRST_NODE: 'START_AT_FIRST_NODE',
+                   DeserializePoseGraph.Request.START_AT_GIVEN_POSE: 'START_AT_GIVEN_POSE'}
+
     def _on_deserialize(self, request: Any, response: Any) -> Any:
         kind = request.match_type
-        if kind not in (request.START_AT_FIRST_NODE, request.START_AT_GIVEN_POSE):
-            self.get_logger().error(f'deserialize_map: match_type {kind} is not supported (1: START_AT_FIRST_NODE, '
-                                    '2: START_AT_GIVEN_POSE)')
+        if kind not in self.MATCH_TYPES:
+            taken = ', '.join(f'{k}: {name}' for k, name in self.MATCH_TYPES.items())
+            self.get_logger().error(f'deserialize_map: match_type {kind} is not taken in this mode ({taken})')
+            return response
+        if not request.filename:
+            self.get_logger().warn('deserialize_map: no map file given')
             return response
         pose = None
-        if kind == request.START_AT_GIVEN_POSE:
+        if kind != request.START_AT_FIRST_NODE:
             pose = (request.initial_pose.x, request.initial_pose.y, request.initial_pose.theta)
-        try:
-            with self._lock:
-                path = self._slam.deserialize(request.filename, pose=pose)
-                self._last_scan_time = None
-        except PoseGraphFileError as exc:
-            self.get_logger().error(f'deserialize_map failed, the current map is kept: {exc}')
-            return response
-        self._map_stale = True
-        self.get_logger().info(f'Pose graph loaded from {path}: {len(self._slam.keyframes)} nodes')
+        self._load(request.filename, pose=pose)
         return response
 
     def _on_pause(self, request: Any, response: Any) -> Any:
@@ -376,10 +434,11 @@ def _pose2d(transform: TransformStamped) -> tuple[float, float, float]:
     return float(t.translation.x), float(t.translation.y), yaw_from_quaternion(r.x, r.y, r.z, r.w)
 
 
-def main(args: list[str] | None = None) -> int:
+def main(args: list[str] | None = None, *, node_class: type[SlamNode] = SlamNode) -> int:
+    """Run the node (`node_class`: the mode's SlamNode subclass) until Ctrl-C."""
     try:
         with zros.init(args=args):
-            spin_nodes(SlamNode())
+            spin_nodes(node_class())
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     return 0

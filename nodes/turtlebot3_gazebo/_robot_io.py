@@ -6,8 +6,12 @@ sensor, the IMU, the joint state publisher); a TurtleBot3 without a file is ROBO
 Names are relative to the robot's namespace, so the first robot (no namespace) publishes
 `/scan`, `/odom`, `/tf`, ... and a robot spawned in `tb3_1` publishes `/tb3_1/scan`,
 `/tb3_1/tf`, ... with the same, unprefixed frame names (`odom`, `base_footprint`), as
-multi-robot ROS setups do. Each output keeps its own schedule in simulated time (`publish_due`):
-a scan at 0.2 s, 0.4 s, ... for a 5 Hz sensor. QoS are the real robot's (docs/robot.md): `/scan` is reliable with
+multi-robot ROS setups do. A robot of Gazebo Sim (ros_gz_sim's `create`) publishes where its
+model's plugins say instead, on the hidden Gazebo side (zros.sim.gz_topics.RobotTopics), with the
+frames they name; only zros's own ground truth stays under `sim/`. Where a robot's outputs go
+and in which frames is one RobotTopics (`model_topics` for Gazebo classic's plugins); whether and
+how often each is published is its model's. Each output keeps its own schedule in simulated time
+(`publish_due`): a scan at 0.2 s, 0.4 s, ... for a 5 Hz sensor. QoS are the real robot's (docs/robot.md): `/scan` is reliable with
 depth 5 (Gazebo's sensor QoS made reliable), so a plain depth-10 subscription gets it, and so do
 best-effort ones (AMCL, SLAM).
 
@@ -24,6 +28,7 @@ import numpy as np
 from zros.qos import DurabilityPolicy, QoSProfile
 from zros.rotations import quaternion_from_yaw
 from zros.sim import SimRobot
+from zros.sim.gz_topics import RobotTopics, ros_topics
 from zros.sim.model_file import RobotModel
 
 from interfaces.geometry_msgs.msg import Twist, TwistStamped, TransformStamped
@@ -37,7 +42,7 @@ from nodes.turtlebot3_gazebo._frames import WHEEL_JOINTS, static_frames, wheel_f
 if TYPE_CHECKING:
     from zros.node import Node
 
-__all__ = ['RobotEndpoints', 'topic_name', 'stamp', 'ABSURD_SPEED', 'TRUTH_RATE']
+__all__ = ['RobotEndpoints', 'model_topics', 'topic_name', 'stamp', 'ABSURD_SPEED', 'TRUTH_RATE']
 
 SCAN_QOS = QoSProfile(depth=5)
 SENSOR_QOS = QoSProfile(depth=10)
@@ -57,6 +62,22 @@ def topic_name(namespace: str, name: str) -> str:
     return f'/{namespace}/{name}' if namespace else name
 
 
+def model_topics(model: RobotModel, namespace: str) -> RobotTopics:
+    """Where a robot's outputs go in ROS under its `namespace`, and their frames, as its model's
+    Gazebo classic plugins name them (a Gazebo Sim model's names are Gazebo's: the TurtleBot3's
+    ROS names instead, as if bridged)."""
+    if model.topics is not None:
+        return ros_topics(namespace)
+    drive, name = model.drive, lambda n: topic_name(namespace, n)  # noqa: E731
+    scan, imu = model.scan, model.imu_output
+    return RobotTopics(cmd_vel=name(drive.cmd_vel_topic), odom=name(drive.odom_topic), tf=name('tf'),
+                       joint_states=name(model.joint_states.topic if model.joint_states else 'joint_states'),
+                       scan=name(scan.topic if scan else 'scan'), imu=name(imu.topic if imu else 'imu'),
+                       namespace=namespace.strip('/'), odom_frame=drive.odometry_frame,
+                       base_frame=drive.robot_base_frame, scan_frame=scan.frame if scan else 'base_scan',
+                       imu_frame=imu.frame if imu else 'imu_link')
+
+
 def stamp(msg: Any, time_ns: int, *, field: str = 'stamp') -> None:
     """Set a header's stamp (or a Clock's `clock`) to `time_ns` of simulated time."""
     time_msg = getattr(msg, field)
@@ -70,13 +91,15 @@ class RobotEndpoints:
     the executor; the `publish_*` methods from the simulation thread).
     """
 
-    def __init__(self, node: 'Node', robot: SimRobot, namespace: str, model: RobotModel, *, stamped_cmd_vel: bool,
-                 publish_frames: bool) -> None:
-        """`publish_frames`: also publish the fixed frames (tf_static) and the wheels (tf), which
+    def __init__(self, node: 'Node', robot: SimRobot, model: RobotModel, topics: RobotTopics, *,
+                 stamped_cmd_vel: bool, publish_frames: bool) -> None:
+        """`model`: what the robot publishes and how often; `topics`: where, and in which frames.
+        `publish_frames`: also publish the fixed frames (tf_static) and the wheels (tf), which
         Gazebo leaves to robot_state_publisher: for a robot no launch file describes."""
         self.robot = robot
         self.model = model
-        self.namespace = namespace.strip('/')
+        self.topics = topics
+        self.namespace = topics.namespace.strip('/')
         self.publish_frames = publish_frames
         drive = model.drive
         self._wheel_tf = publish_frames or drive.publish_wheel_tf
@@ -88,18 +111,17 @@ class RobotEndpoints:
         name = lambda n: topic_name(self.namespace, n)  # noqa: E731
         try:
             self.cmd_type = TwistStamped if stamped_cmd_vel else Twist
-            self._keep(node.create_subscription(self.cmd_type, name(drive.cmd_vel_topic), self.on_command, 10))
+            self._keep(node.create_subscription(self.cmd_type, topics.cmd_vel, self.on_command, 10))
             if model.scan is not None:
-                self.scan_pub = self._keep(node.create_publisher(LaserScan, name(model.scan.topic), SCAN_QOS))
+                self.scan_pub = self._keep(node.create_publisher(LaserScan, topics.scan, SCAN_QOS))
             if drive.publish_odom:
-                self.odom_pub = self._keep(node.create_publisher(Odometry, name(drive.odom_topic), SENSOR_QOS))
+                self.odom_pub = self._keep(node.create_publisher(Odometry, topics.odom, SENSOR_QOS))
             if self._any_tf:
-                self.tf_pub = self._keep(node.create_publisher(TFMessage, name('tf'), TF_QOS))
+                self.tf_pub = self._keep(node.create_publisher(TFMessage, topics.tf, TF_QOS))
             if model.joint_states is not None:
-                self.joint_pub = self._keep(node.create_publisher(JointState, name(model.joint_states.topic),
-                                                                  SENSOR_QOS))
+                self.joint_pub = self._keep(node.create_publisher(JointState, topics.joint_states, SENSOR_QOS))
             if model.imu_output is not None:
-                self.imu_pub = self._keep(node.create_publisher(Imu, name(model.imu_output.topic), SENSOR_QOS))
+                self.imu_pub = self._keep(node.create_publisher(Imu, topics.imu, SENSOR_QOS))
             self.truth_pub = self._keep(node.create_publisher(Odometry, name('sim/ground_truth'), SENSOR_QOS))
             self.collisions_pub = self._keep(node.create_publisher(UInt32, name('sim/collisions'), LATCHED_QOS))
             if publish_frames:
@@ -121,21 +143,21 @@ class RobotEndpoints:
         self.entities.clear()
 
     def _build_messages(self) -> None:
-        spec, lidar = self.robot.spec, self.robot.lidar
+        spec, lidar, frames = self.robot.spec, self.robot.lidar, self.topics
         self.scan = LaserScan(angle_min=lidar.angle_min, angle_max=lidar.angle_max,
                               angle_increment=lidar.angle_increment, time_increment=0.0, scan_time=0.0,
                               range_min=lidar.range_min, range_max=lidar.range_max)
-        self.scan.header.frame_id = self.model.scan.frame if self.model.scan else ''
+        self.scan.header.frame_id = frames.scan_frame
         self.scan.intensities = np.zeros(lidar.samples, dtype=np.float32)
         drive = self.model.drive
-        self.odom = Odometry(child_frame_id=drive.robot_base_frame)
-        self.odom.header.frame_id = drive.odometry_frame
+        self.odom = Odometry(child_frame_id=frames.base_frame)
+        self.odom.header.frame_id = frames.odom_frame
         self.odom.pose.covariance = _POSE_COVARIANCE
         self.odom.twist.covariance = _TWIST_COVARIANCE
-        self.truth = Odometry(child_frame_id='base_footprint')
+        self.truth = Odometry(child_frame_id=frames.base_frame)
         self.truth.header.frame_id = 'world'
-        self.odom_tf = TransformStamped(child_frame_id=drive.robot_base_frame)
-        self.odom_tf.header.frame_id = drive.odometry_frame
+        self.odom_tf = TransformStamped(child_frame_id=frames.base_frame)
+        self.odom_tf.header.frame_id = frames.odom_frame
         self.wheel_tfs = [TransformStamped(child_frame_id=child) for _, child, _, _ in wheel_frames(spec, (0.0, 0.0))]
         for tf, (parent, _, (x, y, z), _) in zip(self.wheel_tfs, wheel_frames(spec, (0.0, 0.0))):
             tf.header.frame_id = parent
@@ -146,7 +168,7 @@ class RobotEndpoints:
         self._joint_index = [WHEEL_JOINTS.index(j) for j in joints if j in WHEEL_JOINTS]   # others: unknown here
         self.joints = JointState(name=[WHEEL_JOINTS[i] for i in self._joint_index])
         self.imu = Imu()
-        self.imu.header.frame_id = self.model.imu_output.frame if self.model.imu_output else ''
+        self.imu.header.frame_id = frames.imu_frame
         gyro, accel = self.robot.imu_spec.gyro_noise_stddev ** 2, self.robot.imu_spec.accel_noise_stddev ** 2
         self.imu.orientation_covariance = np.diag([1e-6, 1e-6, 1e-6]).ravel()
         self.imu.angular_velocity_covariance = np.diag([gyro, gyro, gyro]).ravel()

@@ -15,6 +15,12 @@ wheels (`publish_robot_frames`) when no robot_state_publisher does. Commands com
 Gazebo Sim's `/world/<world>/control` (ros_gz_interfaces/ControlWorld: pause, step N, reset),
 and `/sim/get_map` (nav_msgs/GetMap: the world's exact occupancy, `map_resolution` m cells).
 
+With `gz=True` it plays Gazebo Sim instead (ros_gz_sim's `gz sim`): `/clock`, the robots' topics
+and the world's services (`/world/<world>/create`, `/remove`, `/control`) are on the hidden
+Gazebo side (zros.sim.gz_topics), where only ros_gz_bridge makes ROS topics of them; a robot's
+topics and frames are the ones its model's gz-sim plugins name, and Gazebo classic's ROS
+services are not there.
+
 Time: the simulation owns it. Steps never depend on when the thread wakes up, only on their
 count, so a run at 20x and one at 1x with the same commands at the same simulated times give
 the same trajectory; pacing only decides when steps happen on the wall clock. If the machine
@@ -37,6 +43,7 @@ from zros.node import Node
 from zros.qos import QoSProfile
 from zros.rotations import quaternion_from_yaw, yaw_from_quaternion
 from zros.sim import TURTLEBOT3_IMU, Pose2D, SimError, SimRobot, Simulation, load_world, rasterize, wrap_angle
+from zros.sim.gz_topics import RobotTopics, default_topics, gz_key
 from zros.sim.model_file import RobotModel, robot_from_xml, turtlebot3_model, turtlebot3_named
 from zros.sim.robot import odometry_source
 from zros.sim.sdf import SdfError
@@ -49,7 +56,7 @@ from interfaces.rosgraph_msgs.msg import Clock
 from interfaces.ros_gz_interfaces.srv import ControlWorld
 from interfaces.std_srvs.srv import Empty
 
-from nodes.turtlebot3_gazebo._robot_io import RobotEndpoints, stamp
+from nodes.turtlebot3_gazebo._robot_io import RobotEndpoints, model_topics, stamp
 
 __all__ = ['GazeboNode', 'main']
 
@@ -75,8 +82,9 @@ class _Robot:
 
 class GazeboNode(Node):
 
-    def __init__(self, **kwargs: Any) -> None:
+    def __init__(self, *, gz: bool = False, **kwargs: Any) -> None:
         super().__init__('gazebo', **kwargs)
+        self._gz = gz
         self._lock = threading.RLock()
         self._stop = threading.Event()
         self._wake = threading.Event()
@@ -100,7 +108,7 @@ class GazeboNode(Node):
             raise CliError(f"parameter 'odometry_source': {exc}") from None
         self._number('map_resolution', 0.05, minimum=1e-4)
         self._run_until_ns: int | None = None
-        self._clock_pub = self.create_publisher(Clock, '/clock', QoSProfile(depth=1))
+        self._clock_pub = self.create_publisher(Clock, gz_key('/clock') if gz else '/clock', QoSProfile(depth=1))
         self._clock_msg = Clock()
         self.add_on_set_parameters_callback(self._check_parameters)
         self.add_post_set_parameters_callback(self._on_parameters_set)
@@ -170,13 +178,16 @@ class GazeboNode(Node):
         self._wake.set()
 
     # -- robots -------------------------------------------------------------------------------
-    def _spawn(self, name: str, namespace: str, pose: Pose2D, publish_frames: bool, model: RobotModel) -> _Robot:
+    def _spawn(self, name: str, namespace: str, pose: Pose2D, publish_frames: bool, model: RobotModel, *,
+               topics: RobotTopics | None = None) -> _Robot:
         """Add a robot and its topics (caller holds the lock, or is the constructor);
         `publish_frames`: publish its fixed and wheel frames (no robot_state_publisher for it);
-        `model`: what its model file says (its odometry source unless `odometry_source` is set)."""
+        `model`: what its model file says (its odometry source unless `odometry_source` is set);
+        `topics`: where it talks (else as its Gazebo classic plugins say, under `namespace`)."""
         spec = model.spec
         odometry = self._odometry or model.drive.odometry_source
-        namespace = namespace.strip('/')
+        topics = topics or model_topics(model, namespace)
+        namespace = topics.namespace
         if any(r.io.namespace == namespace for r in self._robots.values()):
             raise SimError(f"namespace '/{namespace}' is already used by another robot; give each "
                            'robot its own robot_namespace')
@@ -184,18 +195,19 @@ class GazeboNode(Node):
                                         slip_stddev=self._slip, odometry=odometry)
         sim_robot.command_timeout = self._cmd_vel_timeout or None
         try:
-            endpoints = RobotEndpoints(self, sim_robot, namespace, model, stamped_cmd_vel=self._stamped,
+            endpoints = RobotEndpoints(self, sim_robot, model, topics, stamped_cmd_vel=self._stamped,
                                        publish_frames=publish_frames)
         except Exception:
             self._sim.remove_robot(name)
             raise
         robot = self._robots[name] = _Robot(sim_robot, endpoints)
         endpoints.schedule(self._sim.time_ns)
+        where = f"Gazebo topics, commands on '{topics.cmd_vel}'" if self._gz else f"topics under '/{namespace}'"
         endpoints.publish_static_frames()
         endpoints.publish_collisions()
         self.get_logger().info(
             f"Spawned {spec.model} '{name}' at x={pose.x:g} y={pose.y:g} yaw={pose.yaw:g} "
-            f"(topics under '/{namespace}', cmd_vel as {endpoints.cmd_type._TYPE}, {odometry} odometry)")
+            f"({where}, cmd_vel as {endpoints.cmd_type._TYPE}, {odometry} odometry)")
         return robot
 
     def _with_lidar_noise(self, model: RobotModel) -> RobotModel:
@@ -214,6 +226,13 @@ class GazeboNode(Node):
 
     # -- services ----------------------------------------------------------------------------
     def _create_services(self) -> None:
+        self.create_service(GetMap, '/sim/get_map', self._on_get_map)
+        if self._gz:    # Gazebo Sim's world services, on its side: ros_gz_sim's create calls them
+            world = f'/world/{self._world_name}'
+            self.create_service(SpawnEntity, gz_key(f'{world}/create'), self._on_spawn_entity)
+            self.create_service(DeleteEntity, gz_key(f'{world}/remove'), self._on_delete_entity)
+            self.create_service(ControlWorld, gz_key(f'{world}/control'), self._on_control_world)
+            return
         self.create_service(Empty, '/reset_simulation', self._on_reset_simulation)
         self.create_service(Empty, '/reset_world', self._on_reset_world)
         self.create_service(Empty, '/pause_physics', lambda req, res: self._set_paused(True, res))
@@ -226,7 +245,6 @@ class GazeboNode(Node):
         self.create_service(GetModelState, '/get_model_state', self._on_get_model_state)    # ROS 1's names,
         self.create_service(SetModelState, '/set_model_state', self._on_set_model_state)    # still in courses
         self.create_service(ControlWorld, f'/world/{self._world_name}/control', self._on_control_world)
-        self.create_service(GetMap, '/sim/get_map', self._on_get_map)
 
     def _set_paused(self, paused: bool, response: Any) -> Any:
         with self._lock:
@@ -266,21 +284,27 @@ class GazeboNode(Node):
     def _on_spawn_entity(self, request: Any, response: Any) -> Any:
         model = turtlebot3_named(request.xml, _default_model())
         robot_model = self._with_lidar_noise(turtlebot3_model(model))
+        name = request.name or f'{model}_{len(self._robots)}'
         if '<model' in request.xml or '<robot' in request.xml:
             try:
-                robot_model = robot_from_xml(request.xml, fallback=_default_model(), source=f'<{request.name} XML>')
+                robot_model = robot_from_xml(request.xml, fallback=_default_model(), source=f'<{name} XML>',
+                                             world=self._world_name)
             except SdfError as exc:
                 response.success, response.status_message = False, str(exc)
                 return response
             if robot_model.warning:
                 self.get_logger().warn(robot_model.warning)
+        topics = None
+        if self._gz:    # its topics on Gazebo's side, as its gz-sim plugins name them
+            topics = robot_model.topics or default_topics(name, self._world_name)
+            topics = topics._replace(**{key: gz_key(getattr(topics, key))
+                                        for key in ('cmd_vel', 'odom', 'tf', 'joint_states', 'scan', 'imu')})
         p = request.initial_pose
         pose = Pose2D(p.position.x, p.position.y, _yaw(p.orientation))
-        name = request.name or f'{model}_{len(self._robots)}'
         with self._lock:
             try:
                 # As Gazebo: only what the model's plugins publish (robot_state_publisher has the rest).
-                self._spawn(name, request.robot_namespace, pose, False, robot_model)
+                self._spawn(name, request.robot_namespace, pose, False, robot_model, topics=topics)
             except (SimError, ValueError) as exc:
                 response.success, response.status_message = False, str(exc)
                 return response

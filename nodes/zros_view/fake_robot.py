@@ -19,9 +19,11 @@ import numpy as np
 
 import zros
 from zros.executors import ExternalShutdownException, spin_nodes
+from zros.grid_geometry import GridGeometry
 from zros.node import Node
 from zros.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from zros.rotations import quaternion_from_yaw
+from zros.sim.grid_lidar import GridLidar
 
 __all__ = ['FakeRobot', 'world_grid', 'cast_scan', 'main']
 
@@ -50,16 +52,11 @@ def world_grid() -> np.ndarray:
 def cast_scan(grid: np.ndarray, x: float, y: float, yaw: float, beams: int = 360, range_max: float = 3.5,
               range_min: float = 0.12) -> np.ndarray:
     """(beams,) float32 ranges [m] from (x, y) at heading `yaw`, beam i at angle i * 2pi/beams,
-    inf where nothing is hit within range_max (all beams at once, stepped at half a cell)."""
-    angles = yaw + np.arange(beams) * (2 * math.pi / beams)
-    steps = np.arange(range_min, range_max, RESOLUTION / 2)
-    px = x + np.cos(angles)[:, None] * steps[None]
-    py = y + np.sin(angles)[:, None] * steps[None]
-    col = np.clip(((px - ORIGIN) / RESOLUTION).astype(int), 0, SIZE - 1)
-    row = np.clip(((py - ORIGIN) / RESOLUTION).astype(int), 0, SIZE - 1)
-    hit = grid[row, col] == 100
-    first = np.argmax(hit, axis=1)
-    ranges = np.where(hit.any(axis=1), steps[first], np.inf)
+    inf where nothing is hit between range_min and range_max (zros.sim's GridLidar: the
+    simulator's ray caster against the grid's walls)."""
+    lidar = GridLidar(grid, GridGeometry(RESOLUTION, (ORIGIN, ORIGIN), grid.shape))
+    ranges = lidar.scan((x, y, yaw), 0.0, 2 * math.pi / beams, beams, range_max)
+    ranges[ranges < range_min] = np.inf
     return ranges.astype(np.float32)
 
 

@@ -6,12 +6,14 @@ its start."""
 from __future__ import annotations
 
 import sys
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pytest
 
 from conftest import background_node, wait_until
+from zros.ament_index_python.packages import get_package_share_directory
 
 WORLD = """
 name: explore_room
@@ -32,8 +34,9 @@ def test_exploration_with_slam_maps_the_world_and_stops(spawn: Any, tmp_path: An
     world_file.write_text(WORLD)
     world = parse_world(WORLD)
     spawn.node('turtlebot3_gazebo', 'gzserver', '--ros-args', '-p', f'world:={world_file}', '-p', 'real_time_factor:=5.0')
+    burger = Path(get_package_share_directory('turtlebot3_navigation2')) / 'param' / 'burger.yaml'
     nav = spawn.command(sys.executable, '-m', 'zros', 'launch', 'nav2_bringup', 'bringup_launch.py',
-                        'use_sim_time:=True', 'slam:=True', name='navigation')
+                        'use_sim_time:=True', 'slam:=True', f'params_file:={burger}', name='navigation')
     # The free space inside the walls, by the exact raster, as cell centres in SLAM's map frame
     # (the frame the robot started in).
     truth = rasterize(world, 0.05)

@@ -183,6 +183,44 @@ def test_manager_service_and_a_node_that_refuses(spawn, zros_cli):
     assert zros_cli('lifecycle', 'get').stdout == '/amcl: finalized [4]\n/map_server: finalized [4]\n'
 
 
+_BUSY_NODE = """
+import sys, time
+import zros
+from zros.lifecycle import LifecycleNode, TransitionCallbackReturn
+
+class Busy(LifecycleNode):
+    # On a loaded machine a node can be busy for seconds right after a transition: here its
+    # only executor thread is blocked for 3 s as soon as activation has answered, so the
+    # manager's following get_state is answered 3 s late.
+    def on_activate(self, state):
+        self._block = self.create_timer(0.001, self._work)
+        return super().on_activate(state)
+
+    def _work(self):
+        self._block.cancel()
+        time.sleep(3.0)
+
+zros.init()
+zros.spin(Busy(sys.argv[1]))
+"""
+
+
+def test_manager_waits_service_timeout_for_a_busy_node(spawn):
+    """Nav2's `service_timeout`: a node that answers get_state late is not a failed node as long
+    as it answers within the timeout (5 s by default); a shorter timeout fails the bring-up."""
+    spawn.script(_BUSY_NODE, 'busy_ok')
+    patient = spawn.node('nav2_lifecycle_manager', 'lifecycle_manager', '--ros-args', '-r',
+                         '__node:=manager_patient', '-p', "node_names:=['busy_ok']", '-p', 'autostart:=true')
+    patient.wait_for_output('Managed nodes are active', timeout=30)
+    assert 'Failed to change state' not in patient.output()
+    spawn.script(_BUSY_NODE, 'busy_late')
+    hasty = spawn.node('nav2_lifecycle_manager', 'lifecycle_manager', '--ros-args', '-r',
+                       '__node:=manager_hasty', '-p', "node_names:=['busy_late']", '-p', 'autostart:=true',
+                       '-p', 'service_timeout:=1.0', '-p', 'attempt_respawn_reconnection:=false')
+    out = hasty.wait_for_output('Failed to bring up all requested nodes', timeout=30)
+    assert 'Failed to change state for node: busy_late' in out, out
+
+
 def test_a_stop_on_purpose_is_not_a_failure(spawn):
     """Ctrl-C on a launch signals every node at once; on a busy machine a managed node can be
     gone before the manager's own signal lands, and a bring-up can be cut short. Neither is

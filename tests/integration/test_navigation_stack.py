@@ -9,6 +9,7 @@ import math
 import sys
 import threading
 import time
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -37,8 +38,10 @@ def stack(module_spawn: Any, tmp_path_factory: Any) -> Any:
     # still counts its wheels turning, so the spin recovery ends (world odometry would undo each turn).
     module_spawn.node('turtlebot3_gazebo', 'gzserver', '--ros-args', '-p', f'world:={world_file}',
                       '-p', 'real_time_factor:=3.0', '-p', 'odometry_source:=encoder')
+    from zros.ament_index_python.packages import get_package_share_directory
+    burger = Path(get_package_share_directory('turtlebot3_navigation2')) / 'param' / 'burger.yaml'
     launch = module_spawn.command(sys.executable, '-m', 'zros', 'launch', 'nav2_bringup', 'navigation_launch.py',
-                                  'use_sim_time:=True', name='navigation')
+                                  'use_sim_time:=True', f'params_file:={burger}', name='navigation')
     from zros.context import Context
     context = Context().init([], install_signal_handlers=False)
     node = Node('nav_test', context=context)

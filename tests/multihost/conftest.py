@@ -25,6 +25,8 @@ from typing import Callable
 
 import pytest
 
+from tools.link_netns import remove_namespace, remove_stale
+
 REPO = Path(__file__).resolve().parents[2]
 PREFIX = 'zrosmh'
 SUBNET = '10.123.0'
@@ -42,36 +44,6 @@ def _ip(*args: str, check: bool = True) -> subprocess.CompletedProcess:
     if check and result.returncode != 0:
         raise RuntimeError(f"ip {' '.join(args)}: {result.stderr.strip()}")
     return result
-
-
-def _pid_alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:
-        return True
-    return True
-
-
-def _delete_namespace(ns: str) -> None:
-    """Kill what still runs in `ns` (our own children: the namespace is ours), then delete it."""
-    pids = _ip('netns', 'pids', ns, check=False).stdout.split()
-    for pid in pids:
-        try:
-            os.kill(int(pid), signal.SIGKILL)
-        except (ProcessLookupError, ValueError):
-            pass
-    _ip('netns', 'del', ns, check=False)
-
-
-def _remove_stale() -> None:
-    """Namespaces left by a test run that died without its finalizers."""
-    for line in _ip('netns', 'list', check=False).stdout.splitlines():
-        name = line.split()[0] if line.split() else ''
-        parts = name.split('-')
-        if len(parts) == 3 and parts[0] == PREFIX and parts[1].isdigit() and not _pid_alive(int(parts[1])):
-            _delete_namespace(name)
 
 
 def unavailable_reason() -> str | None:
@@ -257,7 +229,7 @@ class Net:
     def close(self) -> None:
         self.kill_all()
         for ns in reversed(self._namespaces):
-            _delete_namespace(ns)
+            remove_namespace(ns)
         self._namespaces.clear()
 
 
@@ -266,7 +238,7 @@ def net(tmp_path_factory: pytest.TempPathFactory) -> Net:
     reason = unavailable_reason()
     if reason:
         pytest.skip(reason)
-    _remove_stale()
+    remove_stale(PREFIX)   # namespaces of a run that died without its finalizers
     network = Net(tmp_path_factory.mktemp('multihost-logs'))
     yield network
     network.close()

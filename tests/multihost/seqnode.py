@@ -1,5 +1,7 @@
-"""A test node: `seqnode.py pub NAME [HZ]` publishes 1, 2, 3, ... on /seq (reliable, depth 1000);
-`seqnode.py sub NAME` prints every number it receives as `got N`."""
+"""A test node: `seqnode.py pub NAME [HZ]` publishes 1, 2, 3, ... on /seq (reliable, depth 1000),
+each with its wall time of sending; `seqnode.py sub NAME` prints every number it receives as
+`got N`, then `at T delay MS`: when it arrived, and how long it took (the hosts are network
+namespaces of one machine, so they share one clock and the delay is the one-way latency)."""
 import sys
 import time
 
@@ -7,6 +9,12 @@ import zros
 from zros.node import Node
 
 from interfaces.std_msgs.msg import String
+
+
+def received(msg: String) -> None:
+    now = time.time()
+    count, _, sent = msg.data.partition(' ')
+    print(f'got {count}\nat {now:.6f} delay {(now - float(sent or now)) * 1e3:.2f}', flush=True)
 
 
 def main() -> None:
@@ -19,10 +27,10 @@ def main() -> None:
         count = 0
         while True:
             count += 1
-            pub.publish(String(data=str(count)))
+            pub.publish(String(data=f'{count} {time.time():.6f}'))
             print(f'published {count}', flush=True)
             time.sleep(period)
-    node.create_subscription(String, 'seq', lambda m: print(f'got {m.data}', flush=True), 1000)
+    node.create_subscription(String, 'seq', received, 1000)
     print('subscribed', flush=True)
     zros.spin(node)
 

@@ -222,3 +222,15 @@ def test_context_has_the_run_async_loop_only_while_it_runs():
     finally:
         loop.close()
     assert seen == [loop] and service.context.asyncio_loop is None
+
+
+def test_an_opaque_function_under_a_shutdown_handler_runs_at_shutdown_not_while_planning(tmp_path: Path):
+    # Nav2 Jazzy's tb3_simulation_launch.py removes its temporary world file this way.
+    calls = []
+    remove = OpaqueFunction(function=lambda context: calls.append('removed'))
+    plan = resolve_actions([RegisterEventHandler(OnShutdown(on_shutdown=[remove]))], str(tmp_path / 'x.launch.py'))
+    assert calls == []
+    (effect,) = [e for e in plan.effects if isinstance(e, EventHandlerEffect)]
+    assert effect.event == 'shutdown' and effect.deferred is not None
+    effect.effects_at_shutdown('done')
+    assert calls == ['removed']

@@ -35,7 +35,8 @@ def test_a_urdf_with_gazebo_tags_and_the_fallbacks() -> None:
     assert (robot.spec.wheel_separation, robot.spec.wheel_radius) == (0.4, 0.1) and robot.lidar == LDS_01
     plain = robot_from_xml('<robot name="statue"><link name="base_link"/></robot>', fallback='burger')
     assert plain.spec == BURGER
-    assert plain.warning == "model 'statue' has no libgazebo_ros_diff_drive.so plugin: simulating a TurtleBot3 burger"
+    assert plain.warning == ("model 'statue' has no diff-drive plugin (libgazebo_ros_diff_drive.so or "
+                             'gz-sim-diff-drive-system): simulating a TurtleBot3 burger')
 
 
 def test_bad_numbers_are_one_line_errors() -> None:
@@ -98,3 +99,64 @@ def test_bad_plugin_options_are_one_line_errors() -> None:
         robot_from_xml(plugin.format('<publish_odom>yes</publish_odom>'), fallback='burger')
     with pytest.raises(SdfError, match=r'^<robot XML>:1: update_rate must be >= 0, got -1$'):
         robot_from_xml(plugin.format('<update_rate>-1</update_rate>'), fallback='burger')
+
+
+# A Gazebo Sim (Harmonic) model in the shape of nav2_minimal_tb3_sim's gz_waffle.sdf: its systems
+# and sensors name their topics and frames.
+GZ_SDF = '''<sdf version="1.6"><model name="gz_bot"><link name="base_footprint"/><link name="base_scan">
+<sensor name="front_lidar" type="gpu_lidar"><update_rate>10</update_rate><topic>/ns/scan</topic>
+<gz_frame_id>laser</gz_frame_id><lidar><scan><horizontal><samples>720</samples><resolution>1</resolution>
+<min_angle>0</min_angle><max_angle>6.28</max_angle></horizontal></scan><range><min>0.05</min><max>20.0</max>
+</range><noise><type>gaussian</type><mean>0</mean><stddev>0.03</stddev></noise></lidar></sensor></link>
+<link name="imu_link"><sensor name="my_imu" type="imu"><topic>ns/imu</topic><gz_frame_id>imu_link</gz_frame_id>
+</sensor></link>
+<plugin filename="gz-sim-diff-drive-system" name="gz::sim::systems::DiffDrive">
+<wheel_separation>0.287</wheel_separation><wheel_radius>0.033</wheel_radius>
+<max_linear_acceleration>1.5</max_linear_acceleration><max_linear_velocity>0.46</max_linear_velocity>
+<max_angular_velocity>1.9</max_angular_velocity><topic>ns/cmd_vel</topic><odom_topic>ns/odom</odom_topic>
+<tf_topic>ns/tf</tf_topic><frame_id>odom</frame_id><child_frame_id>base_footprint</child_frame_id>
+<odom_publish_frequency>30</odom_publish_frequency></plugin>
+<plugin filename="gz-sim-joint-state-publisher-system" name="gz::sim::systems::JointStatePublisher">
+<topic>ns/joint_states</topic></plugin></model></sdf>'''
+
+
+def test_gz_sim_diff_drive_and_gpu_lidar_set_the_numbers_topics_and_frames() -> None:
+    robot = robot_from_xml(GZ_SDF, fallback='waffle')
+    assert robot.warning == ''
+    spec = robot.spec
+    assert (spec.wheel_separation, spec.wheel_radius, spec.max_wheel_acceleration) == (0.287, 0.033, 1.5)
+    assert (spec.max_linear, spec.max_angular) == (0.46, 1.9)
+    lidar = robot.lidar
+    assert (lidar.samples, lidar.range_min, lidar.range_max, lidar.noise_stddev, lidar.rate) == (720, 0.05, 20.0, 0.03,
+                                                                                                10.0)
+    topics = robot.topics
+    assert (topics.cmd_vel, topics.odom, topics.tf, topics.joint_states, topics.scan, topics.imu) == (
+        '/ns/cmd_vel', '/ns/odom', '/ns/tf', '/ns/joint_states', '/ns/scan', '/ns/imu')   # relative -> absolute
+    assert (topics.odom_frame, topics.base_frame, topics.scan_frame, topics.imu_frame) == (
+        'odom', 'base_footprint', 'laser', 'imu_link')
+    assert topics.namespace == 'ns'
+    # Its outputs: the same names and frames, at its systems' and sensors' rates; Gazebo Sim's
+    # DiffDrive always publishes odometry and TF, integrated from the wheels (encoder).
+    assert robot.drive == DiffDrivePlugin(odometry_source='encoder', publish_odom=True, publish_odom_tf=True,
+                                          odometry_frame='odom', robot_base_frame='base_footprint', update_rate=30.0,
+                                          cmd_vel_topic='/ns/cmd_vel', odom_topic='/ns/odom')
+    assert robot.scan == SensorOutput('/ns/scan', 'laser', 10.0)
+    assert robot.imu_output is not None and robot.imu_output.topic == '/ns/imu'
+    assert robot.joint_states == JointStateOutput('/ns/joint_states', 200.0, ('wheel_left_joint', 'wheel_right_joint'))
+
+
+def test_gz_sim_defaults_are_gazebos_scoped_names() -> None:
+    xml = ('<sdf version="1.9"><model name="bot"><link name="chassis"><sensor name="l" type="lidar"/></link>'
+           '<plugin filename="libgz-sim8-diff-drive-system.so" name="gz::sim::systems::DiffDrive"/></model></sdf>')
+    topics = robot_from_xml(xml, fallback='burger', world='shapes').topics
+    assert (topics.cmd_vel, topics.odom, topics.tf) == ('/model/bot/cmd_vel', '/model/bot/odometry', '/model/bot/tf')
+    assert topics.scan == '/world/shapes/model/bot/link/chassis/sensor/l/scan'
+    assert topics.joint_states == '/world/shapes/model/bot/joint_state'
+    assert (topics.odom_frame, topics.base_frame, topics.scan_frame) == ('bot/odom', 'bot/chassis', 'bot::chassis::l')
+
+
+def test_a_classic_model_has_no_gz_topics_and_bad_gz_numbers_are_one_line() -> None:
+    assert robot_from_xml(SDF, fallback='burger').topics is None
+    with pytest.raises(SdfError, match=r'^<robot XML>:1: wheel_separation, wheel_radius, .* must be > 0$'):
+        robot_from_xml('<sdf version="1.9"><model name="m"><plugin filename="gz-sim-diff-drive-system" name="d">'
+                       '<wheel_radius>0</wheel_radius></plugin></model></sdf>', fallback='burger')

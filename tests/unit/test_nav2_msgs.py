@@ -32,3 +32,20 @@ def test_messages_and_services():
     assert _fields(ClearEntireCostmap.Request) == ['request']
     assert LoadMap.Response.RESULT_MAP_DOES_NOT_EXIST == 1
     assert _fields(OccupancyGridUpdate) == ['header', 'x', 'y', 'width', 'height', 'data']
+
+
+def test_jazzy_route_and_docking_layout():
+    from interfaces.nav2_msgs.action import ComputeAndTrackRoute, ComputeRoute, DockRobot, UndockRobot
+    from interfaces.nav2_msgs.msg import Route, RouteEdge, RouteNode
+    assert _fields(ComputeRoute.Goal) == ['start_id', 'start', 'goal_id', 'goal', 'use_start', 'use_poses']
+    assert _fields(ComputeRoute.Result) == ['planning_time', 'path', 'route', 'error_code']
+    assert _fields(ComputeAndTrackRoute.Feedback) == [
+        'last_node_id', 'next_node_id', 'current_edge_id', 'route', 'path', 'operations_triggered', 'rerouted']
+    assert ComputeRoute.Result.NO_VALID_ROUTE == 405 and ComputeAndTrackRoute.Result.OPERATION_FAILED == 406
+    assert _fields(Route) == ['header', 'route_cost', 'nodes', 'edges']
+    assert _fields(RouteNode) == ['nodeid', 'position'] and _fields(RouteEdge) == ['edgeid', 'start', 'end']
+    goal = DockRobot.Goal()
+    assert goal.use_dock_id and goal.navigate_to_staging_pose and goal.max_staging_time == 1000.0
+    assert _fields(DockRobot.Result) == ['success', 'error_code', 'num_retries', 'error_msg']
+    assert DockRobot.Result.FAILED_TO_CHARGE == 906 and DockRobot.Feedback.WAIT_FOR_CHARGE == 4
+    assert UndockRobot.Goal().max_undocking_time == 30.0 and UndockRobot.Result().success

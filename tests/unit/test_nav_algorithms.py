@@ -230,3 +230,11 @@ def test_clearing_a_square_around_or_outside_a_point_forgets_only_those_marks():
     assert len(left) > 0 and (np.abs(left) > 1.0).any(axis=1).all()
     costmap.clear_square((0.0, 0.0), 2.0, outside=True)              # except: the rest goes
     assert len(marks()) == 0
+
+
+def test_a_control_step_longer_than_its_period_is_reported_as_nav2_does():
+    from zros.navigation.servers import missed_rate_message
+    assert missed_rate_message(20.0, 0.04) is None               # 40 ms of a 50 ms period
+    assert missed_rate_message(20.0, 0.05) is None               # exactly the period still fits
+    assert missed_rate_message(20.0, 0.08) == ('Control loop missed its desired rate of 20.0000 Hz. '
+                                               'Current loop rate is 12.5000 Hz.')

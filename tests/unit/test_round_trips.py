@@ -7,6 +7,7 @@ back unchanged, for any value and not only the examples the other tests chose.
 - transforms (zros.tf_transformations): Euler angles <-> quaternion <-> matrix, for every axes
   convention, and composition with the inverse;
 - map files (zros.map_io): save_map -> load_map of generated grids;
+- saved pose graphs (zros.slam.serialization): FILE.posegraph + FILE.data of generated graphs;
 - launch substitutions (zros.launch.template): describe() writes a template back as text that
   parse() reads as the same template, and literal text survives any characters.
 """
@@ -29,6 +30,9 @@ from zros.idl import FieldType, parse_message
 from zros.launch.template import Call, describe, parse
 from zros.map_io import OccupancyMap, load_map, save_map
 from zros.message import deserialize, make_message_class, serialize
+from zros.slam.pose_graph import Edge
+from zros.slam.scan import ScanPoints
+from zros.slam.serialization import SerializedGraph, read_pose_graph, write_pose_graph
 
 #: Every property runs this many generated cases; no deadline (a shared CI machine is slow).
 ROUND_TRIP = settings(max_examples=25, deadline=None,
@@ -229,6 +233,44 @@ def test_a_trinary_map_loads_as_it_was_saved(tmp_path, grid, image_format):
 def test_a_raw_map_loads_as_it_was_saved(tmp_path, grid):
     yaml_path, _ = save_map(grid, tmp_path / 'map', mode='raw')
     assert load_map(yaml_path).data.tolist() == grid.data.tolist()
+
+
+# -- saved pose graphs --------------------------------------------------------------------------------
+@st.composite
+def pose_graphs(draw: st.DrawFn) -> SerializedGraph:
+    """Any graph serialize_map can write: N nodes (maybe none), scans of any size (maybe empty),
+    edges between distinct nodes."""
+    count = draw(st.integers(0, 5))
+    number = st.floats(-1e6, 1e6)
+
+    def array(*shape: int, dtype: Any = np.float64) -> np.ndarray:
+        size = int(np.prod(shape))
+        return np.array(draw(st.lists(number, min_size=size, max_size=size)), dtype=dtype).reshape(shape)
+    scans = [ScanPoints(array(2), array(draw(st.integers(0, 4)), 2, dtype=np.float32),
+                        array(draw(st.integers(0, 4)), 2, dtype=np.float32)) for _ in range(count)]
+    edges = []
+    if count >= 2:
+        for _ in range(draw(st.integers(0, 4))):
+            i, j = draw(st.lists(st.integers(0, count - 1), min_size=2, max_size=2, unique=True))
+            edges.append(Edge(i, j, array(3), array(3, 3), draw(st.booleans())))
+    parameters = {'resolution': draw(st.floats(0.01, 1.0)), 'do_loop_closing': draw(st.booleans())}
+    return SerializedGraph(array(count, 3), array(count, 3), array(count), scans, edges, parameters)
+
+
+@ROUND_TRIP
+@given(graph=pose_graphs())
+def test_a_pose_graph_reads_back_as_it_was_written(tmp_path, graph):
+    written = write_pose_graph(tmp_path / 'graph', graph)
+    assert [p.name for p in written] == ['graph.posegraph', 'graph.data']
+    read = read_pose_graph(tmp_path / 'graph.posegraph')
+    for name in ('poses', 'odom', 'travel'):
+        assert np.array_equal(getattr(read, name), getattr(graph, name)), name
+    assert len(read.scans) == len(graph.scans) and all(
+        all(np.array_equal(a, b) for a, b in zip(r, g)) for r, g in zip(read.scans, graph.scans))
+    assert [(e.i, e.j, e.robust) for e in read.edges] == [(e.i, e.j, e.robust) for e in graph.edges]
+    assert all(np.array_equal(r.measurement, g.measurement) and np.array_equal(r.information, g.information)
+               for r, g in zip(read.edges, graph.edges))
+    assert read.parameters == graph.parameters
 
 
 # -- launch substitutions -----------------------------------------------------------------------------

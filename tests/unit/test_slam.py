@@ -9,10 +9,11 @@ import pytest
 
 from zros.slam import PoseGraphFileError, Slam, SlamParameters, scan_points
 from zros.slam.geometry import compose, inverse, relative
-from zros.slam.grid import LogOddsGrid
+from zros.slam.grid import LogOddsGrid, occupancy_from_scans
 from zros.slam.match_grid import MatchGrid
 from zros.slam.matcher import SearchWindow, match_scan
 from zros.slam.pose_graph import PoseGraph
+from zros.slam.serialization import read_pose_graph
 
 
 def test_geometry_compose_inverse_relative():
@@ -142,12 +143,59 @@ def test_a_short_drive_builds_a_map_whose_walls_match_the_truth(tmp_path):
 
 def test_serialize_and_deserialize_the_pose_graph(tmp_path):
     slam, *_ = _drive(6.0)
-    path = slam.serialize(tmp_path / 'graph')
+    paths = slam.serialize(tmp_path / 'graph')
+    assert [p.name for p in paths] == ['graph.posegraph', 'graph.data']     # slam_toolbox's two files
     again = Slam(SlamParameters())
-    again.deserialize(tmp_path / 'graph')
-    assert path.name == 'graph.posegraph' and len(again.keyframes) == len(slam.keyframes)
+    assert again.deserialize(tmp_path / 'graph.posegraph') == paths[0]       # with or without the suffix
+    assert len(again.keyframes) == len(slam.keyframes)
+    assert [len(e.measurement) for e in again.graph.edges] == [3] * len(slam.graph.edges)
+    assert all(np.array_equal(a.scan.hits, b.scan.hits) for a, b in zip(again.keyframes, slam.keyframes))
     assert np.allclose(again.trajectory(), slam.trajectory())
     assert np.array_equal(again.occupancy_map().data, slam.occupancy_map().data)
+    # merge_maps_kinematic draws a saved graph from scratch: the same map as the mapper's.
+    saved = read_pose_graph(tmp_path / 'graph')
+    drawn = occupancy_from_scans(saved.poses, saved.scans, 0.05)
+    assert np.array_equal(drawn.data, slam.occupancy_map().data) and drawn.origin == slam.occupancy_map().origin
     (tmp_path / 'junk.posegraph').write_bytes(b'not a graph')
     with pytest.raises(PoseGraphFileError, match='junk.posegraph'):
         again.deserialize(tmp_path / 'junk.posegraph')
+    (tmp_path / 'graph.data').unlink()
+    with pytest.raises(PoseGraphFileError, match='graph.data'):            # the scans are in the second file
+        again.deserialize(tmp_path / 'graph')
+    assert len(again.keyframes) == len(slam.keyframes)                    # a failed load changes nothing
+
+
+def test_localization_in_a_saved_map_finds_the_robot_and_keeps_the_map_fixed(tmp_path):
+    from zros.sim import LDS_01, Simulation
+    slam, world, spawn, *_ = _drive(20.0)
+    slam.serialize(tmp_path / 'graph')
+    start = np.array([0.5, -1.2, 1.2])                   # elsewhere in the arena (world frame)
+    sim = Simulation(world, seed=5)
+    robot = sim.add_robot('burger', tuple(start))
+    localizer = Slam(SlamParameters())
+    guess = relative(spawn, start) + np.array([0.15, -0.1, 0.1])       # the start pose given is off a little
+    localizer.deserialize(tmp_path / 'graph', pose=tuple(guess), localize=True)
+    nodes, first_map = len(localizer.keyframes), localizer.occupancy_map().data.copy()
+
+    def step(k):
+        robot.command(0.15, 0.4 * math.sin(k * 0.07))
+        sim.step(0.2)
+        o = robot.odometry()
+        update = localizer.process_scan(np.array([o.x, o.y, o.yaw]), scan_points(
+            robot.scan(), LDS_01.angle_min, LDS_01.angle_increment, range_min=LDS_01.range_min,
+            range_max=LDS_01.range_max, sensor_pose=(-0.032, 0.0, 0.0)))
+        p = robot.pose
+        truth = relative(spawn, np.array([p.x, p.y, p.yaw]))
+        return update, np.hypot(*(update.pose[:2] - truth[:2])), abs(update.pose[2] - truth[2])
+
+    errors = [step(k) for k in range(40)]
+    assert localizer.localizing and all(u.matched and not u.keyframe for u, _, _ in errors)
+    assert max(e for _, e, _ in errors) < 0.04 and max(a for _, _, a in errors) < 0.02, errors
+    assert len(localizer.keyframes) == nodes and np.array_equal(localizer.occupancy_map().data, first_map)
+    assert 1 < len(localizer._buffer) <= SlamParameters().scan_buffer_size      # the rolling buffer
+    # /initialpose: a new guess near the truth, and the next scan is matched there.
+    p = robot.pose
+    localizer.relocalize(relative(spawn, np.array([p.x, p.y, p.yaw])) + np.array([-0.12, 0.1, -0.08]))
+    assert not localizer._buffer
+    update, error, angle = step(40)
+    assert update.matched and error < 0.04 and angle < 0.02

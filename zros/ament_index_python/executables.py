@@ -59,7 +59,9 @@ class Executables:
         found = {name.split('/', 1)[1] for name in self._entry_points if name.startswith(package + '/')}
         entry = self._index.get(package)
         if entry is not None and entry.scripts is not None:
-            found.update(p.stem for p in entry.scripts.glob('*.py') if not p.stem.startswith('_'))
+            # A launch file beside the scripts (where ROS installs nav2_loopback_sim's) is no script.
+            found.update(p.stem for p in entry.scripts.glob('*.py')
+                         if not p.stem.startswith('_') and not p.name.endswith('.launch.py'))
         if entry is not None and entry.ros_package is not None:
             found.update(entry.ros_package.executables)
         return sorted(found)

@@ -40,8 +40,9 @@ __all__ = [
     'evaluate_expression', 'COMMAND_TIMEOUT_S',
 ]
 
-#: `$(command ...)` is killed after this many seconds (a launch must never hang on it).
-COMMAND_TIMEOUT_S = 10.0
+#: `$(command ...)` is killed after this many seconds (a launch must never hang on it). Generous:
+#: `xacro` is a Python start-up, which on a loaded machine has taken over 10 s of wall time.
+COMMAND_TIMEOUT_S = 60.0
 
 
 @dataclass(frozen=True)

@@ -30,8 +30,8 @@ from interfaces.action_msgs.msg import GoalStatus
 from interfaces.geometry_msgs.msg import PoseWithCovarianceStamped
 from interfaces.lifecycle_msgs.srv import GetState
 from interfaces.nav2_msgs.action import (AssistedTeleop, BackUp, ComputePathThroughPoses, ComputePathToPose,
-                                         DriveOnHeading, FollowPath, FollowWaypoints, NavigateThroughPoses,
-                                         NavigateToPose, SmoothPath, Spin)
+                                         DockRobot, DriveOnHeading, FollowPath, FollowWaypoints,
+                                         NavigateThroughPoses, NavigateToPose, SmoothPath, Spin, UndockRobot)
 from interfaces.nav2_msgs.srv import (ClearCostmapAroundPose, ClearCostmapAroundRobot, ClearCostmapExceptRegion,
                                       ClearEntireCostmap, GetCostmap, LoadMap, ManageLifecycleNodes)
 
@@ -79,6 +79,8 @@ class BasicNavigator(Node):
         self.backup_client = ActionClient(self, BackUp, 'backup')
         self.drive_on_heading_client = ActionClient(self, DriveOnHeading, 'drive_on_heading')
         self.assisted_teleop_client = ActionClient(self, AssistedTeleop, 'assisted_teleop')
+        self.docking_client = ActionClient(self, DockRobot, 'dock_robot')
+        self.undocking_client = ActionClient(self, UndockRobot, 'undock_robot')
         self.localization_pose_sub = self.create_subscription(
             PoseWithCovarianceStamped, 'amcl_pose', self._amclPoseCallback, amcl_pose_qos)
         self.initial_pose_pub = self.create_publisher(PoseWithCovarianceStamped, 'initialpose', 10)
@@ -105,7 +107,8 @@ class BasicNavigator(Node):
         for client in (self.nav_through_poses_client, self.nav_to_pose_client, self.follow_waypoints_client,
                        self.follow_path_client, self.compute_path_to_pose_client,
                        self.compute_path_through_poses_client, self.spin_client, self.backup_client,
-                       self.drive_on_heading_client, self.assisted_teleop_client):
+                       self.drive_on_heading_client, self.assisted_teleop_client, self.docking_client,
+                       self.undocking_client):
             client.destroy()
         super().destroy_node()
 
@@ -231,6 +234,42 @@ class BasicNavigator(Node):
         goal.time_allowance.sec = int(time_allowance)
         self.info("Running 'assisted_teleop'....")
         return self._send(self.assisted_teleop_client, goal, 'AssistedTeleop')
+
+    def dockRobotByPose(self, dock_pose: Any, dock_type: str = '', nav_to_dock: bool = True) -> bool:
+        """Dock at a pose (Nav2 Jazzy): the docking server reaches the dock's staging pose, through
+        the navigator if `nav_to_dock`, then drives onto the dock.
+
+        :param dock_pose: The dock's geometry_msgs/msg/PoseStamped.
+        :param dock_type: One of the server's `dock_plugins`; empty if it has only one.
+        :param nav_to_dock: Navigate to the staging pose first (else the robot must be near it).
+        :return: ``True`` if the goal was accepted; then poll `isTaskComplete()`.
+        """
+        goal = DockRobot.Goal(use_dock_id=False, dock_pose=dock_pose, dock_type=dock_type,
+                              navigate_to_staging_pose=nav_to_dock)
+        p = dock_pose.pose.position
+        self.info(f'Docking at pose: ({p.x}, {p.y}) in {dock_pose.header.frame_id}...')
+        return self._send(self.docking_client, goal, 'DockRobot')
+
+    def dockRobotByID(self, dock_id: str, nav_to_dock: bool = True) -> bool:
+        """Dock at a dock of the docking server's database (Nav2 Jazzy).
+
+        :param dock_id: The dock's name in the `docks` parameter or the dock database file.
+        :param nav_to_dock: Navigate to the staging pose first (else the robot must be near it).
+        :return: ``True`` if the goal was accepted; then poll `isTaskComplete()`.
+        """
+        self.info(f'Docking at dock ID: {dock_id}...')
+        return self._send(self.docking_client,
+                          DockRobot.Goal(use_dock_id=True, dock_id=dock_id, navigate_to_staging_pose=nav_to_dock),
+                          'DockRobot')
+
+    def undockRobot(self, dock_type: str = '') -> bool:
+        """Back off the dock to its staging pose (Nav2 Jazzy).
+
+        :param dock_type: The dock's type; empty if the server docked the robot itself or has one type.
+        :return: ``True`` if the goal was accepted; then poll `isTaskComplete()`.
+        """
+        self.info(f'Undocking from dock of type: {dock_type}...')
+        return self._send(self.undocking_client, UndockRobot.Goal(dock_type=dock_type), 'UndockRobot')
 
     def followPath(self, path: Any, controller_id: str = '', goal_checker_id: str = '') -> bool:
         """Have the controller server follow a path already planned (from `getPath`, say).

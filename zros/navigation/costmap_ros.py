@@ -21,7 +21,7 @@ import numpy as np
 from zros.navigation.costmap import NO_INFORMATION, CostmapParams, LayeredCostmap, to_occupancy
 from zros.navigation.node_support import Nav2Params, lookup_pose
 from zros.node import Node
-from zros.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from zros.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 
 __all__ = ['CostmapNode', 'CostmapSubscriber']
 
@@ -87,7 +87,8 @@ class CostmapNode(Node):
             topic = prm.get(f'{static}.map_topic', '/map')
             self.create_subscription(OccupancyGrid, topic, self._on_map, latched)
         if obstacle:
-            self.create_subscription(LaserScan, self.scan_topic, self._on_scan, 5)
+            # Sensor QoS, as Nav2's obstacle layer: best effort takes scans from either kind of publisher.
+            self.create_subscription(LaserScan, self.scan_topic, self._on_scan, qos_profile_sensor_data)
         self.create_service(ClearEntireCostmap, f'clear_entirely_{name}', self._on_clear)
         from interfaces.nav2_msgs.srv import ClearCostmapAroundPose, ClearCostmapAroundRobot, ClearCostmapExceptRegion
         # Nav2's names, and the ones Jazzy's BasicNavigator calls (clear_costmap_*), which Nav2's

@@ -14,7 +14,7 @@ import numpy as np
 from zros.rotations import quaternion_from_yaw, yaw_from_quaternion
 from zros.time import Time
 
-__all__ = ['Nav2Params', 'yaw_of', 'quaternion_of', 'lookup_pose', 'path_msg', 'path_points',
+__all__ = ['Nav2Params', 'yaw_of', 'quaternion_of', 'lookup_pose', 'pose_in_frame', 'path_msg', 'path_points',
            'duration_msg']
 
 
@@ -78,6 +78,20 @@ def lookup_pose(buffer: Any, target_frame: str, source_frame: str) -> tuple[floa
     """(x, y, yaw) of `source_frame`'s origin in `target_frame`, latest transform; raises tf2's exceptions."""
     t = buffer.lookup_transform(target_frame, source_frame, Time()).transform
     return t.translation.x, t.translation.y, yaw_of(t.rotation)
+
+
+def pose_in_frame(buffer: Any, pose: Any, frame: str) -> tuple[float, float, float]:
+    """(x, y, yaw) of a PoseStamped in `frame` (2D, latest transform; an empty frame_id is taken
+    as `frame`); raises tf2's exceptions."""
+    p = pose.pose
+    x, y, yaw = p.position.x, p.position.y, yaw_of(p.orientation)
+    source = pose.header.frame_id or frame
+    if source == frame:
+        return x, y, yaw
+    t = buffer.lookup_transform(frame, source, Time()).transform
+    tyaw = yaw_of(t.rotation)
+    c, s = np.cos(tyaw), np.sin(tyaw)
+    return (float(t.translation.x + c * x - s * y), float(t.translation.y + s * x + c * y), tyaw + yaw)
 
 
 def path_msg(points: np.ndarray, yaws: np.ndarray, frame_id: str, stamp: Any) -> Any:

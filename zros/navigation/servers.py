@@ -17,7 +17,7 @@ from zros.exceptions import ROSInterruptException
 from zros.action import ActionServer, CancelResponse, GoalResponse
 from zros.callback_groups import ReentrantCallbackGroup
 
-__all__ = ['GoalSlot', 'GoalRunner', 'gated_action_server', 'GoalCall']
+__all__ = ['GoalSlot', 'GoalRunner', 'gated_action_server', 'GoalCall', 'missed_rate_message']
 
 
 class GoalSlot:
@@ -68,18 +68,25 @@ class GoalRunner:
         """Abort the goal with Nav2's error code and message (when its result has them), logged."""
         self.node.get_logger().warn(f'{message} (error code {code})')
         if hasattr(result, 'error_code'):
-            result.error_code, result.error_msg = code, message
+            result.error_code = code
+        if hasattr(result, 'error_msg'):     # nav2_route's results have a code only
+            result.error_msg = message
         self.stop_if_current(handle)
         handle.abort()
         return result
 
     def loop(self, handle: Any, result: Any, frequency: float, step: Callable[[], Any],
-             on_interrupt: Callable[[], None] | None = None) -> Any:
+             on_interrupt: Callable[[], None] | None = None, *, report_missed_rate: bool = False) -> Any:
         """Call `step()` at `frequency` until it returns the goal's result (it has ended the goal);
         a newer goal aborts this one, a cancel request stops the robot and cancels it, shutdown
         aborts it (`on_interrupt` runs first in those cases: cancel what the goal started).
-        The slot is released however the loop ends."""
+        The slot is released however the loop ends.
+
+        `report_missed_rate` warns, as Nav2's controller_server does, when one step takes longer
+        than the period (on the node's clock), at most once a second: on a busy machine the loop
+        runs slower rather than failing, and the log says so."""
         rate = self.node.create_rate(frequency)
+        clock = self.node.get_clock()
         try:
             while True:
                 preempted = not self.slot.is_current(handle)
@@ -95,9 +102,12 @@ class GoalRunner:
                     self.stop_if_current(handle)
                     handle.canceled()
                     return result
+                started = clock.now().nanoseconds
                 done = step()
                 if done is not None:
                     return done
+                if report_missed_rate:
+                    self._check_rate(frequency, (clock.now().nanoseconds - started) / 1e9)
                 rate.sleep()
         except ROSInterruptException:
             handle.abort()
@@ -105,6 +115,21 @@ class GoalRunner:
         finally:
             rate.destroy()
             self.slot.release(handle)
+
+
+    def _check_rate(self, frequency: float, elapsed_s: float) -> None:
+        message = missed_rate_message(frequency, elapsed_s)
+        if message is not None:
+            self.node.get_logger().warn(message, throttle_duration_sec=1.0)
+
+
+def missed_rate_message(frequency: float, elapsed_s: float) -> str | None:
+    """Nav2's warning for a control step of `elapsed_s` seconds in a loop meant to run at
+    `frequency` Hz, or None when the step fit in its period."""
+    if elapsed_s <= 1.0 / frequency:
+        return None
+    return (f'Control loop missed its desired rate of {frequency:.4f} Hz. '
+            f'Current loop rate is {1.0 / elapsed_s:.4f} Hz.')
 
 
 def gated_action_server(node: Any, action_type: type, name: str, execute: Callable[[Any], Any]) -> ActionServer:

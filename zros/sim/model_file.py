@@ -5,7 +5,7 @@
 
 A model file (an SDF `<model>`, or a URDF `<robot>` with `<gazebo>` tags) tells Gazebo how the
 robot drives, senses and what it publishes; zros reads the same elements, with the defaults of
-Gazebo's plugins (gazebo_plugins, ROS 2) where an element is absent:
+Gazebo's plugins where an element is absent. Gazebo classic (gazebo_plugins, ROS 2):
 - the diff-drive plugin (`libgazebo_ros_diff_drive.so`): `wheel_separation`, `wheel_diameter`,
   `max_wheel_acceleration`, `update_rate` (100), `odometry_source` (1 = WORLD, the default, or
   0 = ENCODER), `publish_odom`, `publish_odom_tf`, `publish_wheel_tf` (all false),
@@ -18,6 +18,18 @@ Gazebo's plugins (gazebo_plugins, ROS 2) where an element is absent:
   topic as for the ray sensor;
 - the joint state publisher (`libgazebo_ros_joint_state_publisher.so`): `update_rate` and the
   `joint_name`s, on `joint_states`.
+Gazebo Sim (Harmonic):
+- the diff-drive system (`gz-sim-diff-drive-system`): `wheel_separation`, `wheel_radius`,
+  `max_linear_acceleration`, `max_linear_velocity`, `max_angular_velocity`,
+  `odom_publish_frequency` (50), and where it talks: `topic`, `odom_topic`, `tf_topic`,
+  `frame_id`, `child_frame_id`; it always publishes odometry and its TF, integrated from the
+  wheels from zero at the model's start (zros's `encoder` odometry source);
+- the first lidar (`"gpu_lidar"`, `"lidar"`, or a ray sensor) and IMU: their numbers as above,
+  their `topic` and `gz_frame_id`;
+- `gz-sim-joint-state-publisher-system`: its `topic`, `update_rate` and `joint_name`s.
+Where a Gazebo Sim model says nothing, its topics and frames are Gazebo's defaults
+(zros.sim.gz_topics); `RobotModel.topics` holds them, as Gazebo topic names, and its outputs
+(`drive`, `scan`, `imu_output`, `joint_states`) carry the same names and frames.
 A sensor or publisher the file lacks is not published (Gazebo publishes only what its plugins
 say). The rest of the robot (body disc, mounts, speed limits) is the TurtleBot3 the XML names
 (`waffle_pi`, `waffle`, `burger`), else `fallback` ($TURTLEBOT3_MODEL). A model without a
@@ -29,6 +41,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import NamedTuple
 
+from zros.sim.gz_topics import RobotTopics, default_topics, gz_name
 from zros.sim.robot import RobotSpec, odometry_source, robot_spec
 from zros.sim.sdf import SdfError, XmlElement, flag, numbers, parse_xml
 from zros.sim.sensors import LDS_01, TURTLEBOT3_IMU, ImuSpec, LidarSpec
@@ -39,6 +52,11 @@ __all__ = ['RobotModel', 'DiffDrivePlugin', 'SensorOutput', 'JointStateOutput', 
 
 _DIFF_DRIVE = 'libgazebo_ros_diff_drive.so'
 _JOINT_STATES = 'libgazebo_ros_joint_state_publisher.so'
+_LIDARS = ('ray', 'gpu_ray', 'gpu_lidar', 'lidar')
+#: Gazebo Sim's systems, by a part of the plugin's `filename` (`gz-sim-...`, `libgz-sim8-...so`,
+#: Fortress's `ignition-gazebo-...`) or its class `name`.
+_GZ_DIFF_DRIVE = ('diff-drive-system', 'systems::DiffDrive')
+_GZ_JOINT_STATES = ('joint-state-publisher-system', 'systems::JointStatePublisher')
 WHEEL_JOINTS = ('wheel_left_joint', 'wheel_right_joint')
 #: [Hz] Gazebo's "0: as fast as possible" is one output per physics step of zros.sim (5 ms).
 _EVERY_STEP = 200.0
@@ -91,6 +109,7 @@ class RobotModel(NamedTuple):
     imu: ImuSpec | None = TURTLEBOT3_IMU
     imu_output: SensorOutput | None = TURTLEBOT3_IMU_OUTPUT
     joint_states: JointStateOutput | None = TURTLEBOT3_JOINT_STATES
+    topics: RobotTopics | None = None   # Gazebo Sim's topic names and frames (None for a classic model)
 
 
 def turtlebot3_named(xml: str, fallback: str) -> str:
@@ -103,39 +122,78 @@ def turtlebot3_model(model: str) -> RobotModel:
     return RobotModel(robot_spec(model), LDS_01, '')
 
 
-def robot_from_xml(xml: str, *, fallback: str, source: str = '<robot XML>') -> RobotModel:
-    """The robot an SDF or URDF text describes; SdfError (one line) if the XML is malformed."""
+def robot_from_xml(xml: str, *, fallback: str, source: str = '<robot XML>', world: str = 'default') -> RobotModel:
+    """The robot an SDF or URDF text describes; SdfError (one line) if the XML is malformed.
+    `world` is the world it goes into (Gazebo Sim's default topic names contain it)."""
     base = robot_spec(turtlebot3_named(xml, fallback))
     root = parse_xml(xml, source)
-    plugin = _plugin(root, _DIFF_DRIVE)
-    if plugin is None:
-        name = root.find('model').attrib.get('name', '?') if root.find('model') is not None else root.attrib.get('name', '?')
+    model = root.find('model') if root.tag == 'sdf' else root
+    name = model.attrib.get('name', '?') if model is not None else root.attrib.get('name', '?')
+    classic = _plugin(root, (_DIFF_DRIVE,))
+    gz = _plugin(root, _GZ_DIFF_DRIVE) if classic is None else None
+    if classic is None and gz is None:
         return turtlebot3_model(base.model)._replace(
-            warning=f"model '{name}' has no {_DIFF_DRIVE} plugin: simulating a TurtleBot3 {base.model}")
-    spec = replace(base,
-                   wheel_separation=_number(plugin, 'wheel_separation', base.wheel_separation, source),
-                   wheel_radius=_number(plugin, 'wheel_diameter', 2 * base.wheel_radius, source) / 2,
-                   max_wheel_acceleration=_number(plugin, 'max_wheel_acceleration', base.max_wheel_acceleration,
-                                                  source))
-    if not (spec.wheel_separation > 0 and spec.wheel_radius > 0 and spec.max_wheel_acceleration > 0):
-        raise SdfError(f'{source}:{plugin.line}: wheel_separation, wheel_diameter and max_wheel_acceleration '
-                       'must be > 0')
-    ray = _sensor(root, ('ray', 'gpu_ray'))
+            warning=f"model '{name}' has no diff-drive plugin ({_DIFF_DRIVE} or gz-sim-diff-drive-system): "
+                    f'simulating a TurtleBot3 {base.model}')
+    ray = _sensor(root, _LIDARS)
     imu = _sensor(root, ('imu',))
-    joint_states = _plugin(root, _JOINT_STATES)
+    lidar = _lidar(ray[1], source) if ray else LDS_01
+    imu_spec = _imu(imu[1], source) if imu else None
+    if gz is not None:
+        return _gz_model(root, model, name, world, gz, base, lidar, ray, imu, imu_spec, source)
+    spec = replace(base,
+                   wheel_separation=_number(classic, 'wheel_separation', base.wheel_separation, source),
+                   wheel_radius=_number(classic, 'wheel_diameter', 2 * base.wheel_radius, source) / 2,
+                   max_wheel_acceleration=_number(classic, 'max_wheel_acceleration', base.max_wheel_acceleration,
+                                                  source))
+    _check(spec, classic, 'wheel_separation, wheel_diameter and max_wheel_acceleration', source)
+    joint_states = _plugin(root, (_JOINT_STATES,))
     return RobotModel(
-        spec, _lidar(ray[1], source) if ray else LDS_01, '', _drive(plugin, source),
+        spec, lidar, '', _drive(classic, source),
         scan=_output(*ray, source) if ray else None,
-        imu=_imu(imu[1], source) if imu else None,
+        imu=imu_spec,
         imu_output=_output(*imu, source) if imu else None,
         joint_states=None if joint_states is None else JointStateOutput(
             _remapped(joint_states, 'joint_states', '~/out') or 'joint_states',
-            _rate(joint_states, 100.0, source),
-            tuple(e.text.strip() for e in joint_states.iter('joint_name')) or WHEEL_JOINTS))
+            _rate(joint_states, 100.0, source), _joint_names(joint_states)))
 
 
-def _plugin(root: XmlElement, filename: str) -> XmlElement | None:
-    return next((p for p in root.iter('plugin') if p.attrib.get('filename', '').endswith(filename)), None)
+def _gz_model(root: XmlElement, model: XmlElement | None, name: str, world: str, drive: XmlElement,
+              base: RobotSpec, lidar: LidarSpec, ray: tuple[XmlElement, XmlElement] | None,
+              imu: tuple[XmlElement, XmlElement] | None, imu_spec: ImuSpec | None, source: str) -> RobotModel:
+    """A Gazebo Sim model: its diff-drive system's numbers, its topics and frames (RobotTopics),
+    and its outputs with the same names and frames at the rates its systems and sensors say.
+    Gazebo Sim's DiffDrive always publishes odometry and its TF, integrated from the wheel
+    joints from zero at the start (math::DiffDriveOdometry): zros's `encoder` source."""
+    spec = replace(base,
+                   wheel_separation=_number(drive, 'wheel_separation', base.wheel_separation, source),
+                   wheel_radius=_number(drive, 'wheel_radius', base.wheel_radius, source),
+                   max_wheel_acceleration=_number(drive, 'max_linear_acceleration', base.max_wheel_acceleration,
+                                                  source),
+                   max_linear=_number(drive, 'max_linear_velocity', base.max_linear, source),
+                   max_angular=_number(drive, 'max_angular_velocity', base.max_angular, source))
+    _check(spec, drive, 'wheel_separation, wheel_radius, max_linear_acceleration and the maximum velocities', source)
+    joints = _plugin(root, _GZ_JOINT_STATES)
+    topics = _gz_topics(root, model, name, world, drive, joints, ray[1] if ray else None, imu[1] if imu else None)
+    frequency = drive.find('odom_publish_frequency')
+    odom_rate = numbers(frequency, 1, source)[0] if frequency is not None else 50.0
+    if not odom_rate > 0:
+        raise SdfError(f'{source}:{frequency.line}: odom_publish_frequency must be > 0, got {odom_rate:g}')
+    return RobotModel(
+        spec, lidar, '',
+        DiffDrivePlugin(odometry_source='encoder', publish_odom=True, publish_odom_tf=True,
+                        odometry_frame=topics.odom_frame, robot_base_frame=topics.base_frame, update_rate=odom_rate,
+                        cmd_vel_topic=topics.cmd_vel, odom_topic=topics.odom),
+        scan=SensorOutput(topics.scan, topics.scan_frame, lidar.rate) if ray else None,
+        imu=imu_spec,
+        imu_output=SensorOutput(topics.imu, topics.imu_frame, imu_spec.rate) if imu_spec else None,
+        joint_states=None if joints is None else JointStateOutput(topics.joint_states, _rate(joints, 0.0, source),
+                                                                  _joint_names(joints)),
+        topics=topics)
+
+
+def _joint_names(plugin: XmlElement) -> tuple[str, ...]:
+    return tuple(e.text.strip() for e in plugin.iter('joint_name')) or WHEEL_JOINTS
 
 
 def _sensor(root: XmlElement, types: tuple[str, ...]) -> tuple[XmlElement, XmlElement] | None:
@@ -149,6 +207,48 @@ def _sensor(root: XmlElement, types: tuple[str, ...]) -> tuple[XmlElement, XmlEl
         if sensor is not None:
             return XmlElement('link', {'name': gazebo.attrib.get('reference', '')}, gazebo.line), sensor
     return None
+
+
+def _plugin(root: XmlElement, marks: tuple[str, ...]) -> XmlElement | None:
+    """The first `<plugin>` whose filename or name contains one of `marks`."""
+    return next((p for p in root.iter('plugin')
+                 if any(mark in p.attrib.get('filename', '') or mark in p.attrib.get('name', '') for mark in marks)),
+                None)
+
+
+def _check(spec: RobotSpec, plugin: XmlElement, what: str, source: str) -> None:
+    if not all(value > 0 for value in (spec.wheel_separation, spec.wheel_radius, spec.max_wheel_acceleration,
+                                       spec.max_linear, spec.max_angular)):
+        raise SdfError(f'{source}:{plugin.line}: {what} must be > 0')
+
+
+def _gz_topics(root: XmlElement, model: XmlElement | None, name: str, world: str, drive: XmlElement,
+               joints: XmlElement | None, lidar: XmlElement | None, imu: XmlElement | None) -> RobotTopics:
+    """Gazebo Sim's topics and frames of a model: what its plugins and sensors say, else Gazebo's
+    defaults (a sensor's default topic is scoped by its link and name)."""
+    links = {id(s): link.attrib.get('name', '') for link in root.iter('link') for s in link.iter('sensor')}
+    first_link = next(iter(model.findall('link')), None) if model is not None else None
+
+    def scoped(sensor: XmlElement | None, kind: str) -> tuple[str, str]:
+        return (links.get(id(sensor), 'base_link'), sensor.attrib.get('name', kind)) if sensor is not None \
+            else ('base_link', kind)
+    topics = default_topics(name, world, lidar=scoped(lidar, 'lidar'), imu=scoped(imu, 'imu'))
+    if first_link is not None:
+        topics = topics._replace(base_frame=f"{name}/{first_link.attrib.get('name', 'base_link')}")
+    chosen = {'cmd_vel': _text(drive, 'topic'), 'odom': _text(drive, 'odom_topic'), 'tf': _text(drive, 'tf_topic'),
+              'odom_frame': _text(drive, 'frame_id'), 'base_frame': _text(drive, 'child_frame_id'),
+              'joint_states': _text(joints, 'topic'), 'scan': _text(lidar, 'topic'),
+              'scan_frame': _text(lidar, 'gz_frame_id'), 'imu': _text(imu, 'topic'),
+              'imu_frame': _text(imu, 'gz_frame_id')}
+    topics = topics._replace(**{key: value for key, value in chosen.items() if value})
+    topics = topics._replace(**{key: gz_name(getattr(topics, key))
+                                for key in ('cmd_vel', 'odom', 'tf', 'joint_states', 'scan', 'imu')})
+    return topics._replace(namespace=topics.cmd_vel.rpartition('/')[0].strip('/'))
+
+
+def _text(parent: XmlElement | None, tag: str) -> str:
+    """The text of `parent`'s direct child `tag` ('' if none)."""
+    return parent.findtext(tag) if parent is not None else ''
 
 
 def _number(parent: XmlElement, tag: str, default: float, source: str) -> float:

@@ -23,10 +23,11 @@ section stays fixed. `model://ground_plane` and `model://sun` need no folder: th
 the plane cuts.
 
 What cannot be used is left out with one warning each (`on_warning`): a model or mesh not on the
-model path, a geometry kind zros does not cut (capsule, ellipsoid, heightmap). Malformed XML or
-numbers stop with one line, `file:line: what`.
+model path, a Gazebo Fuel URL (zros downloads nothing), a geometry kind zros does not cut
+(capsule, ellipsoid, heightmap). Malformed XML or numbers stop with one line, `file:line: what`.
 
-The model path (`default_model_path`) is Gazebo's: the folders of GAZEBO_MODEL_PATH, then the
+The model path (`default_model_path`) is Gazebo's: the folders of GAZEBO_MODEL_PATH (Gazebo Sim:
+GZ_SIM_RESOURCE_PATH), then the
 `models/` folder of every package the package index knows (turtlebot3_gazebo's, as its
 package.xml exports it to Gazebo).
 """
@@ -146,9 +147,15 @@ def _pose(parent: XmlElement, source: str) -> np.ndarray:
 
 
 # -- the model path -------------------------------------------------------------------------------
+#: Where Gazebo classic and Gazebo Sim (Harmonic; Fortress's name) look for `model://` folders.
+MODEL_PATH_VARIABLES = ('GAZEBO_MODEL_PATH', 'GZ_SIM_RESOURCE_PATH', 'IGN_GAZEBO_RESOURCE_PATH')
+
+
 def default_model_path() -> list[Path]:
-    """GAZEBO_MODEL_PATH's folders, then the `models/` folder of every indexed package."""
-    folders = [Path(p).expanduser() for p in os.environ.get('GAZEBO_MODEL_PATH', '').split(os.pathsep) if p]
+    """The folders of GAZEBO_MODEL_PATH, GZ_SIM_RESOURCE_PATH and IGN_GAZEBO_RESOURCE_PATH, then
+    the `models/` folder of every indexed package."""
+    folders = [Path(p).expanduser() for variable in MODEL_PATH_VARIABLES
+               for p in os.environ.get(variable, '').split(os.pathsep) if p]
     from zros.ament_index_python.packages import package_directories
     folders += [share / 'models' for share in package_directories().values() if (share / 'models').is_dir()]
     return folders
@@ -265,10 +272,14 @@ class _Slicer:
         uri = include.findtext('uri')
         name = uri.removeprefix('model://').strip('/')
         folder = self._resolve_model(uri, base)
+        if folder is None and uri.startswith(('http://', 'https://')):
+            self.warn(f"{source}:{include.line}: model '{uri}' is on Gazebo Fuel, and zros downloads nothing: "
+                      'left out (put the model in a folder on GZ_SIM_RESOURCE_PATH and include it as model://NAME)')
+            return
         if folder is None:
             if name not in _BUILTIN_MODELS:
                 self.warn(f"{source}:{include.line}: model '{uri}' not found on the model path "
-                          '(GAZEBO_MODEL_PATH, packages\' models/): left out')
+                          '(GAZEBO_MODEL_PATH, GZ_SIM_RESOURCE_PATH, packages\' models/): left out')
             return
         sdf_file = model_sdf_file(folder)
         try:

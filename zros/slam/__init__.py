@@ -13,12 +13,13 @@ turtlebot3_cartographer nodes run.
 Modules: `scan` (ranges to points), `grid` (log-odds map, vectorised ray casting),
 `match_grid` + `matcher` (multi-resolution correlative search, Gauss-Newton refinement),
 `pose_graph` (sparse least squares with loop closures), `mapper` (the pipeline),
-`geometry` (SE(2) helpers). The evaluation against the simulator's ground truth (ATE, map
+`geometry` (SE(2) helpers), `serialization` (the saved pose graph files). The evaluation against the simulator's ground truth (ATE, map
 quality) is zros.sim.evaluation, so SLAM imports nothing of the simulator. See docs/slam.md.
 """
 from __future__ import annotations
 
-from zros.slam.mapper import PoseGraphFileError, ScanUpdate, Slam, SlamParameters
+from zros.slam.mapper import ScanUpdate, Slam, SlamParameters
+from zros.slam.serialization import PoseGraphFileError
 from zros.slam.scan import ScanPoints, scan_points
 
 __all__ = ['Slam', 'SlamParameters', 'ScanUpdate', 'PoseGraphFileError', 'ScanPoints', 'scan_points']

@@ -27,7 +27,7 @@ from zros.map_io import OccupancyMap
 from zros.slam.geometry import transform_points
 from zros.slam.scan import ScanPoints
 
-__all__ = ['LogOddsGrid', 'log_odds']
+__all__ = ['LogOddsGrid', 'log_odds', 'occupancy_from_scans']
 
 #: Grow by at least this much [m] on a side when a scan reaches beyond the grid.
 _GROW_MARGIN = 2.0
@@ -157,3 +157,14 @@ def _ray_samples(origin: np.ndarray, ends: np.ndarray) -> np.ndarray:
     step = np.arange(int(counts.sum())) - np.repeat(np.cumsum(counts) - counts, counts)
     t = step / counts[ray]
     return origin + delta[ray] * t[:, None]
+
+
+def occupancy_from_scans(poses: np.ndarray, scans: list[ScanPoints], resolution: float, *,
+                         hit_probability: float = 0.7, miss_probability: float = 0.3,
+                         occupied_thresh: float = 0.65, free_thresh: float = 0.196) -> OccupancyMap:
+    """One trinary map of `scans` cast at `poses` ((N, 3) in the map frame): a saved graph's map
+    drawn from scratch, as merge_maps_kinematic draws its submaps and their merge."""
+    grid = LogOddsGrid(resolution, hit_probability=hit_probability, miss_probability=miss_probability)
+    for pose, scan in zip(poses, scans):
+        grid.add_scan(pose, scan)
+    return grid.occupancy(occupied_thresh=occupied_thresh, free_thresh=free_thresh)

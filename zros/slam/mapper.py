@@ -17,13 +17,19 @@ For each scan (with the odometry pose at the scan's time):
 4. Map. Keyframes are cast into a log-odds grid (zros.slam.grid) when the map is asked for;
    keyframes the optimiser moved are taken out at their old pose and put back at the new one.
 
+Localization (after `deserialize(..., localize=True)`, slam_toolbox's localization mode): the
+loaded map stays fixed. Each scan is matched, as in step 1, against the map's keyframes nearest
+to the robot plus a rolling buffer of the last `scan_buffer_size` localized scans (one every
+keyframe step); nothing is added to the graph, so `map_to_odom` is the only output.
+`relocalize(pose)` (/initialpose) searches the next scan in the loop closure's window there.
+
 Frames: poses are of the robot's base frame (base_footprint) in `map`; the map frame is where
 the first scan was taken (or `initial_pose`). `map_to_odom` is what a SLAM node publishes on TF.
 """
 from __future__ import annotations
 
-import io
 import math
+from collections import deque
 from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 from typing import NamedTuple
@@ -37,6 +43,8 @@ from zros.slam.match_grid import MatchGrid
 from zros.slam.matcher import SearchWindow, match_scan
 from zros.slam.pose_graph import PoseGraph
 from zros.slam.scan import ScanPoints, voxel_filter
+from zros.slam.serialization import (PoseGraphFileError, SerializedGraph, pose_graph_files, read_pose_graph,
+                                     write_pose_graph)
 
 __all__ = ['SlamParameters', 'ScanUpdate', 'Slam', 'PoseGraphFileError']
 
@@ -100,10 +108,6 @@ class ScanUpdate(NamedTuple):
     loop_closed: bool
 
 
-class PoseGraphFileError(ValueError):
-    """A serialized pose graph that cannot be read or written (the text names the file)."""
-
-
 class _KeyFrame(NamedTuple):
     scan: ScanPoints
     points: np.ndarray          # thinned hits for matching, base frame
@@ -136,6 +140,9 @@ class Slam:
         self._session_start = 0                     # first keyframe of this session (after a load)
         self._travel = 0.0
         self._local: MatchGrid | None = None
+        self._localizing = False
+        #: Localization's rolling buffer: (pose, hits in the map frame) of the last scans.
+        self._buffer: deque[tuple[np.ndarray, np.ndarray]] = deque(maxlen=self.parameters.scan_buffer_size)
         self._front = SearchWindow(p.correlation_search_space_dimension / 2.0, p.coarse_search_angle_offset)
         self._loop = SearchWindow(p.loop_search_space_dimension / 2.0, p.loop_search_angle_offset)
         self._link_info = np.diag([p.link_sigma_xy ** -2, p.link_sigma_xy ** -2, p.link_sigma_yaw ** -2])
@@ -164,7 +171,10 @@ class Slam:
             self._travel += float(np.hypot(*(pose[:2] - self._pose[:2])))
         self._pose, self._odom = pose, odom
         keyframe = loop_closed = False
-        if self._is_keyframe(pose) and len(points) >= 3:
+        if self._localizing:
+            if matched:
+                self._localize(pose, scan)
+        elif self._is_keyframe(pose) and len(points) >= 3:
             keyframe = True
             loop_closed = self._add_keyframe(pose, odom, scan, points)
         self.map_to_odom = compose(self._pose, inverse(odom))
@@ -173,8 +183,11 @@ class Slam:
     def _is_keyframe(self, pose: np.ndarray) -> bool:
         if self._anchor is None or len(self.keyframes) == self._session_start:
             return True
+        return self._moved_enough(self.graph.poses[len(self.keyframes) - 1], pose)
+
+    def _moved_enough(self, last: np.ndarray, pose: np.ndarray) -> bool:
+        """Whether `pose` is a keyframe's step (minimum_travel_distance or _heading) from `last`."""
         p = self.parameters
-        last = self.graph.poses[len(self.keyframes) - 1]
         moved = relative(last, pose)
         return bool(math.hypot(moved[0], moved[1]) >= p.minimum_travel_distance
                     or abs(moved[2]) >= p.minimum_travel_heading)
@@ -205,9 +218,10 @@ class Slam:
             recent = np.concatenate([nearest, recent])
         return recent
 
-    def _match_grid(self, nodes: np.ndarray) -> MatchGrid | None:
-        """The likelihood field of the given keyframes' points at their graph poses."""
-        clouds = [transform_points(self.graph.poses[n], self.keyframes[n].scan.hits) for n in nodes]
+    def _match_grid(self, nodes: np.ndarray, extra: list[np.ndarray] | None = None) -> MatchGrid | None:
+        """The likelihood field of the given keyframes' points at their graph poses (and of
+        `extra` point clouds already in the map frame)."""
+        clouds = [transform_points(self.graph.poses[n], self.keyframes[n].scan.hits) for n in nodes] + (extra or [])
         clouds = [c for c in clouds if len(c)]
         if not clouds:
             return None
@@ -266,75 +280,80 @@ class Slam:
         return self.graph.poses.copy()
 
     # -- saving and loading the pose graph -------------------------------------------------------
-    def serialize(self, path: str | Path) -> Path:
-        """Write the pose graph (nodes, edges, keyframe scans, parameters) to `path` + '.posegraph'
-        (slam_toolbox's serialize_map); returns the file written."""
-        target = Path(str(Path(path).expanduser()) + '.posegraph')
-        edges = self.graph.edges
-        hits = [k.scan.hits for k in self.keyframes]
-        misses = [k.scan.misses for k in self.keyframes]
-        arrays = {
-            'format': np.array('zros-posegraph-1'),
-            'parameters': np.array(repr(asdict(self.parameters))),
-            'poses': self.graph.poses, 'odom': np.array([k.odom for k in self.keyframes]).reshape(-1, 3),
-            'travel': np.array([k.travel for k in self.keyframes]),
-            'origins': np.array([k.scan.origin for k in self.keyframes]).reshape(-1, 2),
-            'hit_counts': np.array([len(h) for h in hits], dtype=np.int64),
-            'hits': np.vstack(hits) if hits else np.zeros((0, 2), np.float32),
-            'miss_counts': np.array([len(m) for m in misses], dtype=np.int64),
-            'misses': np.vstack(misses) if misses else np.zeros((0, 2), np.float32),
-            'edge_nodes': np.array([(e.i, e.j) for e in edges], dtype=np.int64).reshape(-1, 2),
-            'edge_measurements': np.array([e.measurement for e in edges]).reshape(-1, 3),
-            'edge_information': np.array([e.information for e in edges]).reshape(-1, 3, 3),
-            'edge_robust': np.array([e.robust for e in edges], dtype=bool),
-        }
-        buffer = io.BytesIO()
-        np.savez_compressed(buffer, **arrays)
-        try:
-            target.write_bytes(buffer.getvalue())
-        except OSError as exc:
-            raise PoseGraphFileError(f'{target}: cannot write the pose graph: {exc.strerror or exc}') from None
-        return target
+    def serialize(self, path: str | Path) -> tuple[Path, Path]:
+        """Write the pose graph to `path` + '.posegraph' and its scans to `path` + '.data'
+        (slam_toolbox's serialize_map; zros.slam.serialization); returns both files."""
+        return write_pose_graph(path, SerializedGraph(
+            self.graph.poses, np.array([k.odom for k in self.keyframes]).reshape(-1, 3),
+            np.array([k.travel for k in self.keyframes]), [k.scan for k in self.keyframes], list(self.graph.edges),
+            asdict(self.parameters)))
 
-    def deserialize(self, path: str | Path, *, pose: tuple[float, float, float] | None = None) -> Path:
-        """Replace the graph with a serialized one (`path` with or without '.posegraph') and go
-        on mapping from `pose` in its map (default: its first node, slam_toolbox's
-        START_AT_FIRST_NODE). Keeps this instance's parameters."""
-        source = Path(path).expanduser()
-        if not source.is_file() and source.suffix != '.posegraph':
-            source = Path(str(source) + '.posegraph')
-        try:
-            with np.load(source, allow_pickle=False) as data:
-                if str(data['format']) != 'zros-posegraph-1':
-                    raise PoseGraphFileError(f'{source}: not a zros pose graph')
-                arrays = {name: data[name] for name in data.files}
-        except OSError as exc:
-            raise PoseGraphFileError(f'{source}: cannot read the pose graph: {exc.strerror or exc}') from None
-        except (ValueError, KeyError) as exc:
-            raise PoseGraphFileError(f'{source}: not a zros pose graph ({exc})') from None
-        hits = np.split(arrays['hits'], np.cumsum(arrays['hit_counts'])[:-1])
-        misses = np.split(arrays['misses'], np.cumsum(arrays['miss_counts'])[:-1])
+    def deserialize(self, path: str | Path, *, pose: tuple[float, float, float] | None = None,
+                    localize: bool = False) -> Path:
+        """Replace the graph with a serialized one (`path` with or without '.posegraph').
+
+        Mapping (`localize` False) goes on from `pose` in its map (default: its first node,
+        slam_toolbox's START_AT_FIRST_NODE; a pose is START_AT_GIVEN_POSE), new keyframes joining
+        the old graph. Localization (LOCALIZE_AT_POSE) keeps the map fixed: scans are matched
+        against it near `pose` and only kept in a rolling buffer (module docstring). Keeps this
+        instance's parameters; returns the .posegraph file read."""
+        saved = read_pose_graph(path)
         graph = PoseGraph()
-        for node_pose in arrays['poses']:
+        for node_pose in saved.poses:
             graph.add_node(node_pose)
-        for (i, j), z, info, robust in zip(arrays['edge_nodes'], arrays['edge_measurements'],
-                                           arrays['edge_information'], arrays['edge_robust']):
-            graph.add_edge(int(i), int(j), z, info, robust=bool(robust))
+        for edge in saved.edges:
+            graph.add_edge(edge.i, edge.j, edge.measurement, edge.information, robust=edge.robust)
         spacing = self.parameters.match_point_spacing
-        self.keyframes = [_KeyFrame(ScanPoints(origin, h, m), voxel_filter(h, spacing), odom, float(travel))
-                          for origin, h, m, odom, travel in zip(arrays['origins'], hits, misses, arrays['odom'],
-                                                                 arrays['travel'])]
+        self.keyframes = [_KeyFrame(scan, voxel_filter(scan.hits, spacing), odom, float(travel))
+                          for scan, odom, travel in zip(saved.scans, saved.odom, saved.travel)]
         self.graph = graph
         self._grid.clear()
         self._rendered.clear()
         count = len(self.keyframes)
         self._session_start = count
-        if pose is not None:
-            self._initial_pose = np.asarray(pose, dtype=np.float64)
-        elif count:
-            self._initial_pose = graph.poses[0].copy()
+        self._localizing = localize
+        self._travel = (float(saved.travel.max()) if count else 0.0) + 2.0 * self.parameters.loop_search_minimum_travel
+        self.relocalize(pose if pose is not None else (graph.poses[0] if count else self._initial_pose))
+        return pose_graph_files(path)[0]
+
+    # -- localization ---------------------------------------------------------------------------
+    @property
+    def localizing(self) -> bool:
+        """Whether scans localize in a fixed map (after deserialize(..., localize=True))."""
+        return self._localizing
+
+    def relocalize(self, pose: tuple[float, float, float] | np.ndarray) -> None:
+        """Take the next scan to be near `pose` in the map (a loop-closure-wide search around
+        it): where a map is loaded, and what /initialpose does. Empties the localization buffer."""
+        self._initial_pose = np.asarray(pose, dtype=np.float64).copy()
         self._pose, self._odom = None, None
-        self._travel = (float(arrays['travel'].max()) if count else 0.0) + 2.0 * self.parameters.loop_search_minimum_travel
-        self._anchor = int(np.argmin(np.hypot(*(graph.poses[:, :2] - self._initial_pose[:2]).T))) if count else None
-        self._local = self._match_grid(self._local_nodes(self._initial_pose)) if count else None
-        return source
+        self._buffer.clear()
+        count = len(self.keyframes)
+        if not self._localizing:
+            self._anchor = int(np.argmin(np.hypot(*(self.graph.poses[:, :2] - self._initial_pose[:2]).T))) \
+                if count else None
+            self._local = self._match_grid(self._local_nodes(self._initial_pose)) if count else None
+        else:
+            self._local = self._localization_grid(self._initial_pose)
+
+    def clear_localization_buffer(self) -> None:
+        """Forget the recent scans localization matches against (slam_toolbox's
+        clear_localization_buffer); the map's own keyframes stay."""
+        self._buffer.clear()
+        if self._localizing and self._pose is not None:
+            self._local = self._localization_grid(self._pose)
+
+    def _localize(self, pose: np.ndarray, scan: ScanPoints) -> None:
+        """After a localized scan: every keyframe-sized step, keep it in the rolling buffer and
+        rebuild the local map around the new pose. The graph and the map do not change."""
+        if self._buffer and not self._moved_enough(self._buffer[-1][0], pose):
+            return
+        self._buffer.append((pose.copy(), transform_points(pose, scan.hits)))
+        self._local = self._localization_grid(pose)
+
+    def _localization_grid(self, pose: np.ndarray) -> MatchGrid | None:
+        """The map's keyframes nearest to `pose` (2 x loop_submap_size of them) and the buffer."""
+        if not self.keyframes:
+            return None
+        old = np.argsort(np.hypot(*(self.graph.poses[:, :2] - pose[:2]).T))[:2 * self.parameters.loop_submap_size]
+        return self._match_grid(old, [cloud for _, cloud in self._buffer])

@@ -17,6 +17,9 @@ def generate_launch_description():
         DeclareLaunchArgument('use_sim_time', default_value='false', description='Use simulation (Gazebo) clock if true'),
         DeclareLaunchArgument('params_file', default_value='', description='Unused here: slam_toolbox has its own'),
         DeclareLaunchArgument('autostart', default_value='true', description='Unused here'),
+        DeclareLaunchArgument('namespace', default_value='', description='Top-level namespace (unused by zros)'),
+        DeclareLaunchArgument('use_respawn', default_value='False', description='Unused here'),
+        DeclareLaunchArgument('log_level', default_value='info', description='Unused here'),
         IncludeLaunchDescription(PythonLaunchDescriptionSource(slam_launch),
                                  launch_arguments={'use_sim_time': LaunchConfiguration('use_sim_time')}.items()),
     ])

@@ -5,7 +5,8 @@ navigation2.launch.py:
     zros launch turtlebot3_navigation2 navigation2.launch.py use_sim_time:=True map:=$HOME/map.yaml
     zros launch turtlebot3_navigation2 navigation2.launch.py use_sim_time:=True slam:=True
 `map` defaults to the shipped turtlebot3_world map (map/map.yaml), `params_file` to
-param/$TURTLEBOT3_MODEL.yaml (burger when unset); `rviz:=false` leaves the view out.
+param/$TURTLEBOT3_MODEL.yaml (burger when unset; param/humble/ when ROS_DISTRO is humble, as
+upstream's); the view is rviz2 with rviz/tb3_navigation2.rviz, and `rviz:=false` leaves it out.
 """
 import os
 
@@ -22,9 +23,11 @@ def generate_launch_description():
     model = os.environ.get('TURTLEBOT3_MODEL', 'burger')
     share = get_package_share_directory('turtlebot3_navigation2')
     bringup = get_package_share_directory('nav2_bringup')
-    params = os.path.join(share, 'param', f'{model}.yaml')
+    param_dir = os.path.join(share, 'param', 'humble') if os.environ.get('ROS_DISTRO') == 'humble' else \
+        os.path.join(share, 'param')
+    params = os.path.join(param_dir, f'{model}.yaml')
     if not os.path.exists(params):
-        params = os.path.join(share, 'param', 'burger.yaml')
+        params = os.path.join(param_dir, 'burger.yaml')
     use_sim_time = LaunchConfiguration('use_sim_time')
     return LaunchDescription([
         DeclareLaunchArgument('map', default_value=os.path.join(share, 'map', 'map.yaml'),
@@ -39,6 +42,6 @@ def generate_launch_description():
                               'params_file': LaunchConfiguration('params_file'),
                               'slam': LaunchConfiguration('slam')}.items()),
         Node(package='rviz2', executable='rviz2', name='rviz2', output='screen',
-             arguments=['-d', os.path.join(bringup, 'rviz', 'nav2_default_view.rviz')],
+             arguments=['-d', os.path.join(share, 'rviz', 'tb3_navigation2.rviz')],
              parameters=[{'use_sim_time': use_sim_time}], condition=IfCondition(LaunchConfiguration('rviz'))),
     ])

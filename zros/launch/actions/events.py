@@ -22,7 +22,9 @@ class RegisterEventHandler(Action):
 
     A list of actions is resolved now, in a scope of its own (like a timer's), and carried out
     when the event happens; a handler function runs then, in a copy of the context as it is
-    here. Python only: ROS 2's YAML format has no tag for it.
+    here, and so does a list holding an OpaqueFunction, whose function must not run before its
+    event (Nav2's `OnShutdown(on_shutdown=[OpaqueFunction(function=remove_temp_file)])`). Python
+    only: ROS 2's YAML format has no tag for it.
     """
 
     def __init__(self, event_handler: Any, **kwargs: Any) -> None:
@@ -61,9 +63,10 @@ class RegisterEventHandler(Action):
         if not self._supervised():
             context.register_event_handler(handler)
             return []
-        if handler.function is not None:
+        function = handler.function if handler.function is not None else _deferred_actions(handler)
+        if function is not None:
             from zros.launch.description import Deferred
-            deferred = Deferred(handler.function, context.snapshot(), handler.origin)
+            deferred = Deferred(function, context.snapshot(), handler.origin)
             context.emit(EventHandlerEffect(handler.event, handler.target_action, [], deferred, handler.origin))
             return []
         transition = handler.transition_filter(context)
@@ -73,6 +76,20 @@ class RegisterEventHandler(Action):
             return EventHandlerEffect(handler.event, handler.target_action, effects, None, handler.origin, transition)
         return [*scoped(handler.actions, self.origin),
                 EndCapture(origin=self.origin, wrap=wrap)]
+
+
+def _deferred_actions(handler: Any) -> Any:
+    """A handler function returning the handler's actions, if they hold an OpaqueFunction (its
+    user code runs when the event happens, not while the launch is planned); else None."""
+    from zros.launch.actions.opaque import OpaqueFunction
+    actions = handler.actions if isinstance(handler.actions, (list, tuple)) else [handler.actions]
+    if not isinstance(handler, (OnProcessStart, OnProcessExit, OnShutdown)) or \
+            not any(isinstance(action, OpaqueFunction) for action in actions):
+        return None
+
+    def actions_on_event(event: Any, context: Any) -> list:
+        return list(actions)
+    return actions_on_event
 
 
 class UnregisterEventHandler(Action):

@@ -163,7 +163,7 @@ def _quoted_describe(substitution: Substitution) -> str:
 
 class Command(_CallSubstitution):
     """`Command(['xacro ', path], on_stderr='fail')` (`$(command)`): the command's stdout; the
-    command line is split like a shell would, and is killed after 10 s."""
+    command line is split like a shell would, and is killed after 60 s."""
 
     _name = 'command'
 
