@@ -328,8 +328,11 @@ def test_save_the_pose_graph_then_localize_in_it_elsewhere(spawn, make_context, 
     lifelong.wait_for_output('mapping from', timeout=60)
     wait_until(lambda: near(expected), 30, message=lambda: f'lifelong: {robot_in_map()}\n{lifelong.output()}')
     grown = tmp_path / 'grown'
-    assert serialize.call(SerializePoseGraph.Request(filename=str(grown)), timeout_sec=20).result == 0
-    assert len(read_pose_graph(grown).poses) > len(read_pose_graph(graph).poses)      # the old graph, and more
+
+    def grew() -> bool:     # the old graph, and more (once the node has taken a scan: later on a busy machine)
+        assert serialize.call(SerializePoseGraph.Request(filename=str(grown)), timeout_sec=20).result == 0
+        return len(read_pose_graph(grown).poses) > len(read_pose_graph(graph).poses)
+    wait_until(grew, 20, message=lambda: f'lifelong to add a node to the loaded graph\n{lifelong.output()}')
     lifelong.signal(signal.SIGINT)
     assert lifelong.wait(15) == 0, lifelong.output()
 
