@@ -58,7 +58,7 @@ def drive(world, amcl: Amcl, seconds: float, *, seed: int, start=None, turn_firs
     """Run the drive feeding every scan to `amcl`. Returns (distance driven [m], position error
     [m], heading error [rad], update cost [s] or nan) per published estimate."""
     sim = Simulation(world, seed=seed)
-    robot = sim.add_robot('burger', start)
+    robot = sim.add_robot('burger', start, odometry='encoder')    # a real robot's drifting odometry
     bearings = LDS_01.angles()
     rows, travelled, last = [], 0.0, robot.pose
     for step in range(int(round(seconds / SCAN_PERIOD))):

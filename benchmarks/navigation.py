@@ -146,7 +146,7 @@ class Stack:
         self.costmap.update()
         self.planner = GridPlanner(self.costmap)
         self.sim = Simulation(world, seed=seed)
-        self.robot = self.sim.add_robot('burger')
+        self.robot = self.sim.add_robot('burger', odometry='encoder')   # AMCL corrects a real robot's drift
         self.loc = Localised(self.robot, MapGrid(grid.data, resolution=grid.resolution, origin=tuple(grid.origin[:2])),
                              amcl, seed)
         self.follower = PathFollower(RegulatedPurePursuit(rpp, inscribed_radius=cparams.robot_radius,

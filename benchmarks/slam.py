@@ -166,7 +166,7 @@ def run(world_name: str, *, seed: int = 1, save_map: str | None = None,
     route = plan_route(world_name, ROUTES[world_name])
     sim = Simulation(world, seed=seed)
     spawn = world.spawn
-    robot = sim.add_robot('burger', (spawn.x, spawn.y, spawn.yaw), slip_stddev=SLIP)
+    robot = sim.add_robot('burger', (spawn.x, spawn.y, spawn.yaw), slip_stddev=SLIP, odometry='encoder')
     spawn_pose = np.array([spawn.x, spawn.y, spawn.yaw])
     slam = Slam(parameters)
     odometry = BiasedOdometry()

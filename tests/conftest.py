@@ -31,9 +31,19 @@ from zros.testing import DomainLock, ProcessGroup, spin_until, wait_until
 from zros.testing.domains import ALL_SETTINGS, HUB_BASE_PORT, isolated_environment
 from zros.testing.processes import kill_group
 
-__all__ = ['REPO', 'wait_until', 'spin_until', 'run_cli', 'assert_clean_failure', 'CliResult', 'activate']
+__all__ = ['REPO', 'wait_until', 'spin_until', 'run_cli', 'assert_clean_failure', 'CliResult', 'activate',
+           'load_tool']
 
 REPO = Path(__file__).resolve().parents[1]
+
+
+def load_tool(name: str) -> Any:
+    """The module of the script tools/NAME.py (tools/ is not a package), for testing its functions."""
+    import importlib.util
+    spec = importlib.util.spec_from_file_location(name, REPO / 'tools' / f'{name}.py')
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
 @pytest.fixture

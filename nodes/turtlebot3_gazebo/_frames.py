@@ -10,10 +10,10 @@ from __future__ import annotations
 import math
 
 from zros.sim import RobotSpec
+from zros.sim.model_file import WHEEL_JOINTS
 
 __all__ = ['static_frames', 'wheel_frames', 'WHEEL_JOINTS']
 
-WHEEL_JOINTS = ('wheel_left_joint', 'wheel_right_joint')
 _WHEEL_LINKS = ('wheel_left_link', 'wheel_right_link')
 _WHEEL_ROLL = -1.57        # the URDF's wheel joint rpy: the wheel axle along base_link's y
 

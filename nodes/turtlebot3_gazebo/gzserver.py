@@ -4,10 +4,12 @@
     zros launch turtlebot3_gazebo turtlebot3_world.launch.py          # the usual way
 
 One node, `/gazebo`, runs zros.sim's Simulation on its own thread, in fixed 5 ms steps, paced
-to `real_time_factor` x real time (0: as fast as it can), and publishes what the real robot
-and Gazebo publish: `/clock` (rosgraph_msgs/Clock), and per robot `scan`, `odom`, `tf`,
-`tf_static`, `joint_states`, `imu`, plus the ground truth apart under `sim/` (`sim/ground_truth`,
-`sim/collisions`). Commands come in on `cmd_vel`. Services: Gazebo's `/reset_simulation`,
+to `real_time_factor` x real time (0: as fast as it can), and publishes what Gazebo publishes:
+`/clock` (rosgraph_msgs/Clock), and per robot what its model file's plugins say (a TurtleBot3:
+`scan`, `odom`, `tf`, `joint_states`, `imu`; odometry in the world frame, Gazebo's default,
+unless `odometry_source` says `encoder`), plus the ground truth apart under `sim/`
+(`sim/ground_truth`, `sim/collisions`). The first robot also publishes its fixed frames and
+wheels (`publish_robot_frames`) when no robot_state_publisher does. Commands come in on `cmd_vel`. Services: Gazebo's `/reset_simulation`,
 `/reset_world`, `/pause_physics`, `/unpause_physics` (std_srvs/Empty), `/spawn_entity`,
 `/delete_entity`, `/get_entity_state`, `/set_entity_state`, `/get_model_list` (gazebo_msgs),
 Gazebo Sim's `/world/<world>/control` (ros_gz_interfaces/ControlWorld: pause, step N, reset),
@@ -40,10 +42,10 @@ from zros.executors import ExternalShutdownException, spin_nodes
 from zros.node import Node
 from zros.qos import QoSProfile
 from zros.rotations import quaternion_from_yaw, yaw_from_quaternion
-from zros.sim import (LDS_01, TURTLEBOT3_IMU, LidarSpec, Pose2D, RobotSpec, SimError, SimRobot, Simulation, load_world,
-                      rasterize, robot_spec, wrap_angle)
-from zros.sim.gz_topics import RobotTopics, default_topics, gz_key, ros_topics
-from zros.sim.model_file import robot_from_xml, turtlebot3_named
+from zros.sim import TURTLEBOT3_IMU, Pose2D, SimError, SimRobot, Simulation, load_world, rasterize, wrap_angle
+from zros.sim.gz_topics import RobotTopics, default_topics, gz_key
+from zros.sim.model_file import RobotModel, robot_from_xml, turtlebot3_model, turtlebot3_named
+from zros.sim.robot import odometry_source
 from zros.sim.sdf import SdfError
 
 from interfaces.gazebo_msgs.srv import (DeleteEntity, GetEntityState, GetModelList, GetModelState, SetEntityState,
@@ -54,11 +56,10 @@ from interfaces.rosgraph_msgs.msg import Clock
 from interfaces.ros_gz_interfaces.srv import ControlWorld
 from interfaces.std_srvs.srv import Empty
 
-from nodes.turtlebot3_gazebo._robot_io import RobotEndpoints, stamp
+from nodes.turtlebot3_gazebo._robot_io import RobotEndpoints, model_topics, stamp
 
 __all__ = ['GazeboNode', 'main']
 
-ODOM_RATE = 30.0            # [Hz] odom, tf, joint_states, ground truth (Gazebo's plugins)
 #: Behind the wall clock by more than this [s], the pacing gives up catching up.
 MAX_LAG = 0.25
 PAUSED_CLOCK_PERIOD = 0.1   # [s] wall time between /clock repeats while paused, for late joiners
@@ -100,6 +101,11 @@ class GazeboNode(Node):
         self._cmd_vel_timeout = self._number('cmd_vel_timeout', 0.0, minimum=0.0)
         self._lidar_noise = self._number('lidar_noise_stddev', 0.01, minimum=0.0)
         self._slip = self._number('wheel_slip_stddev', 0.002, minimum=0.0)
+        source = self._string('odometry_source', '')
+        try:    # '' (the default): as each robot's model file says, WORLD unless it says otherwise
+            self._odometry = odometry_source(source) if source else ''
+        except ValueError as exc:
+            raise CliError(f"parameter 'odometry_source': {exc}") from None
         self._number('map_resolution', 0.05, minimum=1e-4)
         self._run_until_ns: int | None = None
         self._clock_pub = self.create_publisher(Clock, gz_key('/clock') if gz else '/clock', QoSProfile(depth=1))
@@ -113,7 +119,8 @@ class GazeboNode(Node):
             pose = Pose2D(self._number('x_pose', world.spawn.x), self._number('y_pose', world.spawn.y),
                           self._number('yaw', world.spawn.yaw))
             try:
-                self._spawn(name, model, self._string('robot_namespace', ''), pose, self._publish_frames)
+                self._spawn(name, self._string('robot_namespace', ''), pose, self._publish_frames,
+                            self._with_lidar_noise(turtlebot3_model(model)))
             except (SimError, ValueError) as exc:
                 raise CliError(f'cannot spawn the robot: {exc}') from None
 
@@ -171,39 +178,41 @@ class GazeboNode(Node):
         self._wake.set()
 
     # -- robots -------------------------------------------------------------------------------
-    def _spawn(self, name: str, model: str, namespace: str, pose: Pose2D, publish_frames: bool, *,
-               spec: RobotSpec | None = None, lidar: LidarSpec | None = None,
+    def _spawn(self, name: str, namespace: str, pose: Pose2D, publish_frames: bool, model: RobotModel, *,
                topics: RobotTopics | None = None) -> _Robot:
         """Add a robot and its topics (caller holds the lock, or is the constructor);
         `publish_frames`: publish its fixed and wheel frames (no robot_state_publisher for it);
-        `spec`, `lidar`: from its model file (else the TurtleBot3 `model`'s); `topics`: where it
-        talks (else the TurtleBot3's topics under `namespace`)."""
-        spec = spec or robot_spec(model)
-        topics = topics or ros_topics(namespace)
+        `model`: what its model file says (its odometry source unless `odometry_source` is set);
+        `topics`: where it talks (else as its Gazebo classic plugins say, under `namespace`)."""
+        spec = model.spec
+        odometry = self._odometry or model.drive.odometry_source
+        topics = topics or model_topics(model, namespace)
         namespace = topics.namespace
         if any(r.io.namespace == namespace for r in self._robots.values()):
             raise SimError(f"namespace '/{namespace}' is already used by another robot; give each "
                            'robot its own robot_namespace')
-        lidar = lidar or self._sim_lidar()
-        sim_robot = self._sim.add_robot(name, pose, spec=spec, lidar=lidar, slip_stddev=self._slip)
+        sim_robot = self._sim.add_robot(name, pose, spec=spec, lidar=model.lidar, imu=model.imu or TURTLEBOT3_IMU,
+                                        slip_stddev=self._slip, odometry=odometry)
         sim_robot.command_timeout = self._cmd_vel_timeout or None
         try:
-            endpoints = RobotEndpoints(self, sim_robot, topics, stamped_cmd_vel=self._stamped,
+            endpoints = RobotEndpoints(self, sim_robot, model, topics, stamped_cmd_vel=self._stamped,
                                        publish_frames=publish_frames)
         except Exception:
             self._sim.remove_robot(name)
             raise
         robot = self._robots[name] = _Robot(sim_robot, endpoints)
+        endpoints.schedule(self._sim.time_ns)
         where = f"Gazebo topics, commands on '{topics.cmd_vel}'" if self._gz else f"topics under '/{namespace}'"
         endpoints.publish_static_frames()
         endpoints.publish_collisions()
         self.get_logger().info(
             f"Spawned {spec.model} '{name}' at x={pose.x:g} y={pose.y:g} yaw={pose.yaw:g} "
-            f"({where}, cmd_vel as {endpoints.cmd_type._TYPE})")
+            f"({where}, cmd_vel as {endpoints.cmd_type._TYPE}, {odometry} odometry)")
         return robot
 
-    def _sim_lidar(self) -> LidarSpec:
-        return replace(LDS_01, noise_stddev=self._lidar_noise)
+    def _with_lidar_noise(self, model: RobotModel) -> RobotModel:
+        """A TurtleBot3 without a model file: its lidar's noise is `lidar_noise_stddev`."""
+        return model._replace(lidar=replace(model.lidar, noise_stddev=self._lidar_noise))
 
     def _on_collision(self, robot: SimRobot) -> None:
         """The simulation says a robot started touching something: count it where benchmarks
@@ -263,7 +272,8 @@ class GazeboNode(Node):
         return response
 
     def _reset_world(self) -> None:
-        """Robots back to where they were spawned, stopped, odometry restarted; time goes on."""
+        """Robots back to where they were spawned, stopped, encoder odometry restarted (world
+        odometry is the pose anyway); time goes on."""
         for robot in self._robots.values():
             try:
                 self._sim.teleport(robot.sim.name, robot.sim.spawn_pose)
@@ -273,7 +283,7 @@ class GazeboNode(Node):
 
     def _on_spawn_entity(self, request: Any, response: Any) -> Any:
         model = turtlebot3_named(request.xml, _default_model())
-        spec = lidar = topics = None
+        robot_model = self._with_lidar_noise(turtlebot3_model(model))
         name = request.name or f'{model}_{len(self._robots)}'
         if '<model' in request.xml or '<robot' in request.xml:
             try:
@@ -282,23 +292,19 @@ class GazeboNode(Node):
             except SdfError as exc:
                 response.success, response.status_message = False, str(exc)
                 return response
-            spec, lidar, topics = robot_model.spec, robot_model.lidar, robot_model.topics
             if robot_model.warning:
                 self.get_logger().warn(robot_model.warning)
+        topics = None
         if self._gz:    # its topics on Gazebo's side, as its gz-sim plugins name them
-            topics = topics or default_topics(name, self._world_name)
+            topics = robot_model.topics or default_topics(name, self._world_name)
             topics = topics._replace(**{key: gz_key(getattr(topics, key))
                                         for key in ('cmd_vel', 'odom', 'tf', 'joint_states', 'scan', 'imu')})
-        else:
-            topics = None
         p = request.initial_pose
         pose = Pose2D(p.position.x, p.position.y, _yaw(p.orientation))
         with self._lock:
             try:
-                # Gazebo classic: no launch file started a robot_state_publisher for it, so its
-                # frames come from here. Gazebo Sim publishes no fixed frames.
-                self._spawn(name, model, request.robot_namespace, pose, not self._gz, spec=spec, lidar=lidar,
-                            topics=topics)
+                # As Gazebo: only what the model's plugins publish (robot_state_publisher has the rest).
+                self._spawn(name, request.robot_namespace, pose, False, robot_model, topics=topics)
             except (SimError, ValueError) as exc:
                 response.success, response.status_message = False, str(exc)
                 return response
@@ -429,9 +435,8 @@ class GazeboNode(Node):
         """Outputs fall due one period after now (a scan at 0.2 s, 0.4 s, ... of simulated time)."""
         now = self._sim.time_ns
         self._next_clock = now + self._clock_period_ns
-        self._next_odom = now + _period_ns(ODOM_RATE)
-        self._next_scan = now + _period_ns(LDS_01.rate)
-        self._next_imu = now + _period_ns(TURTLEBOT3_IMU.rate)
+        for robot in self._robots.values():
+            robot.io.schedule(now)
         self._anchor = None    # the pacing restarts from here
 
     def _step(self) -> None:
@@ -441,19 +446,8 @@ class GazeboNode(Node):
         if now >= self._next_clock:
             self._publish_clock()
             self._next_clock += self._clock_period_ns
-        robots = [robot.io for robot in self._robots.values()]
-        if now >= self._next_imu:
-            self._next_imu += _period_ns(TURTLEBOT3_IMU.rate)
-            for robot in robots:
-                robot.publish_imu(now)
-        if now >= self._next_odom:
-            self._next_odom += _period_ns(ODOM_RATE)
-            for robot in robots:
-                robot.publish_odometry(now)
-        if now >= self._next_scan:
-            self._next_scan += _period_ns(LDS_01.rate)
-            for robot in robots:
-                robot.publish_scan(now)
+        for robot in self._robots.values():
+            robot.io.publish_due(now)
         if self._run_until_ns is not None and now >= self._run_until_ns:
             self._paused, self._run_until_ns = True, None
 
@@ -509,10 +503,6 @@ class GazeboNode(Node):
         if self._thread is not None and self._thread.is_alive() and threading.current_thread() is not self._thread:
             self._thread.join(timeout=2.0)
         super().destroy_node()
-
-
-def _period_ns(rate: float) -> int:
-    return int(round(1e9 / rate))
 
 
 def _yaw(q: Any) -> float:

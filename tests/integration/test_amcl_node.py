@@ -141,8 +141,9 @@ def world_grid() -> tuple[Any, MapGrid]:
 def stack(module_domain: int, module_spawn: Any, world_grid: tuple[Any, MapGrid]):
     from zros.context import Context
     from zros.lifecycle import LifecycleClient
+    # Encoder odometry, drifting: AMCL's job on the real robot (Gazebo's world odometry has no error).
     sim = module_spawn.node('turtlebot3_gazebo', 'gzserver', '--ros-args', '-p', f'world:={WORLD}',
-                            '-p', f'real_time_factor:={RTF}')
+                            '-p', f'real_time_factor:={RTF}', '-p', 'odometry_source:=encoder')
     amcl = module_spawn.node('nav2_amcl', 'amcl', '--ros-args', '-p', 'use_sim_time:=true',
                              '-p', 'laser_model_type:=likelihood_field_prob')
     ctx = Context().init([], install_signal_handlers=False)

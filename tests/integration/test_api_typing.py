@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import REPO
+from conftest import REPO, load_tool
 
 needs_mypy = pytest.mark.skipif(importlib.util.find_spec('mypy') is None,
                                 reason='mypy is not installed (pip install -e ".[dev]")')
@@ -123,10 +123,7 @@ def test_wrong_message_types_are_reported_where_they_are_written(mypy_cache: Pat
 # -- tools/docstring_coverage.py ---------------------------------------------------------------
 
 def _coverage_tool():
-    spec = importlib.util.spec_from_file_location('docstring_coverage', REPO / 'tools' / 'docstring_coverage.py')
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_tool('docstring_coverage')
 
 
 def test_coverage_counts_public_names_methods_and_properties_once() -> None:

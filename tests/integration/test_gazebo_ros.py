@@ -84,6 +84,72 @@ def test_spawn_entity_puts_a_robot_into_an_sdf_world_started_by_gazebo_launch(
         executor.shutdown(timeout_sec=2)
 
 
+#: A student's launch file in ROBOTIS's shape: turtlebot3_gazebo's world file and model file by
+#: path, Gazebo through gazebo_ros's gzserver.launch.py, the robot through spawn_entity.py.
+STUDENT_GAZEBO_LAUNCH = '''
+import os
+
+from zros.ament_index_python.packages import get_package_share_directory
+from zros.launch import LaunchDescription
+from zros.launch.actions import IncludeLaunchDescription
+from zros.launch.launch_description_sources import PythonLaunchDescriptionSource
+from zros.launch_ros.actions import Node
+
+
+def generate_launch_description():
+    tb3 = get_package_share_directory('turtlebot3_gazebo')
+    gazebo_ros = get_package_share_directory('gazebo_ros')
+    world = os.path.join(tb3, 'worlds', 'turtlebot3_world.world')
+    return LaunchDescription([
+        IncludeLaunchDescription(PythonLaunchDescriptionSource(os.path.join(gazebo_ros, 'launch', 'gzserver.launch.py')),
+                                 launch_arguments={'world': world}.items()),
+        IncludeLaunchDescription(PythonLaunchDescriptionSource(
+            os.path.join(tb3, 'launch', 'robot_state_publisher.launch.py')),
+            launch_arguments={'use_sim_time': 'true'}.items()),
+        Node(package='gazebo_ros', executable='spawn_entity.py', output='screen',
+             arguments=['-entity', 'burger', '-file', os.path.join(tb3, 'models', 'turtlebot3_burger', 'model.sdf'),
+                        '-x', '-2.0', '-y', '-0.5', '-z', '0.01']),
+    ])
+'''
+
+
+def test_a_students_launch_file_with_turtlebot3_gazebos_world_and_model_files(
+        spawn: Any, probe: Any, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The robot publishes what its model.sdf says, odometry in the world frame (Gazebo's
+    default): /odom starts at the spawn pose; the fixed frames and wheels come from
+    robot_state_publisher alone."""
+    from zros.tf2_ros import Buffer, TransformListener
+    from zros.time import Time
+    from interfaces.nav_msgs.msg import Odometry
+    from interfaces.sensor_msgs.msg import JointState, LaserScan
+    from interfaces.tf2_msgs.msg import TFMessage
+    package = tmp_path / 'pkgs' / 'my_tb3'
+    (package / 'launch').mkdir(parents=True)
+    (package / 'launch' / 'world.launch.py').write_text(STUDENT_GAZEBO_LAUNCH)
+    monkeypatch.setenv('ZROS_NODE_PATH', str(tmp_path / 'pkgs'))
+    monkeypatch.setenv('TURTLEBOT3_MODEL', 'burger')
+    launch = spawn(sys.executable, '-m', 'zros', 'launch', 'my_tb3', 'world.launch.py', name='launch')
+    got: dict[str, list[Any]] = {'odom': [], 'scan': [], 'joint_states': [], 'tf': []}
+    for msg_type, topic in ((Odometry, 'odom'), (LaserScan, 'scan'), (JointState, 'joint_states'), (TFMessage, 'tf')):
+        probe.create_subscription(msg_type, topic, got[topic].append, 100)
+    buffer = Buffer()
+    TransformListener(buffer, probe)
+    wait_until(lambda: all(got.values()), 60, message=lambda: f'odom, scan, joint_states, tf\n{launch.output()}')
+    assert "Spawned burger 'burger' at x=-2 y=-0.5" in launch.output() and 'world odometry' in launch.output()
+    first = got['odom'][0].pose.pose.position
+    assert (first.x, first.y) == pytest.approx((-2.0, -0.5), abs=1e-6)
+    assert got['scan'][-1].header.frame_id == 'base_scan' and len(got['scan'][-1].ranges) == 360
+    assert list(got['joint_states'][-1].name) == ['wheel_left_joint', 'wheel_right_joint']
+    wait_until(lambda: buffer.can_transform('odom', 'base_scan', Time()), 20,
+               message=lambda: f'odom -> base_scan: {buffer.all_frames_as_string()}\n{launch.output()}')
+    t = buffer.lookup_transform('odom', 'base_scan', Time()).transform.translation
+    assert (t.x, t.y) == pytest.approx((-2.0 - 0.032, -0.5), abs=1e-6)
+    # One broadcaster per frame: the simulator sends odom -> base_footprint, robot_state_publisher the rest.
+    odom_messages = [m for m in list(got['tf']) if m.transforms[0].header.frame_id == 'odom']
+    assert odom_messages and all(len(m.transforms) == 1 for m in odom_messages)
+    assert probe.count_publishers('/tf_static') == 1
+
+
 def test_bad_command_lines_are_one_line_errors(domain: int, tmp_path: Path, zros_cli: Any) -> None:
     result = zros_cli('run', 'gazebo_ros', 'spawn_entity.py', '-file', 'robot.sdf', timeout=30)
     assert_clean_failure(result, 'spawn_entity.py: the following arguments are required: -entity')

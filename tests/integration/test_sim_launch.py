@@ -76,7 +76,8 @@ def test_a_students_launch_file_includes_turtlebot3_world(spawn: Any, context: A
         wait_until(lambda: buffer.can_transform('odom', 'base_scan', Time()), 20,
                    message=lambda: f'odom -> base_scan; frames: {buffer.all_frames_as_string()}\n{launch.output()}')
         t = buffer.lookup_transform('odom', 'base_scan', Time()).transform.translation
-        assert (t.x, t.y, t.z) == pytest.approx((-0.032, 0.0, 0.182), abs=1e-6)
+        # Gazebo's world odometry: odom is the world frame, the robot where it was spawned.
+        assert (t.x, t.y, t.z) == pytest.approx((0.5 - 0.032, 2.0, 0.182), abs=1e-6)
         wait_until(lambda: buffer.can_transform('base_link', 'wheel_left_link', Time()), 20,
                    message='the wheels from joint_states')
         assert 'robot_state_publisher' in {n for n, _ in node.get_node_names_and_namespaces()}

@@ -184,8 +184,8 @@ def test_driving_0_2_m_s_for_5_s_moves_1_m_and_repeats_exactly(fresh: Harness) -
         odom = fresh.wait('/odom', lambda m: m and m[-1].header.stamp.sec == 6 and m[-1])
         finals.append((x, y, yaw, odom.pose.pose.position.x, odom.pose.pose.position.y))
     assert finals[0] == finals[1]
-    # Odometry (with the default wheel slip) drifts, but only by millimetres over a metre.
-    assert abs(finals[0][3] - 1.0) < 0.02 and abs(finals[0][4]) < 0.02
+    # Gazebo's diff drive reports the world pose (odometry_source WORLD, the TurtleBot3's).
+    assert finals[0][3:] == pytest.approx(finals[0][:2], abs=1e-9)
 
 
 def test_scan_matches_the_known_walls_within_noise_and_rates_follow_sim_time(fresh: Harness) -> None:
@@ -289,7 +289,6 @@ def test_collisions_are_counted_reported_and_never_pass_the_wall(fresh: Harness)
 
 
 def test_two_robots_in_namespaces_do_not_see_each_others_topics(fresh: Harness) -> None:
-    from zros.qos import DurabilityPolicy, QoSProfile
     from interfaces.gazebo_msgs.srv import DeleteEntity, GetModelList, SpawnEntity
     from interfaces.nav_msgs.msg import Odometry
     from interfaces.sensor_msgs.msg import LaserScan
@@ -305,12 +304,15 @@ def test_two_robots_in_namespaces_do_not_see_each_others_topics(fresh: Harness) 
         scans = fresh.record(LaserScan, '/tb3_1/scan')
         fresh.twist(-0.2, topic='/tb3_1/cmd_vel')     # backs towards the first robot (0.5 m behind)
         fresh.step(1.0)
-        fresh.wait('/tb3_1/odom', lambda m: m and m[-1].pose.pose.position.x < -0.1, what='tb3_1 to move')
-        assert all(m.pose.pose.position.x == 0.0 for m in mine)        # the first robot never moved
+        fresh.wait('/tb3_1/odom', lambda m: m and m[-1].pose.pose.position.x < -1.6, what='tb3_1 to move')
+        assert all(m.pose.pose.position.x == SPAWN[0] for m in mine)        # the first robot never moved
         assert theirs[-1].header.frame_id == 'odom' and theirs[-1].child_frame_id == 'base_footprint'
-        static = fresh.record(TFMessage, '/tb3_1/tf_static', QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
-        fresh.wait('/tb3_1/tf_static', lambda m: m and 'base_scan' in {t.child_frame_id for t in m[-1].transforms},
-                   what="tb3_1's own fixed frames")
+        # Gazebo publishes no fixed frames (robot_state_publisher's job): only what the plugins say.
+        assert fresh.node.count_publishers('/tb3_1/tf_static') == 0
+        fresh.record(TFMessage, '/tb3_1/tf')
+        fresh.step(0.1)
+        tf = fresh.wait('/tb3_1/tf', lambda m: m and m[-1], what="tb3_1's odom transform")
+        assert [(t.header.frame_id, t.child_frame_id) for t in tf.transforms] == [('odom', 'base_footprint')]
         assert fresh.state('burger')[:2] == SPAWN
         # tb3_1's lidar sees the first robot's lidar housing straight behind it.
         last = fresh.wait('/tb3_1/scan', lambda m: m and m[-1].header.stamp.sec == 1 and m[-1],
@@ -412,6 +414,23 @@ def test_twist_stamped_drives_when_asked_for(spawn: Any) -> None:
         ctx.shutdown()
 
 
+def test_encoder_odometry_starts_at_zero_where_the_robot_spawns(spawn: Any) -> None:
+    from interfaces.nav_msgs.msg import Odometry
+    harness, executor, ctx = _start_harness(spawn, 'world:=empty_world', 'odometry_source:=encoder',
+                                            'x_pose:=1.0', 'y_pose:=2.0', 'real_time_factor:=0.0')
+    try:
+        harness.child.wait_for_output("Spawned burger 'burger' at x=1 y=2", 30)
+        assert 'encoder odometry' in harness.child.output()
+        odoms, truth = harness.record(Odometry, '/odom'), harness.record(Odometry, '/sim/ground_truth')
+        harness.wait('/odom', lambda m: m, 20)
+        first = odoms[0].pose.pose.position
+        assert abs(first.x) < 1e-6 and abs(first.y) < 1e-6
+        harness.wait('/sim/ground_truth', lambda m: m and m[-1].pose.pose.position.x == 1.0, 20)
+    finally:
+        executor.shutdown(timeout_sec=2)
+        ctx.shutdown()
+
+
 def test_bad_world_file_and_bad_spawn_are_one_line_errors(domain: int, tmp_path: Any, zros_cli: Any) -> None:
     bad = tmp_path / 'my_world.yaml'
     bad.write_text('name: mine\nobstacles:\n- circle: {center: [0, 0], radius: 0}\n')
@@ -422,3 +441,5 @@ def test_bad_world_file_and_bad_spawn_are_one_line_errors(domain: int, tmp_path:
     result = zros_cli('run', 'turtlebot3_gazebo', 'gzserver', '--ros-args', '-p', 'world:=turtlebot3_world',
                       '-p', 'x_pose:=0.0', '-p', 'y_pose:=0.0', timeout=30)
     assert_clean_failure(result, 'cannot spawn the robot', 'obstacle')
+    result = zros_cli('run', 'turtlebot3_gazebo', 'gzserver', '--ros-args', '-p', 'odometry_source:=gps', timeout=30)
+    assert_clean_failure(result, "parameter 'odometry_source': odometry_source must be 'world' (1) or 'encoder' (0)")

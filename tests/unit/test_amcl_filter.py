@@ -230,7 +230,7 @@ def run(world, grid, amcl, seconds, command, *, seed=1, start=None):
     """Drive the simulated robot with `command(step, scan) -> (v, w)`, feeding every scan to
     `amcl`; returns the robot and the estimate errors (m, rad) after each published update."""
     sim = Simulation(world, seed=seed)
-    robot = sim.add_robot('burger', start)
+    robot = sim.add_robot('burger', start, odometry='encoder')
     errors = []
     for step in range(int(seconds / 0.2)):
         robot.command(*command(step, robot.scan(noise=False)))

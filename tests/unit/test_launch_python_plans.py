@@ -154,3 +154,23 @@ def generate_launch_description():
     assert note.message == ("zros has no component containers: composable node 'talker' of container "
                             "'/container' runs as its own process")
     assert talker.node.executable == 'talker' and '-r' in talker.cmd_head and 'chatter:=news' in talker.cmd_head
+
+
+def test_turtlebot3_gazebos_spawn_and_robot_state_publisher_launch_files_take_upstreams_arguments(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch):
+    """spawn_turtlebot3.launch.py spawns $TURTLEBOT3_MODEL's model.sdf where x_pose and y_pose
+    say; robot_state_publisher.launch.py reads the package's URDF of that model."""
+    monkeypatch.setenv('TURTLEBOT3_MODEL', 'waffle')
+    launch = REPO / 'nodes' / 'turtlebot3_gazebo' / 'launch'
+    plan = resolve(str(launch / 'spawn_turtlebot3.launch.py'), launch_arguments={'x_pose': '-2.0', 'y_pose': '-0.5'},
+                   log_dir=str(tmp_path))
+    spawner, = [e for e in plan.effects if isinstance(e, ProcessSpec)]
+    head = spawner.cmd_head
+    model = REPO / 'nodes' / 'turtlebot3_gazebo' / 'models' / 'turtlebot3_waffle' / 'model.sdf'
+    assert head[head.index('-entity') + 1] == 'waffle' and Path(head[head.index('-file') + 1]) == model
+    assert (head[head.index('-x') + 1], head[head.index('-y') + 1], head[head.index('-z') + 1]) == ('-2.0', '-0.5', '0.01')
+    plan = resolve(str(launch / 'robot_state_publisher.launch.py'), launch_arguments={'use_sim_time': 'true'},
+                   log_dir=str(tmp_path))
+    publisher, = [e for e in plan.effects if isinstance(e, ProcessSpec)]
+    assert publisher.label == 'robot_state_publisher'
+    assert 'turtlebot3_waffle' in str(publisher.params)

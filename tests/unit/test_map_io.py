@@ -164,3 +164,22 @@ def test_shipped_turtlebot3_world_map_is_the_worlds_exact_raster():
     from zros.sim.evaluation import ground_truth_map
     made = ground_truth_map(load_world('turtlebot3_world'))
     assert np.array_equal(made.data, grid.data) and made.origin == grid.origin
+
+
+def test_course_goals_amcls_initial_pose_and_the_simulators_odometry_share_the_maps_frame():
+    """The shipped map is in the world frame; the simulator's odometry (Gazebo's world source)
+    starts at the spawn pose, so seed 000's navigation_from_text (initial pose := the odometry
+    pose) gives AMCL (-2.0, -0.5), and the goals of goals.txt are free space of the same map."""
+    from zros.sim import Simulation, load_world
+    world = load_world('turtlebot3_world')
+    robot = Simulation(world).add_robot('burger', (-2.0, -0.5, 0.0))
+    odom = robot.odometry()
+    assert (odom.x, odom.y, odom.yaw) == (-2.0, -0.5, 0.0)
+    grid = load_map(REPO / 'nodes' / 'turtlebot3_navigation2' / 'map' / 'map.yaml')
+    goals = [tuple(map(float, line.split()[:2]))
+             for line in (REPO / 'nodes' / 'navigation_from_text' / 'goals.txt').read_text().splitlines() if line.strip()]
+    assert len(goals) == 3
+    for x, y in [(odom.x, odom.y), *goals]:
+        col, row = int((x - grid.origin[0]) / grid.resolution), int((y - grid.origin[1]) / grid.resolution)
+        assert grid.data[row, col] == 0, (x, y)
+        assert world.distance(np.array([[x, y]]))[0] > 0.2, (x, y)    # room for the burger (0.105 m)

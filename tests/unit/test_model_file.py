@@ -1,10 +1,11 @@
-"""zros.sim.model_file: a robot's drive and lidar from its SDF or URDF, without processes."""
+"""zros.sim.model_file: a robot's drive, odometry options, sensors and outputs from its SDF or URDF."""
 from __future__ import annotations
 
 import pytest
 
 from zros.sim import BURGER, LDS_01, WAFFLE
-from zros.sim.model_file import robot_from_xml
+from zros.sim.model_file import (TURTLEBOT3_DRIVE, TURTLEBOT3_IMU_OUTPUT, TURTLEBOT3_JOINT_STATES, TURTLEBOT3_SCAN,
+                                 DiffDrivePlugin, JointStateOutput, SensorOutput, robot_from_xml, turtlebot3_model)
 from zros.sim.sdf import SdfError
 
 SDF = '''<sdf version="1.6"><model name="my_bot"><link name="base_scan">
@@ -44,6 +45,62 @@ def test_bad_numbers_are_one_line_errors() -> None:
                        '<wheel_separation>wide</wheel_separation></plugin></gazebo></robot>', fallback='burger')
 
 
+TB3_LIKE = '''<sdf version="1.6"><model name="tb">
+<link name="imu_link"><sensor name="imu" type="imu"><update_rate>50</update_rate><imu>
+<angular_velocity><z><noise type="gaussian"><stddev>0.001</stddev></noise></z></angular_velocity>
+<linear_acceleration><x><noise type="gaussian"><stddev>0.05</stddev></noise></x></linear_acceleration></imu>
+<plugin name="my_imu" filename="libgazebo_ros_imu_sensor.so"><ros><remapping>~/out:=imu/data</remapping></ros></plugin>
+</sensor></link>
+<link name="laser"><sensor name="lds" type="ray"><update_rate>7</update_rate>
+<plugin name="my_laser" filename="libgazebo_ros_ray_sensor.so"><frame_name>laser_frame</frame_name></plugin></sensor></link>
+<plugin name="dd" filename="libgazebo_ros_diff_drive.so"><ros><remapping>cmd_vel:=base/cmd</remapping>
+<remapping>odom:=wheel_odom</remapping></ros><update_rate>20</update_rate><odometry_source>0</odometry_source>
+<publish_odom>true</publish_odom><publish_wheel_tf>1</publish_wheel_tf><odometry_frame>odom_w</odometry_frame>
+<robot_base_frame>base_link</robot_base_frame></plugin>
+<plugin name="js" filename="libgazebo_ros_joint_state_publisher.so"><update_rate>10</update_rate>
+<joint_name>wheel_right_joint</joint_name></plugin></model></sdf>'''
+
+
+def test_the_diff_drive_plugins_odometry_options_and_gazebos_defaults() -> None:
+    drive = robot_from_xml(TB3_LIKE, fallback='burger').drive
+    assert drive == DiffDrivePlugin(odometry_source='encoder', publish_odom=True, publish_odom_tf=False,
+                                    publish_wheel_tf=True, odometry_frame='odom_w', robot_base_frame='base_link',
+                                    update_rate=20.0, cmd_vel_topic='base/cmd', odom_topic='wheel_odom')
+    # Absent elements take the plugin's defaults: WORLD odometry, nothing published, 100 Hz.
+    assert robot_from_xml(SDF, fallback='burger').drive == DiffDrivePlugin()
+    assert DiffDrivePlugin().odometry_source == 'world' and not DiffDrivePlugin().publish_odom
+
+
+def test_sensors_and_the_joint_state_publisher_say_topic_frame_and_rate() -> None:
+    robot = robot_from_xml(TB3_LIKE, fallback='burger')
+    assert robot.scan == SensorOutput('my_laser/out', 'laser_frame', 7.0)       # no remapping: ~/out
+    assert robot.lidar.rate == 7.0
+    assert robot.imu_output == SensorOutput('imu/data', 'imu_link', 50.0)       # frame: the sensor's link
+    assert (robot.imu.rate, robot.imu.gyro_noise_stddev, robot.imu.accel_noise_stddev) == (50.0, 0.001, 0.05)
+    assert robot.joint_states == JointStateOutput('joint_states', 10.0, ('wheel_right_joint',))
+    bare = robot_from_xml(SDF, fallback='burger')            # a ray sensor without a plugin, no IMU
+    assert bare.imu is None and bare.imu_output is None and bare.joint_states is None
+    assert bare.scan is not None and bare.scan.frame == 'base_scan'
+
+
+def test_a_model_without_a_diff_drive_is_robotis_turtlebot3() -> None:
+    plain = robot_from_xml('<robot name="statue"/>', fallback='waffle')
+    assert plain.drive == TURTLEBOT3_DRIVE and plain.drive.odometry_source == 'world'
+    assert (plain.scan, plain.imu_output, plain.joint_states) == (TURTLEBOT3_SCAN, TURTLEBOT3_IMU_OUTPUT,
+                                                                 TURTLEBOT3_JOINT_STATES)
+    assert turtlebot3_model('burger')._replace(warning=plain.warning) == plain._replace(spec=BURGER)
+
+
+def test_bad_plugin_options_are_one_line_errors() -> None:
+    plugin = '<robot name="r"><gazebo><plugin filename="libgazebo_ros_diff_drive.so">{}</plugin></gazebo></robot>'
+    with pytest.raises(SdfError, match=r"^<robot XML>:1: odometry_source must be 'world' \(1\) or 'encoder' \(0\)"):
+        robot_from_xml(plugin.format('<odometry_source>2</odometry_source>'), fallback='burger')
+    with pytest.raises(SdfError, match=r"^<robot XML>:1: <publish_odom> must be true or false, got 'yes'$"):
+        robot_from_xml(plugin.format('<publish_odom>yes</publish_odom>'), fallback='burger')
+    with pytest.raises(SdfError, match=r'^<robot XML>:1: update_rate must be >= 0, got -1$'):
+        robot_from_xml(plugin.format('<update_rate>-1</update_rate>'), fallback='burger')
+
+
 # A Gazebo Sim (Harmonic) model in the shape of nav2_minimal_tb3_sim's gz_waffle.sdf: its systems
 # and sensors name their topics and frames.
 GZ_SDF = '''<sdf version="1.6"><model name="gz_bot"><link name="base_footprint"/><link name="base_scan">
@@ -78,6 +135,14 @@ def test_gz_sim_diff_drive_and_gpu_lidar_set_the_numbers_topics_and_frames() -> 
     assert (topics.odom_frame, topics.base_frame, topics.scan_frame, topics.imu_frame) == (
         'odom', 'base_footprint', 'laser', 'imu_link')
     assert topics.namespace == 'ns'
+    # Its outputs: the same names and frames, at its systems' and sensors' rates; Gazebo Sim's
+    # DiffDrive always publishes odometry and TF, integrated from the wheels (encoder).
+    assert robot.drive == DiffDrivePlugin(odometry_source='encoder', publish_odom=True, publish_odom_tf=True,
+                                          odometry_frame='odom', robot_base_frame='base_footprint', update_rate=30.0,
+                                          cmd_vel_topic='/ns/cmd_vel', odom_topic='/ns/odom')
+    assert robot.scan == SensorOutput('/ns/scan', 'laser', 10.0)
+    assert robot.imu_output is not None and robot.imu_output.topic == '/ns/imu'
+    assert robot.joint_states == JointStateOutput('/ns/joint_states', 200.0, ('wheel_left_joint', 'wheel_right_joint'))
 
 
 def test_gz_sim_defaults_are_gazebos_scoped_names() -> None:

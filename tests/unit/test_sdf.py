@@ -138,6 +138,9 @@ def test_load_world_takes_world_files_by_suffix(tmp_path: Path) -> None:
     (sdf('<model name="m"><link name="l"><collision name="c"><geometry><cylinder><radius>0</radius>'
          '<length>1</length></cylinder></geometry></collision></link></model>'), ':4: <radius> must be > 0, got 0'),
     ('<robot name="r"/>', ':1: expected an <sdf> document, got <robot>'),
+    (sdf('<model name="m"><static>yes</static></model>'), ":4: <static> must be true or false, got 'yes'"),
+    (sdf('<model name="m"><link name="l"><inertial><mass>0</mass></inertial><collision name="c"><geometry><box>'
+         '<size>1 1 1</size></box></geometry></collision></link></model>'), ':4: <mass> must be > 0, got 0'),
 ])
 def test_bad_files_are_one_line_errors_naming_file_and_line(text: str, message: str) -> None:
     with pytest.raises(SdfError) as caught:
@@ -152,3 +155,18 @@ def test_pose_matrix_is_roll_then_pitch_then_yaw_about_fixed_axes() -> None:
     assert matrix[:3, :3] @ [1, 0, 0] == pytest.approx([0, 1, 0], abs=1e-12)
     assert matrix[:3, :3] @ [0, 0, 1] == pytest.approx([1, 0, 0], abs=1e-12)
     assert matrix[:3, 3].tolist() == [1, 2, 3]
+
+
+def test_non_static_models_are_pushable_bodies_with_their_mass_unless_inside_a_static_one() -> None:
+    loose = box_model('crate', '1 0 0.1 0 0 0', '0.2 0.2 0.2', static=False).replace(
+        '<link name="l">', '<link name="l"><inertial><mass>0.4</mass></inertial>')
+    no_flag = box_model('bin', '0 2 0.5 0 0 0', '0.3 0.3 1').replace('<static>1</static>', '')   # SDF: not static
+    held = ('<model name="shelf"><static>true</static>'
+            + box_model('drawer', '0 -2 0.5 0 0 0', '0.3 0.3 1', static=False) + '</model>')
+    world = parse_sdf_world(sdf(loose + no_flag + held))
+    assert [(b.name, b.mass) for b in world.bodies] == [('crate', 0.4), ('bin', 1.0)]
+    crate = world.bodies[0].polygons[0]
+    assert np.allclose(sorted(map(tuple, crate)), [(0.9, -0.1), (0.9, 0.1), (1.1, -0.1), (1.1, 0.1)])
+    # The bodies are not fixed obstacles; the drawer, inside a static model, is.
+    assert len(world.polygons) == 1 and world.contains(np.array([[0.0, -2.0]]))[0]
+    assert not world.contains(np.array([[1.0, 0.0], [0.0, 2.0]])).any()

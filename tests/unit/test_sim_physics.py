@@ -37,9 +37,9 @@ def test_speed_and_acceleration_limits_are_the_burgers() -> None:
         robot.command(float('nan'), 0.0)
 
 
-def test_odometry_equals_truth_without_noise() -> None:
+def test_encoder_odometry_without_slip_is_the_truth_seen_from_the_spawn_pose() -> None:
     sim = Simulation(load_world('empty_world'))
-    robot = sim.add_robot('burger', (1.0, 2.0, 0.5), slip_stddev=0.0)
+    robot = sim.add_robot('burger', (1.0, 2.0, 0.5), slip_stddev=0.0, odometry='encoder')
     for linear, angular, seconds in [(0.2, 0.0, 3), (0.15, 0.8, 7.3), (-0.1, -2.84, 3), (0.0, 0.0, 1)]:
         robot.command(linear, angular)
         sim.step(seconds)
@@ -50,12 +50,39 @@ def test_odometry_equals_truth_without_noise() -> None:
     assert math.remainder(truth.yaw - odom.yaw - 0.5, 2 * math.pi) == pytest.approx(0.0, abs=1e-9)
 
 
+def test_world_odometry_is_the_true_pose_in_the_world_frame_even_after_a_teleport() -> None:
+    """Gazebo's diff drive, by default: odom is the world frame, so a robot spawned at
+    (-2.0, -0.5) starts with odometry (-2.0, -0.5), and slip does not touch it."""
+    sim = Simulation(load_world('turtlebot3_world'), seed=3)
+    robot = sim.add_robot('burger', (-2.0, -0.5, 0.3), slip_stddev=0.05)
+    assert robot.odometry_source == 'world'
+    start = robot.odometry()
+    assert (start.x, start.y, start.yaw) == (-2.0, -0.5, pytest.approx(0.3))
+    robot.command(0.2, 0.4)
+    sim.step(2.0)
+    odom, truth = robot.odometry(), robot.pose
+    assert (odom.x, odom.y, odom.yaw) == (truth.x, truth.y, truth.yaw)
+    assert (odom.linear, odom.angular) == pytest.approx(robot.velocity)
+    sim.teleport('burger', (-2.0, 1.0, 0.0))
+    moved = robot.odometry()
+    assert (moved.x, moved.y, moved.yaw) == (-2.0, 1.0, 0.0)
+
+
+def test_odometry_source_takes_gazebos_names_and_numbers_and_refuses_others() -> None:
+    sim = Simulation(load_world('empty_world'))
+    assert [sim.add_robot(f'r{i}', (2.0 * i, 0.0, 0.0), odometry=value).odometry_source
+            for i, value in enumerate(['world', 'encoder', 1, 0, '0'])] == ['world', 'encoder', 'world', 'encoder', 'encoder']
+    with pytest.raises(ValueError, match="'world' \\(1\\) or 'encoder' \\(0\\), got 'gps'"):
+        sim.add_robot('bad', (20.0, 0.0, 0.0), odometry='gps')
+    assert 'bad' not in sim.robots
+
+
 def test_odometry_drifts_by_the_configured_slip_only() -> None:
     slip, distance = 0.01, 2.0
     wheel_errors, yaw_errors = [], []
     for seed in range(24):
         sim = Simulation(load_world('empty_world'), seed=seed)
-        robot = sim.add_robot('burger', (0.0, 0.0, 0.0), slip_stddev=slip)
+        robot = sim.add_robot('burger', (0.0, 0.0, 0.0), slip_stddev=slip, odometry=0)   # Gazebo's ENCODER
         robot.command(0.2, 0.0)
         sim.step(distance / 0.2)
         robot.command(0.0, 0.0)
@@ -156,7 +183,7 @@ def test_reset_restarts_time_poses_odometry_and_noise() -> None:
     robot.command(0.2, 0.5)
     sim.step(3.0)
     sim.reset()
-    assert sim.time_ns == 0 and robot.pose == sim.world.spawn and robot.odometry().x == 0.0
+    assert sim.time_ns == 0 and robot.pose == sim.world.spawn and robot.odometry().x == sim.world.spawn.x
     assert np.array_equal(robot.scan(), first_scan)
     assert robot.velocity == (0.0, 0.0)
 
@@ -177,7 +204,7 @@ def test_command_timeout_stops_a_robot_that_hears_nothing() -> None:
 
 def test_bad_spawns_and_teleports_are_refused() -> None:
     sim = Simulation(load_world('turtlebot3_world'))
-    sim.add_robot('burger')
+    sim.add_robot('burger', odometry='encoder')
     with pytest.raises(SimError, match='already exists'):
         sim.add_robot('burger', (0.5, 0.5, 0.0))
     with pytest.raises(SimError, match='obstacle'):
@@ -189,4 +216,31 @@ def test_bad_spawns_and_teleports_are_refused() -> None:
     with pytest.raises(SimError, match="no robot named 'ghost'"):
         sim.teleport('ghost', (0.5, 0.5, 0.0))
     sim.teleport('burger', (0.55, 0.55, 1.0))
-    assert sim.robot('burger').pose.x == 0.55 and sim.robot('burger').odometry().x == 0.0
+    assert sim.robot('burger').pose.x == 0.55 and sim.robot('burger').odometry().x == 0.0   # encoders feel nothing
+
+
+def test_the_robot_pushes_a_loose_box_and_its_lidar_sees_it_move() -> None:
+    from zros.sim import Pose2D
+    from zros.sim.sdf import parse_sdf_world
+    world = parse_sdf_world(
+        '<sdf version="1.6"><world name="w"><model name="box"><pose>0.6 0 0.1 0 0 0</pose><link name="l">'
+        '<inertial><mass>0.5</mass></inertial><collision name="c"><geometry><box><size>0.2 0.2 0.2</size></box>'
+        '</geometry></collision></link></model></world></sdf>')
+    sim = Simulation(world)
+    robot = sim.add_robot('burger', (0.0, 0.0, 0.0))
+    lidar_x = robot.sensor_pose(BURGER.lidar_mount)[0]
+    assert robot.scan(noise=False)[0] == pytest.approx(0.5 - lidar_x, abs=1e-3)      # the box's near face
+    robot.command(0.2, 0.0)
+    sim.step(5.0)
+    box = sim.body_pose('box')
+    assert box.x > 1.0 and abs(box.y) < 1e-6                       # pushed straight ahead
+    assert robot.pose.x == pytest.approx(0.97, abs=0.02)           # the robot hardly slowed
+    assert robot.scan(noise=False)[0] == pytest.approx(box.x - 0.1 - robot.sensor_pose(BURGER.lidar_mount)[0],
+                                                       abs=2e-3)
+    robot.command(0.0, 0.0)
+    sim.step(2.0)
+    assert sim.body_pose('box').x - box.x < 0.1                     # the floor stops it
+    sim.reset()
+    assert sim.body_pose('box') == Pose2D(0.6, 0.0, 0.0)                # back where the file puts it
+    with pytest.raises(SimError, match="no pushable body named 'crate'"):
+        sim.body_pose('crate')

@@ -94,7 +94,7 @@ def _drive(seconds: float, *, bias: float = 0.03, seed: int = 2):
     from zros.sim import LDS_01, Simulation, load_world
     world = load_world('turtlebot3_world')
     sim = Simulation(world, seed=seed)
-    robot = sim.add_robot('burger', (world.spawn.x, world.spawn.y, world.spawn.yaw))
+    robot = sim.add_robot('burger', (world.spawn.x, world.spawn.y, world.spawn.yaw), odometry='encoder')
     slam = Slam(SlamParameters())
     spawn = np.array([world.spawn.x, world.spawn.y, world.spawn.yaw])
     truths, odoms, estimates = [], [], []

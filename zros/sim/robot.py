@@ -8,12 +8,16 @@ The body is a disc around base_footprint (`body_radius`): it covers the wheels a
 turning in place never touches anything; the burger's square plate reaches 0.124 m at its back
 corners, a simplification worth knowing when a robot backs into a corner.
 
-Odometry comes from wheel encoders, as on the real robot (Gazebo's plugin, by default, copies
-the true pose instead). Each wheel's travel is measured with a random error whose variance grows
-with the distance rolled (`slip_stddev` [m per sqrt(m)]: after 1 m the error's standard deviation
-is `slip_stddev` m), so odometry drifts like a real robot's and does not depend on the step size.
-Encoders see the body's real motion: a robot pushed sideways along a wall, or stopped by one,
-moves without its wheels telling.
+Odometry has the two sources of Gazebo's diff-drive plugin (`odometry_source`):
+- `world` (the plugin's default, and so the TurtleBot3 model's): the body's true pose in the
+  world frame, exact, so a robot spawned at (-2.0, -0.5) reports /odom (-2.0, -0.5), and maps
+  made from it share the world's (and the course's) coordinates;
+- `encoder`: integrated from the wheels from (0, 0) at the spawn pose, as on the real robot.
+  Each wheel's travel is measured with a random error whose variance grows with the distance
+  rolled (`slip_stddev` [m per sqrt(m)]: after 1 m the error's standard deviation is
+  `slip_stddev` m), so odometry drifts like a real robot's and does not depend on the step size.
+  Encoders see the body's real motion: a robot pushed sideways along a wall, or stopped by one,
+  moves without its wheels telling.
 """
 from __future__ import annotations
 
@@ -25,7 +29,10 @@ import numpy as np
 from zros.rotations import wrap_angle
 
 __all__ = ['RobotSpec', 'BURGER', 'WAFFLE', 'WAFFLE_PI', 'robot_spec', 'DiffDrive', 'WheelOdometry',
-           'clamp', 'integrate_twist']
+           'clamp', 'integrate_twist', 'ODOMETRY_SOURCES', 'odometry_source']
+
+#: Gazebo's diff-drive `odometry_source` values by their number: 0 ENCODER, 1 WORLD.
+ODOMETRY_SOURCES = ('encoder', 'world')
 
 
 @dataclass(frozen=True)
@@ -75,6 +82,16 @@ def robot_spec(model: str) -> RobotSpec:
         return _MODELS[model]
     except KeyError:
         raise ValueError(f"unknown TurtleBot3 model '{model}' (known: {', '.join(_MODELS)})") from None
+
+
+def odometry_source(value: object) -> str:
+    """'world' or 'encoder' from a name or Gazebo's number (1, 0, '1', '0'); ValueError otherwise."""
+    text = str(value).strip().lower()
+    if text in ('0', '1'):
+        return ODOMETRY_SOURCES[int(text)]
+    if text in ODOMETRY_SOURCES:
+        return text
+    raise ValueError(f"odometry_source must be 'world' (1) or 'encoder' (0), got {value!r}")
 
 
 def clamp(value: float, limit: float) -> float:

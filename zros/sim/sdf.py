@@ -16,9 +16,11 @@ burger's lidar is at 0.182 m, the waffle's at 0.132 m):
 Poses (`x y z roll pitch yaw`, roll, pitch and yaw about the fixed axes) compose from the world
 through nested models, links and collisions; `<include><uri>model://NAME</uri>` reads the
 model folder NAME on the model path (`model.config` names its SDF file), with the include's
-`<pose>` and `<static>` in place of the model's own. Static and non-static models both become
-fixed obstacles (the 2D world has no movable bodies). `model://ground_plane` and `model://sun`
-need no folder: they hold nothing the plane cuts.
+`<pose>` and `<static>` in place of the model's own. A static model (`<static>` true, or inside
+a static model) is fixed; a non-static one (Gazebo's default) whose sections are all areas (box,
+cylinder, sphere, polyline) is a pushable `Body` with its links' mass, and one with a mesh
+section stays fixed. `model://ground_plane` and `model://sun` need no folder: they hold nothing
+the plane cuts.
 
 What cannot be used is left out with one warning each (`on_warning`): a model or mesh not on the
 model path, a Gazebo Fuel URL (zros downloads nothing), a geometry kind zros does not cut
@@ -40,10 +42,10 @@ from xml.parsers import expat
 
 import numpy as np
 
-from zros.sim.world import World
+from zros.sim.world import Body, World
 from zros.sim.world_file import WorldFileError
 
-__all__ = ['SdfError', 'XmlElement', 'parse_xml', 'pose_matrix', 'default_model_path', 'find_model',
+__all__ = ['SdfError', 'XmlElement', 'parse_xml', 'numbers', 'flag', 'pose_matrix', 'default_model_path', 'find_model',
            'parse_sdf_world', 'load_sdf_world', 'DEFAULT_SLICE_HEIGHT']
 
 DEFAULT_SLICE_HEIGHT = 0.18     # [m] above the ground: the TurtleBot3 burger's lidar plane
@@ -215,13 +217,13 @@ def parse_sdf_world(text: str, *, source: str | os.PathLike = '<string>', model_
     base = Path(source_text).parent
     if world is not None:
         name = world.attrib.get('name', Path(source_text).stem)
-        slicer.entities(world, np.eye(4), source_text, base)
+        slicer.entities(world, np.eye(4), source_text, base, False)
     else:
         name = Path(source_text).stem
-        slicer.entities(root, np.eye(4), source_text, base)
+        slicer.entities(root, np.eye(4), source_text, base, False)
     return World(name=name, polygons=tuple(slicer.polygons), circles=np.array(slicer.circles).reshape(-1, 3),
                  segments=np.array(slicer.segments).reshape(-1, 4),
-                 source=None if source_text.startswith('<') else Path(source_text))
+                 source=None if source_text.startswith('<') else Path(source_text), bodies=tuple(slicer.bodies))
 
 
 class _Slicer:
@@ -232,26 +234,41 @@ class _Slicer:
         self.polygons: list[tuple[np.ndarray, ...]] = []
         self.circles: list[tuple[float, float, float]] = []
         self.segments: list[np.ndarray] = []
+        self.bodies: list[Body] = []
         self._meshes: dict[Path, tuple[np.ndarray, np.ndarray] | None] = {}
 
-    def entities(self, parent: XmlElement, frame: np.ndarray, source: str, base: Path) -> None:
-        """The models and includes directly under `parent` (a world or a model), in `frame`."""
+    def entities(self, parent: XmlElement, frame: np.ndarray, source: str, base: Path, static: bool) -> None:
+        """The models and includes directly under `parent` (a world or a model), in `frame`;
+        `static`: the parent is static, and so is everything in it."""
         for child in parent.children:
             if child.tag == 'model':
-                self.model(child, frame @ _pose(child, source), source, base)
+                self.model(child, frame @ _pose(child, source), source, base, static or _static(child, source))
             elif child.tag == 'include':
-                self.include(child, frame, source, base)
+                self.include(child, frame, source, base, static)
 
-    def model(self, model: XmlElement, frame: np.ndarray, source: str, base: Path) -> None:
+    def model(self, model: XmlElement, frame: np.ndarray, source: str, base: Path, static: bool) -> None:
+        kept = (self.polygons, self.circles, self.segments)
+        if not static:       # its sections, apart: a pushable body if they are all areas
+            self.polygons, self.circles, self.segments = [], [], []
         for link in model.findall('link'):
             link_frame = frame @ _pose(link, source)
             for collision in link.findall('collision'):
                 geometry = collision.find('geometry')
                 if geometry is not None:
                     self.geometry(geometry, link_frame @ _pose(collision, source), source, base)
-        self.entities(model, frame, source, base)
+        if not static:
+            own = (self.polygons, self.circles, self.segments)
+            self.polygons, self.circles, self.segments = kept
+            if (own[0] or own[1]) and not own[2]:
+                mass = sum(_mass(link, source) for link in model.findall('link'))
+                self.bodies.append(Body(model.attrib.get('name', '?'), tuple(loop for shape in own[0] for loop in shape),
+                                        np.array(own[1]).reshape(-1, 3), mass))
+            else:
+                for mine, theirs in zip(kept, own):
+                    mine.extend(theirs)
+        self.entities(model, frame, source, base, static)
 
-    def include(self, include: XmlElement, frame: np.ndarray, source: str, base: Path) -> None:
+    def include(self, include: XmlElement, frame: np.ndarray, source: str, base: Path, static: bool) -> None:
         uri = include.findtext('uri')
         name = uri.removeprefix('model://').strip('/')
         folder = self._resolve_model(uri, base)
@@ -272,7 +289,8 @@ class _Slicer:
         root = parse_xml(text, str(sdf_file))
         for model in root.findall('model'):
             own = _pose(include, source) if include.find('pose') is not None else _pose(model, str(sdf_file))
-            self.model(model, frame @ own, str(sdf_file), sdf_file.parent)
+            fixed = _static(include, source) if include.find('static') is not None else _static(model, str(sdf_file))
+            self.model(model, frame @ own, str(sdf_file), sdf_file.parent, static or fixed)
 
     def _resolve_model(self, uri: str, base: Path) -> Path | None:
         if uri.startswith('model://'):
@@ -367,6 +385,34 @@ class _Slicer:
         scale = numbers(scale_element, 3, source) if scale_element is not None else [1.0, 1.0, 1.0]
         world = _apply(frame, vertices * scale)
         self.segments.extend(_cut_triangles(world[faces], self.height))
+
+
+def flag(parent: XmlElement, tag: str, default: bool, source: str) -> bool:
+    """A boolean child element `<tag>` (true/1 or false/0), `default` when absent; SdfError otherwise."""
+    element = parent.find(tag)
+    if element is None:
+        return default
+    text = element.text.strip().lower()
+    if text not in ('true', 'false', '1', '0'):
+        raise SdfError(f'{source}:{element.line}: <{tag}> must be true or false, got {element.text.strip()!r}')
+    return text in ('true', '1')
+
+
+def _static(model: XmlElement, source: str) -> bool:
+    """A model's (or include's) `<static>`, false when absent (SDF's default)."""
+    return flag(model, 'static', False, source)
+
+
+def _mass(link: XmlElement, source: str) -> float:
+    """A link's `<inertial><mass>` [kg]; SDF's default 1 kg without one."""
+    inertial = link.find('inertial')
+    element = inertial.find('mass') if inertial is not None else None
+    if element is None:
+        return 1.0
+    mass = numbers(element, 1, source)[0]
+    if not mass > 0:
+        raise SdfError(f'{source}:{element.line}: <mass> must be > 0, got {mass:g}')
+    return mass
 
 
 def _child(parent: XmlElement, tag: str, source: str) -> XmlElement:

@@ -11,13 +11,21 @@ is this class plus topics, services and pacing; benchmarks drive it directly:
     robot = sim.add_robot('burger')                     # at the world's spawn pose
     robot.command(0.2, 0.0)                             # [m/s], [rad/s]; holds until changed
     sim.step(5.0)                                       # 5 s of simulated time
-    robot.pose, robot.odometry(), robot.scan()          # truth, encoder odometry, lidar
+    robot.pose, robot.odometry(), robot.scan()          # truth, odometry (here the truth too), lidar
+
+Odometry is Gazebo's `world` source unless `add_robot(..., odometry='encoder')` asks for wheel
+odometry that starts at (0, 0) and drifts (zros.sim.robot); benchmarks of SLAM and localization
+ask for it, to be scored against a robot's real errors.
 
 Physics: each robot is a pymunk disc (`RobotSpec.body_radius`) whose velocity is set every step
 from its diff drive (at the step's mid heading, so straight and curved motion integrate the way
 the odometry does); obstacles are static segments and discs; pymunk's contact solver stops a
 robot at a wall, and a robot sliding along a wall keeps only the tangential part of its motion.
 A collision is a robot going from touching nothing to touching something; each is counted.
+The world's pushable bodies (non-static models of an SDF world) are dynamic pymunk bodies with
+their mass: a robot drives them before it (its own speed is commanded, so it wins any push),
+the floor's friction is a damping that stops a body within about a second once nothing pushes
+it (`BODY_DAMPING`), and lidars see them where they are.
 Not thread-safe: one caller at a time.
 """
 from __future__ import annotations
@@ -32,15 +40,18 @@ import pymunk
 from zros.errors import ZrosError
 from zros.rotations import wrap_angle
 from zros.sim.raster import OccupancyRaster, rasterize
-from zros.sim.robot import BURGER, DiffDrive, RobotSpec, WheelOdometry
+from zros.sim.robot import BURGER, DiffDrive, RobotSpec, WheelOdometry, odometry_source
 from zros.sim.sensors import GRAVITY, LDS_01, TURTLEBOT3_IMU, ImuReading, ImuSpec, LidarSpec, scan_ranges
-from zros.sim.world import Pose2D, World
+from zros.sim.world import Body, Pose2D, World
 
-__all__ = ['Simulation', 'SimRobot', 'OdometryState', 'SimError', 'DEFAULT_DT', 'DEFAULT_SLIP_STDDEV']
+__all__ = ['Simulation', 'SimRobot', 'OdometryState', 'SimError', 'DEFAULT_DT', 'DEFAULT_SLIP_STDDEV',
+           'BODY_DAMPING']
 
 DEFAULT_DT = 0.005               # [s] physics step
 DEFAULT_SLIP_STDDEV = 0.002      # [m per sqrt(m)] wheel odometry error
 _ROBOT, _OBSTACLE = 1, 2         # pymunk collision types
+#: Fraction of a pushable body's speed left after one second without a push (floor friction).
+BODY_DAMPING = 0.01
 
 
 class SimError(ZrosError, ValueError):
@@ -49,7 +60,7 @@ class SimError(ZrosError, ValueError):
 
 @dataclass(frozen=True)
 class OdometryState:
-    """Encoder odometry in the `odom` frame: pose x, y [m], yaw [rad]; body-frame speeds."""
+    """Odometry in the `odom` frame: pose x, y [m], yaw [rad]; body-frame speeds [m/s], [rad/s]."""
     x: float
     y: float
     yaw: float
@@ -61,8 +72,10 @@ class SimRobot:
     """One robot in a Simulation. Made by `Simulation.add_robot`, never directly."""
 
     def __init__(self, sim: 'Simulation', name: str, index: int, spec: RobotSpec, pose: Pose2D,
-                 lidar: LidarSpec, imu: ImuSpec, slip_stddev: float) -> None:
+                 lidar: LidarSpec, imu: ImuSpec, slip_stddev: float, odometry: str) -> None:
         self.name = name
+        #: 'world' (odom is the world frame, exact) or 'encoder' (wheel odometry from the spawn pose).
+        self.odometry_source = odometry_source(odometry)
         self.spec = spec
         self.lidar = lidar
         self.imu_spec = imu
@@ -84,7 +97,9 @@ class SimRobot:
         self._lidar_rng = np.random.default_rng([seed, self._index, 1])
         self._imu_rng = np.random.default_rng([seed, self._index, 2])
         self.drive = DiffDrive(self.spec)
-        self.odom = WheelOdometry(self.spec, self._odom_rng, self._slip_stddev)
+        # With world odometry the wheels only turn the joints, which Gazebo reports exactly.
+        slip = self._slip_stddev if self.odometry_source == 'encoder' else 0.0
+        self.odom = WheelOdometry(self.spec, self._odom_rng, slip)
         self._last_command_ns = self._sim.time_ns
         self._velocity = (0.0, 0.0)
         self._acceleration = 0.0
@@ -128,6 +143,11 @@ class SimRobot:
         return self._contacts > 0
 
     def odometry(self) -> OdometryState:
+        """The pose in `odom` and the body's speeds: the true ones with `world` odometry, the
+        wheels' integration (from (0, 0) at spawn or reset) with `encoder` odometry."""
+        if self.odometry_source == 'world':
+            pose, (linear, angular) = self.pose, self._velocity
+            return OdometryState(pose.x, pose.y, pose.yaw, linear, angular)
         o = self.odom
         return OdometryState(o.x, o.y, o.yaw, o.linear, o.angular)
 
@@ -239,9 +259,46 @@ class Simulation:
             self._add_static(space, pymunk.Segment(space.static_body, (x1, y1), (x2, y2), 0.0))
         for cx, cy, r in self.world.circles:
             self._add_static(space, pymunk.Circle(space.static_body, r, (cx, cy)))
+        self.bodies: dict[str, pymunk.Body] = {}
+        for body in self.world.bodies:
+            self.bodies[body.name] = self._add_body(space, body)
         space.on_collision(_ROBOT, _OBSTACLE, begin=_begin, separate=_separate)
         space.on_collision(_ROBOT, _ROBOT, begin=_begin, separate=_separate)
         self.space = space
+
+    @staticmethod
+    def _add_body(space: pymunk.Space, body: 'Body') -> pymunk.Body:
+        """A pushable body: convex polygons (hulls) and circles about their common centroid."""
+        points = [loop for loop in body.polygons] + [c[None, :2] for c in body.circles]
+        centre = np.vstack(points).mean(axis=0)
+        shapes_of = []
+        moment = 0.0
+        share = body.mass / max(1, len(body.polygons) + len(body.circles))
+        for loop in body.polygons:
+            vertices = [tuple(v) for v in (loop - centre)]
+            moment += pymunk.moment_for_poly(share, vertices)
+            shapes_of.append(lambda b, v=vertices: pymunk.Poly(b, v))
+        for cx, cy, r in body.circles:
+            offset = (cx - centre[0], cy - centre[1])
+            moment += pymunk.moment_for_circle(share, 0.0, r, offset)
+            shapes_of.append(lambda b, r=r, o=offset: pymunk.Circle(b, r, o))
+        dynamic = pymunk.Body(body.mass, moment)
+        dynamic.position = tuple(centre)
+        dynamic.velocity_func = _floor_friction
+        space.add(dynamic)
+        for make in shapes_of:
+            shape = make(dynamic)
+            shape.friction, shape.elasticity, shape.collision_type = 0.0, 0.0, _OBSTACLE
+            space.add(shape)
+        return dynamic
+
+    def body_pose(self, name: str) -> Pose2D:
+        """Where a pushable body's centroid is now, and how far it has turned [rad] since the start."""
+        try:
+            body = self.bodies[name]
+        except KeyError:
+            raise SimError(f"no pushable body named '{name}' (bodies: {', '.join(self.bodies) or 'none'})") from None
+        return Pose2D(float(body.position.x), float(body.position.y), wrap_angle(float(body.angle)))
 
     @staticmethod
     def _add_static(space: pymunk.Space, shape: pymunk.Shape) -> None:
@@ -253,17 +310,22 @@ class Simulation:
     # -- robots ------------------------------------------------------------------------------
     def add_robot(self, name: str = 'burger', pose: Pose2D | tuple[float, float, float] | None = None, *,
                   spec: RobotSpec = BURGER, lidar: LidarSpec = LDS_01, imu: ImuSpec = TURTLEBOT3_IMU,
-                  slip_stddev: float = DEFAULT_SLIP_STDDEV) -> SimRobot:
+                  slip_stddev: float = DEFAULT_SLIP_STDDEV, odometry: str = 'world') -> SimRobot:
         """Put a robot in the world at `pose` (x, y, yaw; default: the world's spawn pose).
+
+        Args:
+            odometry: 'world' (Gazebo's default: odom is the world frame, exact) or 'encoder'
+                (wheel odometry from (0, 0) at `pose`, drifting by `slip_stddev`); 1 and 0 too.
 
         Raises:
             SimError: the name is taken, or the robot would overlap an obstacle or a robot.
+            ValueError: an unknown odometry source.
         """
         if name in self.robots:
             raise SimError(f"a robot named '{name}' already exists")
         pose = self.world.spawn if pose is None else Pose2D(*pose) if not isinstance(pose, Pose2D) else pose
         self._check_free(pose, spec.body_radius, None)
-        robot = SimRobot(self, name, self._next_index, spec, pose, lidar, imu, slip_stddev)
+        robot = SimRobot(self, name, self._next_index, spec, pose, lidar, imu, slip_stddev, odometry)
         self._next_index += 1
         self.space.add(robot._body, robot._shape)
         self.robots[name] = robot
@@ -281,7 +343,8 @@ class Simulation:
             raise SimError(f"no robot named '{name}' (robots: {', '.join(self.robots) or 'none'})") from None
 
     def teleport(self, name: str, pose: Pose2D | tuple[float, float, float]) -> None:
-        """Move a robot (Gazebo's set_entity_state): stopped at `pose`, odometry untouched."""
+        """Move a robot (Gazebo's set_entity_state): stopped at `pose`. Encoders do not see the
+        jump (encoder odometry goes on from where it was); world odometry is the new pose."""
         robot = self.robot(name)
         pose = pose if isinstance(pose, Pose2D) else Pose2D(*pose)
         self._check_free(pose, robot.spec.body_radius, robot)
@@ -341,17 +404,37 @@ class Simulation:
     # -- sensing ---------------------------------------------------------------------------
     def _scan(self, robot: SimRobot, noise: bool) -> np.ndarray:
         x, y, yaw = robot.sensor_pose(robot.spec.lidar_mount)
-        circles = self.world.circles
+        circles, edges = self.world.circles, self.world.edges
         others = [o for o in self.robots.values() if o is not robot]
         if others:
             housings = [(*o.sensor_pose(o.spec.lidar_mount)[:2], o.spec.lidar_housing_radius) for o in others]
             circles = np.vstack([circles, np.array(housings)])
-        return scan_ranges(robot.lidar, (x, y, yaw), self.world.edges, circles,
-                           robot._lidar_rng if noise else None)
+        if self.bodies:
+            moved_edges, moved_circles = self._body_geometry()
+            edges, circles = np.vstack([edges, moved_edges]), np.vstack([circles, moved_circles])
+        return scan_ranges(robot.lidar, (x, y, yaw), edges, circles, robot._lidar_rng if noise else None)
+
+    def _body_geometry(self) -> tuple[np.ndarray, np.ndarray]:
+        """The pushable bodies where they are now: edges (N, 4) and circles (M, 3)."""
+        edges, circles = [np.zeros((0, 4))], [np.zeros((0, 3))]
+        for body in self.bodies.values():
+            for shape in body.shapes:
+                if isinstance(shape, pymunk.Poly):
+                    loop = np.array([tuple(body.local_to_world(v)) for v in shape.get_vertices()])
+                    edges.append(np.hstack([loop, np.roll(loop, -1, axis=0)]))
+                else:
+                    centre = body.local_to_world(shape.offset)
+                    circles.append(np.array([[centre.x, centre.y, shape.radius]]))
+        return np.vstack(edges), np.vstack(circles)
 
     def occupancy(self, resolution: float, **kwargs: object) -> OccupancyRaster:
         """The world's exact ground-truth occupancy grid (see zros.sim.raster.rasterize)."""
         return rasterize(self.world, resolution, **kwargs)  # type: ignore[arg-type]
+
+
+def _floor_friction(body: pymunk.Body, gravity: object, damping: float, dt: float) -> None:
+    """A pushable body's velocity function: the floor slows it (BODY_DAMPING per second)."""
+    pymunk.Body.update_velocity(body, (0.0, 0.0), BODY_DAMPING ** dt, dt)
 
 
 def _robots_of(arbiter: pymunk.Arbiter) -> list[SimRobot]:

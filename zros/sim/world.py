@@ -12,6 +12,10 @@ Everything that asks the world a question works on these arrays, vectorised:
 - `polygons`: each area shape as a tuple of closed loops (K, 2), filled by the even-odd rule
   (a ring is its outer and inner loop), for inside tests and the ground-truth raster.
 
+A world may also hold pushable `bodies` (a Gazebo world's non-static models): they start where
+the file puts them and move in the simulation (zros.sim.simulation), so `edges`, `circles` and
+every query here are the fixed obstacles only.
+
 Worlds come from files (`zros.sim.world_file.load_world`); this module only builds and queries.
 """
 from __future__ import annotations
@@ -22,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ['World', 'Pose2D', 'box_loop', 'regular_polygon_loop', 'loop_edges']
+__all__ = ['World', 'Body', 'Pose2D', 'box_loop', 'regular_polygon_loop', 'loop_edges']
 
 
 @dataclass(frozen=True)
@@ -55,6 +59,22 @@ def loop_edges(loop: np.ndarray) -> np.ndarray:
 
 
 @dataclass(frozen=True, eq=False)
+class Body:
+    """A pushable obstacle (a non-static model): its section at the start, in the world frame.
+
+    Attributes:
+        name: the model's name.
+        polygons: convex loops (K, 2) [m] (a box's section; other loops are taken as their hull).
+        circles: (M, 3) `cx, cy, r` [m].
+        mass: [kg], the sum of its links' `<inertial><mass>` (SDF's default 1 kg a link).
+    """
+    name: str
+    polygons: tuple[np.ndarray, ...] = ()
+    circles: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    mass: float = 1.0
+
+
+@dataclass(frozen=True, eq=False)
 class World:
     """A world's obstacles and where a robot starts. Immutable: build a new one to change it.
 
@@ -65,6 +85,7 @@ class World:
         circles: (M, 3) `cx, cy, r` [m].
         segments: (L, 4) zero-thickness walls `x1, y1, x2, y2` [m].
         source: the file it was loaded from, if any.
+        bodies: pushable obstacles, not part of `edges` or `circles`.
     """
     name: str
     spawn: Pose2D = Pose2D()
@@ -72,6 +93,7 @@ class World:
     circles: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     segments: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
     source: Path | None = None
+    bodies: tuple[Body, ...] = ()
 
     def __post_init__(self) -> None:
         circles = np.asarray(self.circles, dtype=np.float64).reshape(-1, 3)
