@@ -191,9 +191,11 @@ from zros.lifecycle import LifecycleNode, TransitionCallbackReturn
 class Busy(LifecycleNode):
     # On a loaded machine a node can be busy for seconds right after a transition: here its
     # only executor thread is blocked for 3 s as soon as activation has answered, so the
-    # manager's following get_state is answered 3 s late.
+    # manager's following get_state is answered 3 s late. The timer is due (queued) before
+    # activation answers, so it runs before any get_state can arrive.
     def on_activate(self, state):
         self._block = self.create_timer(0.001, self._work)
+        time.sleep(0.05)
         return super().on_activate(state)
 
     def _work(self):
