@@ -319,7 +319,7 @@ def test_the_map_explains_the_scan_at_the_true_pose_and_half_of_it_a_pillar_row_
 def test_covariance_is_widened_only_when_the_scan_does_not_fit():
     from zros.amcl.localizer import FIT_SHARE, LOST_VARIANCE, honest_covariance
     tight = np.diag([0.001, 0.002, 0.01])
-    assert np.array_equal(honest_covariance(tight, 0.95), tight)
+    assert np.array_equal(honest_covariance(tight, 0.99), tight)
     assert np.array_equal(honest_covariance(tight, FIT_SHARE), tight)
     assert np.array_equal(honest_covariance(tight, math.nan), tight)
     half = honest_covariance(tight, 0.4)
