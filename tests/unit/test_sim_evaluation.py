@@ -37,6 +37,7 @@ def test_a_perfect_map_scores_perfectly_and_shows_no_red():
     walls = seen(truth, perfect)
     quality = map_quality(perfect, np.zeros(3), truth, walls)
     assert quality.wall_recall == 1.0 and quality.false_occupied == 0.0 and quality.wall_cells > 200
+    assert quality.false_occupied_beyond_one_cell == 0.0
     picture = overlay(perfect, np.zeros(3), truth, walls, scale=1)
     assert picture.shape == (*truth.cells.shape, 3) and picture.dtype == np.uint8
     red = (picture == OVERLAY_COLOURS['false_occupied']).all(axis=2)
@@ -66,9 +67,22 @@ def test_a_map_two_cells_off_is_counted_and_painted_where_it_is_wrong():
     # The west and east faces land two cells off (the east one inside its 3-cell wall, the west
     # one in the room); the north and south walls slide along themselves.
     assert 0.05 < quality.false_occupied < 0.3 and quality.wall_recall < 1.0
+    assert 0.0 < quality.false_occupied_beyond_one_cell <= quality.false_occupied
     picture = overlay(shifted, np.zeros(3), truth, walls, scale=1)[::-1]      # back to row 0 = lowest y
     red = (picture == OVERLAY_COLOURS['false_occupied']).all(axis=2)
     assert red.sum() == round(quality.false_occupied * quality.occupied_cells)
     red_x = truth.origin[0] + (np.nonzero(red)[1] + 0.5) * truth.resolution
     assert ((red_x > 0.05) & (red_x < 0.3)).all()          # just inside the west wall's face (x = 0.088)
     assert (picture == OVERLAY_COLOURS['wall_missed']).all(axis=2).any()
+
+
+def test_a_wall_one_cell_thick_in_front_of_its_face_is_false_only_to_the_strict_count():
+    """What lidar noise does to a face on a grid line: the free cell in front is marked too."""
+    world = room()
+    truth = rasterize(world, 0.05)
+    perfect = ground_truth_map(world, 0.05)
+    walls = seen(truth, perfect)
+    ox, oy, _ = perfect.origin
+    one_off = OccupancyMap(perfect.data, perfect.resolution, (ox + 0.05, oy, 0.0))
+    quality = map_quality(one_off, np.zeros(3), truth, walls)
+    assert quality.false_occupied > 0.02 and quality.false_occupied_beyond_one_cell == 0.0
