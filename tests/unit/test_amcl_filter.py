@@ -299,3 +299,48 @@ def test_map_grid_refuses_bad_input():
         box_map().reachable_from(-5.0, 0.0)
     with pytest.raises(ValueError, match='no free cell'):
         MapGrid(np.full((2, 2), 100), resolution=0.1).sample_free(3, np.random.default_rng())
+
+
+# -- an honest covariance (issue 34) ------------------------------------------------------------------
+def test_the_map_explains_the_scan_at_the_true_pose_and_half_of_it_a_pillar_row_off(tb3_world):
+    world, grid = tb3_world
+    robot = Simulation(world, seed=3).add_robot('burger', (1.65, 0.55, 0.0))
+    amcl = Amcl(AmclParameters(laser_model_type='likelihood_field_prob'), grid, seed=0)
+    scan = amcl.prepare_scan(robot.scan(), LDS_01.angles(), LDS_01.range_min, LDS_01.range_max)
+    model = amcl.laser_model
+    assert model.explained_share(np.array([1.65, 0.55, 0.0]), scan, LASER, within=0.1) > 0.95
+    wrong = max(model.explained_share(np.array([1.65, -0.55, yaw]), scan, LASER, within=0.1)
+                for yaw in np.linspace(-0.3, 0.3, 13))
+    assert wrong < 0.6
+    empty = LaserScanData(np.full(5, 3.5), np.linspace(-1, 1, 5), 3.5)      # every beam at range_max
+    assert math.isnan(model.explained_share(np.zeros(3), empty, LASER, within=0.1))
+
+
+def test_covariance_is_widened_only_when_the_scan_does_not_fit():
+    from zros.amcl.localizer import FIT_SHARE, LOST_VARIANCE, honest_covariance
+    tight = np.diag([0.001, 0.002, 0.01])
+    assert np.array_equal(honest_covariance(tight, 0.99), tight)
+    assert np.array_equal(honest_covariance(tight, FIT_SHARE), tight)
+    assert np.array_equal(honest_covariance(tight, math.nan), tight)
+    half = honest_covariance(tight, 0.4)
+    floor = LOST_VARIANCE * (FIT_SHARE - 0.4) / FIT_SHARE
+    assert np.linalg.eigvalsh(half[:2, :2])[-1] == pytest.approx(floor)
+    assert half[2, 2] == tight[2, 2] and half[0, 1] == tight[0, 1] == 0.0
+    lost = honest_covariance(tight, 0.0)
+    assert np.linalg.eigvalsh(lost[:2, :2])[-1] == pytest.approx(LOST_VARIANCE)
+    wide = np.diag([2.0, 0.5, 0.1])
+    assert np.array_equal(honest_covariance(wide, 0.0), wide)        # already wider than the floor
+
+
+def test_a_cloud_settled_on_the_wrong_pose_is_not_reported_confident(tb3_world):
+    world, grid = tb3_world
+    robot = Simulation(world, seed=5).add_robot('burger', (1.65, 0.55, 0.0))
+    amcl = Amcl(AmclParameters(laser_model_type='likelihood_field_prob'), grid, seed=1)
+    amcl.set_initial_pose((1.65, -0.55, 0.0), np.diag([0.0004, 0.0004, 0.0001]))      # kidnapped, sure of itself
+    scan = amcl.prepare_scan(robot.scan(), LDS_01.angles(), LDS_01.range_min, LDS_01.range_max)
+    estimate = amcl.update((0.0, 0.0, 0.0), scan, LASER).estimate
+    assert abs(estimate.pose[1] + 0.55) < 0.2 and estimate.explained < 0.6
+    assert np.linalg.eigvalsh(estimate.covariance[:2, :2])[-1] > 0.05
+    amcl.set_initial_pose((1.65, 0.55, 0.0), np.diag([0.0004, 0.0004, 0.0001]))
+    right = amcl.update((0.0, 0.0, 0.0), scan, LASER).estimate
+    assert right.explained > 0.95 and right.covariance[:2, :2].max() < 0.01

@@ -12,7 +12,7 @@ from zros.sim.raycast import cast_fan
 
 
 def test_shipped_worlds_load_with_their_spawn_poses() -> None:
-    assert world_names() == ['empty_world', 'turtlebot3_bighouse', 'turtlebot3_house', 'turtlebot3_world']
+    assert world_names() == ['corridor', 'empty_world', 'turtlebot3_bighouse', 'turtlebot3_house', 'turtlebot3_world']
     world = load_world('turtlebot3_world')
     assert (world.spawn.x, world.spawn.y) == (-2.0, -0.5)
     assert len(world.circles) == 9 and len(world.edges) == 12 + 5 * 6

@@ -199,3 +199,43 @@ def test_localization_in_a_saved_map_finds_the_robot_and_keeps_the_map_fixed(tmp
     assert not localizer._buffer
     update, error, angle = step(40)
     assert update.matched and error < 0.04 and angle < 0.02
+
+
+def _corridor(with_end_wall: bool) -> np.ndarray:
+    """Points every 2 cm on the two walls of a 2 m wide corridor (and, if asked, a wall across it)."""
+    t = np.arange(-4.0, 4.0, 0.02)
+    walls = [np.column_stack([t, np.full_like(t, 1.0)]), np.column_stack([t, np.full_like(t, -1.0)])]
+    if with_end_wall:
+        s = np.arange(-1.0, 1.0, 0.02)
+        walls.append(np.column_stack([np.full_like(s, 3.0), s]))
+    return np.vstack(walls)
+
+
+def test_a_corridor_leaves_the_direction_along_it_to_the_prediction():
+    from zros.slam.matcher import keep_prediction_along, weak_directions
+    for with_end_wall in (False, True):
+        reference = _corridor(with_end_wall)
+        grid = MatchGrid(reference, 0.025, sigma=0.05)
+        true_pose = np.array([0.3, 0.1, 0.05])
+        points = relative(true_pose, np.column_stack([reference, np.zeros(len(reference))]))[:, :2]
+        points = points[np.hypot(points[:, 0], points[:, 1]) < 3.5]               # what the LDS-01 reaches
+        predicted = true_pose + np.array([0.08, -0.06, 0.04])
+        result = match_scan(grid, points, predicted, SearchWindow(0.15, 0.2))
+        weak = weak_directions(result.information)
+        pose = keep_prediction_along(result.pose, predicted, weak)
+        assert abs(pose[1] - true_pose[1]) < 0.01 and abs(pose[2] - true_pose[2]) < 0.01    # across, and turned
+        if with_end_wall:                       # the wall across it fixes the rest
+            assert len(weak) == 0 and abs(pose[0] - true_pose[0]) < 0.01
+        else:                                   # along it: odometry's x, whatever the search picked
+            assert len(weak) == 1 and abs(abs(weak[0, 0]) - 1.0) < 0.05
+            assert pose[0] == pytest.approx(predicted[0], abs=0.01)
+
+
+def test_weak_directions_of_no_information_and_of_full_information():
+    from zros.slam.matcher import weak_directions
+    assert len(weak_directions(np.zeros((3, 3)))) == 2
+    assert len(weak_directions(np.diag([100.0, 50.0, 1000.0]))) == 0
+    # Information in x only through the yaw (a lever arm): marginalising the yaw leaves y weak.
+    strong_x = np.array([[100.0, 0.0, 0.0], [0.0, 50.0, 50.0], [0.0, 50.0, 50.0]])
+    weak = weak_directions(strong_x)
+    assert len(weak) == 1 and abs(abs(weak[0, 1]) - 1.0) < 1e-9

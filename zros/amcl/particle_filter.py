@@ -51,11 +51,14 @@ _REDRAW_ROUNDS = 5
 
 class PoseEstimate(NamedTuple):
     """The filter's answer: `pose` (3,) x, y, yaw of the heaviest cluster; `covariance` (3, 3)
-    of the whole set; `weight` the heaviest cluster's share; `clusters` how many there are."""
+    of the whole set (widened by the localizer when the scan does not fit, zros.amcl.localizer);
+    `weight` the heaviest cluster's share; `clusters` how many there are; `explained` the share
+    of beams the map explains at `pose` (nan until the localizer sets it)."""
     pose: np.ndarray
     covariance: np.ndarray
     weight: float
     clusters: int
+    explained: float = math.nan
 
 
 def kld_limit(k: np.ndarray, *, pf_err: float, pf_z: float, min_particles: int, max_particles: int) -> np.ndarray:

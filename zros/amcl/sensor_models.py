@@ -96,6 +96,19 @@ class LikelihoodFieldModel:
         rows, cols, inside = self.grid.cells(hx, hy)
         return rows * self.grid.width + cols, inside
 
+    def explained_share(self, pose: np.ndarray, scan: LaserScanData, laser_pose: tuple[float, float, float], *,
+                        within: float) -> float:
+        """The share of the used beams whose end point, cast from `pose` (x, y, yaw), lies within
+        `within` [m] of an obstacle on the map (nan when no beam is used). The filter's spread
+        says how sure it is among the poses it kept; this says whether the map agrees with the
+        scan there at all (a cloud collapsed on the wrong pillar row scores about half)."""
+        ranges, bearings = self.beams(scan)
+        if len(ranges) == 0:
+            return float('nan')
+        cells, inside = self.end_cells(np.asarray(pose, dtype=np.float64)[None, :], ranges, bearings, laser_pose)
+        distance = np.where(inside, self.distance[cells], self.max_dist)
+        return float(np.mean(distance < within))
+
     def likelihood(self, particles: np.ndarray, scan: LaserScanData,
                    laser_pose: tuple[float, float, float]) -> np.ndarray:
         """The factor (N,) to multiply each particle's weight by for this scan."""

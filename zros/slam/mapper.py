@@ -7,6 +7,9 @@ For each scan (with the odometry pose at the scan's time):
    (zros.slam.matcher: correlative branch-and-bound search in a small window, then Gauss-Newton;
    a poor match is searched again in the loop closure's wider window before odometry is used).
    So the map does not smear when odometry slips, and map -> odom absorbs the odometry's error.
+   Along a direction the scan does not constrain (a featureless corridor: the match's Hessian
+   has almost no information along it) the odometry's prediction is kept, not the matcher's
+   arbitrary pick; such a match is never taken as a loop closure.
 2. Keyframes. When the robot has moved `minimum_travel_distance` or turned
    `minimum_travel_heading` since the last keyframe, the scan becomes a node of the pose graph,
    linked to the previous keyframe by the matched relative pose.
@@ -40,7 +43,7 @@ from zros.map_io import OccupancyMap
 from zros.slam.geometry import compose, inverse, relative, transform_points
 from zros.slam.grid import LogOddsGrid
 from zros.slam.match_grid import MatchGrid
-from zros.slam.matcher import SearchWindow, match_scan
+from zros.slam.matcher import SearchWindow, keep_prediction_along, match_scan, weak_directions
 from zros.slam.pose_graph import PoseGraph
 from zros.slam.scan import ScanPoints, voxel_filter
 from zros.slam.serialization import (PoseGraphFileError, SerializedGraph, pose_graph_files, read_pose_graph,
@@ -166,7 +169,8 @@ class Slam:
                 result = match_scan(self._local, points, pose, self._loop, min_score=p.minimum_match_response)
             score = result.score
             if score >= p.minimum_match_response:
-                pose, matched = result.pose, True
+                # In a corridor the scan fixes the pose across it, not along it: keep odometry there.
+                pose, matched = keep_prediction_along(result.pose, pose, weak_directions(result.information)), True
         if self._pose is not None:
             self._travel += float(np.hypot(*(pose[:2] - self._pose[:2])))
         self._pose, self._odom = pose, odom
@@ -246,8 +250,8 @@ class Slam:
         if grid is None:
             return False
         result = match_scan(grid, points, pose, self._loop, min_score=p.loop_match_minimum_response)
-        if result.score < p.loop_match_minimum_response:
-            return False
+        if result.score < p.loop_match_minimum_response or len(weak_directions(result.information)):
+            return False            # no match, or one that slides along a corridor: no evidence of a loop
         self.graph.add_edge(target, node, relative(poses[target], result.pose), self._loop_info, robust=True)
         self.loop_closures += 1
         return True

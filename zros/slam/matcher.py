@@ -13,6 +13,13 @@ multi-resolution grid, then Gauss-Newton refinement below the cell size.
 2. Gauss-Newton (Levenberg-Marquardt damped) on the bilinearly interpolated likelihood field
    minimises sum (1 - M(T p))² from the correlative pose, reaching a fraction of a cell; a
    refinement that moves more than two cells is refused (it left the basin).
+3. What the scan constrains. The Gauss-Newton Hessian (J^T W J of the point-to-line residuals,
+   in points' worth of evidence) is the match's information. In a featureless corridor every
+   normal points across it, so the information along it is nearly zero: the match says where
+   the robot is across the corridor and how it is turned, not how far along it is.
+   `weak_directions` finds such directions and `keep_prediction_along` puts the prediction
+   (odometry) back along them, so the correlative search's arbitrary pick on a flat ridge never
+   moves the robot.
 """
 from __future__ import annotations
 
@@ -25,12 +32,18 @@ from zros.rotations import wrap_angle
 from zros.slam.geometry import transform_points
 from zros.slam.match_grid import MatchGrid
 
-__all__ = ['SearchWindow', 'MatchResult', 'match_scan', 'correlative_search', 'refine', 'angular_step']
+__all__ = ['SearchWindow', 'MatchResult', 'match_scan', 'correlative_search', 'refine', 'angular_step',
+           'weak_directions', 'keep_prediction_along', 'WEAK_INFORMATION']
 
 #: Candidates scored in one numpy operation (bounds the candidates x points temporaries).
 _CHUNK = 2048
 #: [m] point-to-line distance beyond which a pair's weight falls off (Huber).
 _HUBER = 0.02
+#: A translation direction with less information than this (about this many well-fitting
+#: points whose normals point along it) is left to the prediction (module docstring, step 3).
+WEAK_INFORMATION = 8.0
+_NO_INFORMATION = np.zeros((3, 3))
+_NO_INFORMATION.flags.writeable = False
 
 
 class SearchWindow(NamedTuple):
@@ -40,9 +53,11 @@ class SearchWindow(NamedTuple):
 
 
 class MatchResult(NamedTuple):
-    """pose: (3,) x, y, yaw; score: mean likelihood 0..1 of the points at `pose`."""
+    """pose: (3,) x, y, yaw; score: mean likelihood 0..1 of the points at `pose`; information:
+    (3, 3) the refinement's Hessian at `pose` (x, y, yaw; zeros when it had too few points)."""
     pose: np.ndarray
     score: float
+    information: np.ndarray = _NO_INFORMATION
 
 
 def angular_step(resolution: float, max_range: float) -> float:
@@ -133,6 +148,7 @@ def refine(grid: MatchGrid, points: np.ndarray, pose: np.ndarray, *, iterations:
     start = np.asarray(pose, dtype=np.float64)
     tree, centroid, normal, linear = grid.surfaces()
     current = start.copy()
+    information = np.zeros((3, 3))
     for _ in range(iterations):
         world = transform_points(current, points)
         distance, index = tree.query(world, distance_upper_bound=max_distance)
@@ -148,6 +164,7 @@ def refine(grid: MatchGrid, points: np.ndarray, pose: np.ndarray, *, iterations:
         jacobian = np.column_stack([n[:, 0], n[:, 1], n[:, 0] * dwx + n[:, 1] * dwy])
         weight = linear[idx] / np.maximum(1.0, np.abs(residual) / _HUBER)        # Huber, line-likeness
         hessian = (jacobian * weight[:, None]).T @ jacobian
+        information = hessian
         if np.linalg.cond(hessian) > 1e9:
             break
         delta = -np.linalg.solve(hessian, (jacobian * weight[:, None]).T @ residual)
@@ -158,4 +175,27 @@ def refine(grid: MatchGrid, points: np.ndarray, pose: np.ndarray, *, iterations:
     if math.hypot(current[0] - start[0], current[1] - start[1]) > 2.0 * grid.resolution:
         current = start
     value, _ = grid.interpolate(transform_points(current, points))
-    return MatchResult(current, float(value.mean()))
+    return MatchResult(current, float(value.mean()), information)
+
+
+def weak_directions(information: np.ndarray, *, threshold: float = WEAK_INFORMATION) -> np.ndarray:
+    """(K, 2) unit vectors (map frame) of the translation directions the match does not
+    constrain: eigenvectors of the information's x-y block (the yaw marginalised out, via the
+    Schur complement) with eigenvalue below `threshold`. K is 0, 1 (a corridor) or 2 (nothing
+    to match)."""
+    info = np.asarray(information, dtype=np.float64)
+    xy = info[:2, :2]
+    if info[2, 2] > 1e-9:
+        xy = xy - np.outer(info[:2, 2], info[2, :2]) / info[2, 2]
+    values, vectors = np.linalg.eigh((xy + xy.T) / 2.0)
+    return vectors[:, values < threshold].T
+
+
+def keep_prediction_along(matched: np.ndarray, predicted: np.ndarray, directions: np.ndarray) -> np.ndarray:
+    """`matched` (x, y, yaw) with its translation along each of `directions` (K, 2, unit,
+    orthogonal) put back to `predicted`'s: the match corrects only what the scan constrains."""
+    pose = np.array(matched, dtype=np.float64)
+    offset = pose[:2] - np.asarray(predicted, dtype=np.float64)[:2]
+    for direction in np.asarray(directions, dtype=np.float64).reshape(-1, 2):
+        pose[:2] -= direction * float(offset @ direction)
+    return pose
