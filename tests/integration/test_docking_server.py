@@ -6,8 +6,11 @@ from __future__ import annotations
 
 from conftest import activate
 
+START = (-2.0, -0.5)                # turtlebot3_world's spawn pose, where odom has the robot at the start
+
 # Nav2 Jazzy's docking_server section (nav2_bringup/params/nav2_params.yaml), with one dock of
-# this test's: 0.7 m ahead of where the robot starts, in odom (the simulator gives no map frame).
+# this test's: 0.7 m ahead of where the robot starts, in odom (the simulator gives no map frame;
+# its odom is Gazebo's, the world frame, and the robot starts at (-2.0, -0.5) facing +x).
 PARAMS = """\
 docking_server:
   ros__parameters:
@@ -41,7 +44,7 @@ docking_server:
     home_dock:
       type: 'simple_charging_dock'
       frame: odom
-      pose: [0.7, 0.0, 0.0]
+      pose: [-1.3, -0.5, 0.0]
     controller:
       k_phi: 3.0
       k_delta: 2.0
@@ -83,7 +86,7 @@ def finish(what):
 
 dock = PoseStamped()
 dock.header.frame_id = 'odom'
-dock.pose.position.x, dock.pose.orientation.w = 0.7, 1.0
+dock.pose.position.x, dock.pose.position.y, dock.pose.orientation.w = -1.3, -0.5, 1.0
 nav.dockRobotByPose(dock, '', nav_to_dock=True)
 finish('by pose')
 print('states:', states, flush=True)
@@ -103,7 +106,7 @@ nav.undockRobot('simple_charging_dock')
 finish('undock by type')
 far = PoseStamped()
 far.header.frame_id = 'odom'
-far.pose.position.x, far.pose.orientation.w = 1.5, 1.0
+far.pose.position.x, far.pose.position.y, far.pose.orientation.w = -0.5, -0.5, 1.0
 nav.dockRobotByPose(far)
 finish('navigate first')
 '''
@@ -132,11 +135,11 @@ def test_dock_and_undock_a_simulated_turtlebot3(spawn, probe, tmp_path):
     lines = {line.split(':', 1)[0]: line.split(':', 1)[1].split() for line in script.output().splitlines()
              if ':' in line and not line.startswith('[')}
 
-    def x_of(key: str) -> float:
-        return float(lines[key][2].split('=')[1])
+    def x_of(key: str) -> float:        # from where the robot started (odom is the world frame)
+        return float(lines[key][2].split('=')[1]) - START[0]
 
     def y_of(key: str) -> float:
-        return float(lines[key][3].split('=')[1])
+        return float(lines[key][3].split('=')[1]) - START[1]
 
     assert lines['by pose'][:2] == ['SUCCEEDED', '0'], script.output() + server.output()
     assert abs(x_of('by pose') - 0.7) < 0.06 and abs(y_of('by pose')) < 0.06
@@ -155,4 +158,4 @@ def test_dock_and_undock_a_simulated_turtlebot3(spawn, probe, tmp_path):
     # Far from the staging pose: the navigator is asked to go there; its failure is FAILED_TO_STAGE.
     assert lines['navigate first'][:2] == ['FAILED', str(DockRobot.Result.FAILED_TO_STAGE)]
     assert len(staging_goals) == 1 and staging_goals[0].header.frame_id == 'odom'
-    assert abs(staging_goals[0].pose.position.x - 0.8) < 1e-6
+    assert abs(staging_goals[0].pose.position.x - (START[0] + 0.8)) < 1e-6
