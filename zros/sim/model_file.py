@@ -16,16 +16,18 @@ robot drives and senses; zros reads the same elements:
 - Gazebo Sim's `gz-sim-joint-state-publisher-system`: its `topic`.
 Where a Gazebo Sim model says nothing, its topics and frames are Gazebo's defaults
 (zros.sim.gz_topics); `RobotModel.topics` holds them, as Gazebo topic names.
-The rest of the robot (body disc, mounts, speed limits) is the TurtleBot3 the XML names
-(`waffle_pi`, `waffle`, `burger`), else `fallback` ($TURTLEBOT3_MODEL). A model without a
-diff-drive plugin is that TurtleBot3, with a one-line `warning`.
+The rest of the robot (body disc, mounts, speed limits) is the robot whose wheels the Gazebo Sim
+diff-drive plugin states (the TurtleBot4's Create 3 base: separation 0.233 m, radius 0.03575 m),
+else the TurtleBot3 the XML names (`waffle_pi`, `waffle`, `burger`), else `fallback`
+($TURTLEBOT3_MODEL). A model without a diff-drive plugin is that TurtleBot3, with a one-line
+`warning`.
 """
 from __future__ import annotations
 
 from dataclasses import replace
 from typing import NamedTuple
 
-from zros.sim.robot import RobotSpec, robot_spec
+from zros.sim.robot import TURTLEBOT4, RobotSpec, robot_spec
 from zros.sim.gz_topics import RobotTopics, default_topics, gz_name
 from zros.sim.sdf import SdfError, XmlElement, numbers, parse_xml
 from zros.sim.sensors import LDS_01, LidarSpec
@@ -38,6 +40,9 @@ _DIFF_DRIVE = 'libgazebo_ros_diff_drive.so'
 _GZ_DIFF_DRIVE = ('diff-drive-system', 'systems::DiffDrive')
 _GZ_JOINT_STATES = ('joint-state-publisher-system', 'systems::JointStatePublisher')
 _LIDARS = ('ray', 'gpu_ray', 'gpu_lidar', 'lidar')
+#: Robots known by their wheels (a model file names no robot zros could look up otherwise).
+_BY_WHEELS = (TURTLEBOT4,)
+_WHEEL_TOLERANCE = 1e-4    # [m]
 
 
 class RobotModel(NamedTuple):
@@ -66,6 +71,7 @@ def robot_from_xml(xml: str, *, fallback: str, source: str = '<robot XML>', worl
     lidar = _lidar(sensor, source) if sensor is not None else LDS_01
     topics = _gz_topics(root, model, name, world, gz, sensor) if classic is None else None
     if gz is not None:
+        base = _robot_by_wheels(gz, base, source)
         spec = replace(base,
                        wheel_separation=_number(gz, 'wheel_separation', base.wheel_separation, source),
                        wheel_radius=_number(gz, 'wheel_radius', base.wheel_radius, source),
@@ -88,6 +94,14 @@ def robot_from_xml(xml: str, *, fallback: str, source: str = '<robot XML>', worl
     return RobotModel(spec, lidar, '')
 
 
+def _robot_by_wheels(plugin: XmlElement, named: RobotSpec, source: str) -> RobotSpec:
+    """The known robot whose wheel separation and radius the diff-drive `plugin` states, else `named`."""
+    wheels = (_number(plugin, 'wheel_separation', 0.0, source), _number(plugin, 'wheel_radius', 0.0, source))
+    return next((spec for spec in _BY_WHEELS
+                 if abs(spec.wheel_separation - wheels[0]) < _WHEEL_TOLERANCE
+                 and abs(spec.wheel_radius - wheels[1]) < _WHEEL_TOLERANCE), named)
+
+
 def _plugin(root: XmlElement, marks: tuple[str, ...]) -> XmlElement | None:
     """The first `<plugin>` whose filename or name contains one of `marks`."""
     return next((p for p in root.iter('plugin')
@@ -107,6 +121,8 @@ def _gz_topics(root: XmlElement, model: XmlElement | None, name: str, world: str
     defaults (a sensor's default topic is scoped by its link and name)."""
     imu = next((s for s in root.iter('sensor') if s.attrib.get('type') == 'imu'), None)
     links = {id(s): link.attrib.get('name', '') for link in root.iter('link') for s in link.iter('sensor')}
+    links.update({id(s): g.attrib['reference'] for g in root.iter('gazebo') if g.attrib.get('reference')
+                  for s in g.iter('sensor')})   # a URDF's sensors sit in <gazebo reference="LINK">
     first_link = next(iter(model.findall('link')), None) if model is not None else None
 
     def scoped(sensor: XmlElement | None, kind: str) -> tuple[str, str]:
