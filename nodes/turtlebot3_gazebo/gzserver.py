@@ -325,6 +325,7 @@ class GazeboNode(Node):
                 response.status_message = f"no entity named '{request.name}'"
                 return response
             self._sim.remove_robot(name)
+            self._next_scan.pop(name, None)
             robot.io.destroy()
         response.success, response.status_message = True, f"deleted '{request.name}'"
         return response
@@ -430,7 +431,8 @@ class GazeboNode(Node):
         now = self._sim.time_ns
         self._next_clock = now + self._clock_period_ns
         self._next_odom = now + _period_ns(ODOM_RATE)
-        self._next_scan = now + _period_ns(LDS_01.rate)
+        self._next_scan: dict[str, int] = {}    # robot name -> its next scan (each lidar has its rate)
+        self._scan_epoch = now                   # scans fall at whole periods from here
         self._next_imu = now + _period_ns(TURTLEBOT3_IMU.rate)
         self._anchor = None    # the pacing restarts from here
 
@@ -450,10 +452,12 @@ class GazeboNode(Node):
             self._next_odom += _period_ns(ODOM_RATE)
             for robot in robots:
                 robot.publish_odometry(now)
-        if now >= self._next_scan:
-            self._next_scan += _period_ns(LDS_01.rate)
-            for robot in robots:
-                robot.publish_scan(now)
+        for name, robot in self._robots.items():
+            period = _period_ns(robot.sim.lidar.rate)
+            due = self._next_scan.setdefault(name, self._scan_epoch + ((now - self._scan_epoch) // period + 1) * period)
+            if now >= due:
+                self._next_scan[name] = due + period
+                robot.io.publish_scan(now)
         if self._run_until_ns is not None and now >= self._run_until_ns:
             self._paused, self._run_until_ns = True, None
 

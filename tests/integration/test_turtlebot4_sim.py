@@ -82,6 +82,10 @@ def test_the_tb4_simulation_half_gives_the_robots_topics_and_it_drives(spawn: An
         behind, ahead = (round((angle - scan.angle_min) / scan.angle_increment) for angle in (math.pi / 2, 1.5 * math.pi))
         assert scan.ranges[behind] == pytest.approx(6.76, abs=0.1)
         assert scan.ranges[ahead] == pytest.approx(14.44, abs=0.1)
+        # ... at its update_rate: 10 Hz of simulated time (the TurtleBot3's LDS-01 gives 5)
+        wait_until(lambda: len(got['/scan']) >= 3, 60, message=lambda: f'scans stopped\n{launch.output()}')
+        stamps = [m.header.stamp.sec + m.header.stamp.nanosec * 1e-9 for m in got['/scan'][-3:]]
+        assert stamps[2] - stamps[1] == pytest.approx(0.1, abs=0.006)
         odom = got['/odom'][-1]
         assert (odom.header.frame_id, odom.child_frame_id) == ('odom', 'base_link')
         assert any(t.child_frame_id == 'rplidar_link' for m in got['/tf_static'] for t in m.transforms)
