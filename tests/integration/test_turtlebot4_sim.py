@@ -6,16 +6,13 @@ robot_state_publisher on `xacro turtlebot4.urdf.xacro`) gives the RPLIDAR's /sca
 from __future__ import annotations
 
 import math
-import subprocess
-import sys
-import time
 from pathlib import Path
 from typing import Any
 
 import pytest
 
 from conftest import wait_until
-from integration.test_ros_gz_sim import Listener
+from integration.test_ros_gz_sim import Listener, drive_forward, xacro_world
 
 # As tb4_simulation_launch.py writes it (unported imports): the world is xacro'd to a file first,
 # then `gz sim -r -s` runs it; the robot comes from the robot_description topic.
@@ -47,28 +44,18 @@ def generate_launch_description():
 '''
 
 
-def depot_world(tmp_path: Path) -> Path:
-    """depot.sdf through xacro, as tb4_simulation_launch.py does before `gz sim`."""
-    from zros.ament_index_python.packages import get_package_share_directory
-    world = tmp_path / 'nav2_depot.sdf'
-    source = Path(get_package_share_directory('nav2_minimal_tb4_sim')) / 'worlds' / 'depot.sdf'
-    subprocess.run([str(Path(sys.executable).parent / 'xacro'), '-o', str(world), 'headless:=True', str(source)],
-                   check=True, timeout=60)
-    return world
-
-
 @pytest.mark.timeout(600)
 def test_the_tb4_simulation_half_gives_the_robots_topics_and_it_drives(spawn: Any, context: Any,
                                                                         tmp_path: Path) -> None:
-    from interfaces.geometry_msgs.msg import Twist
     from interfaces.nav_msgs.msg import Odometry
     from interfaces.sensor_msgs.msg import LaserScan
     from interfaces.tf2_msgs.msg import TFMessage
-    launch_file = tmp_path / 'tb4_simulation_half.launch.py'
-    launch_file.write_text(SIM_LAUNCH)
-    launch = spawn.launch(launch_file, f'world_sdf:={depot_world(tmp_path)}')
+    # listening first: the robot's first messages and the latched /tf_static are all kept
     listener = Listener(context, {'/scan': LaserScan, '/odom': Odometry, '/tf': TFMessage, '/tf_static': TFMessage})
+    world = xacro_world(tmp_path, 'nav2_minimal_tb4_sim', 'depot.sdf')
+    (tmp_path / 'tb4_simulation_half.launch.py').write_text(SIM_LAUNCH)
     try:
+        launch = spawn.launch(tmp_path / 'tb4_simulation_half.launch.py', f'world_sdf:={world}')
         got = listener.received
         for topic in ('/scan', '/odom', '/tf', '/tf_static'):
             wait_until(lambda: got[topic], 240, message=lambda: f'no {topic}\n{launch.output()}')
@@ -89,15 +76,6 @@ def test_the_tb4_simulation_half_gives_the_robots_topics_and_it_drives(spawn: An
         odom = got['/odom'][-1]
         assert (odom.header.frame_id, odom.child_frame_id) == ('odom', 'base_link')
         assert any(t.child_frame_id == 'rplidar_link' for m in got['/tf_static'] for t in m.transforms)
-        cmd = listener.node.create_publisher(Twist, '/cmd_vel', 10)
-        start = got['/odom'][-1].pose.pose.position.x
-        forward = Twist()
-        forward.linear.x = 0.3
-
-        def moved() -> bool:
-            cmd.publish(forward)
-            time.sleep(0.2)
-            return got['/odom'][-1].pose.pose.position.x > start + 0.2
-        wait_until(moved, 120, message=lambda: f'the robot did not move\n{launch.output()}')
+        drive_forward(listener, 0.3, 0.2, launch)
     finally:
         listener.close()
