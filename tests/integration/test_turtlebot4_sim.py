@@ -2,13 +2,15 @@
 tb4_simulation_launch.py's simulation half (the depot world through xacro and `gz sim`,
 nav2_minimal_tb4_sim's spawn_tb4 spawning from robot_state_publisher's robot_description, that
 robot_state_publisher on `xacro turtlebot4.urdf.xacro`) gives the RPLIDAR's /scan in rplidar_link,
-/odom from odom to base_link, and a robot that drives on /cmd_vel."""
+/odom from odom to base_link, and a robot that drives on /cmd_vel; tb4_loopback_simulation's robot
+scans the depot map from its turned lidar."""
 from __future__ import annotations
 
 import math
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pytest
 
 from conftest import wait_until
@@ -79,3 +81,72 @@ def test_the_tb4_simulation_half_gives_the_robots_topics_and_it_drives(spawn: An
         drive_forward(listener, 0.3, 0.2, launch)
     finally:
         listener.close()
+
+
+# tb4_loopback_simulation.launch.py's robot and simulator, as it writes them (its Nav2 bringup
+# left out): robot_state_publisher on the TurtleBot4, its static base_footprint -> base_link,
+# the depot map served, and nav2_loopback_sim scanning in rplidar_link.
+LOOPBACK_LAUNCH = '''
+import os
+from ament_index_python.packages import get_package_share_directory
+from launch import LaunchDescription
+from launch.actions import IncludeLaunchDescription
+from launch.launch_description_sources import PythonLaunchDescriptionSource
+from launch.substitutions import Command
+from launch_ros.actions import Node
+
+
+def generate_launch_description():
+    bringup_dir = get_package_share_directory('nav2_bringup')
+    loopback_sim_dir = get_package_share_directory('nav2_loopback_sim')
+    desc_dir = get_package_share_directory('nav2_minimal_tb4_description')
+    sdf = os.path.join(desc_dir, 'urdf', 'standard', 'turtlebot4.urdf.xacro')
+    params_file = os.path.join(bringup_dir, 'params', 'nav2_params.yaml')
+    return LaunchDescription([
+        Node(package='robot_state_publisher', executable='robot_state_publisher', name='robot_state_publisher',
+             parameters=[{'use_sim_time': True, 'robot_description': Command(['xacro', ' ', sdf])}],
+             remappings=[('/tf', 'tf'), ('/tf_static', 'tf_static')]),
+        Node(package='tf2_ros', executable='static_transform_publisher',
+             arguments=['0.0', '0.0', '0.0', '0', '0', '0', 'base_footprint', 'base_link']),
+        Node(package='nav2_map_server', executable='map_server', name='map_server',
+             parameters=[{'use_sim_time': True,
+                          'yaml_filename': os.path.join(bringup_dir, 'maps', 'depot.yaml')}]),
+        Node(package='nav2_lifecycle_manager', executable='lifecycle_manager', name='lifecycle_manager_map_server',
+             parameters=[{'use_sim_time': True, 'autostart': True, 'node_names': ['map_server']}]),
+        IncludeLaunchDescription(
+            PythonLaunchDescriptionSource(os.path.join(loopback_sim_dir, 'loopback_simulation.launch.py')),
+            launch_arguments={'params_file': params_file, 'scan_frame_id': 'rplidar_link'}.items()),
+    ])
+'''
+
+
+@pytest.mark.timeout(400)
+def test_the_tb4_loopback_robot_scans_the_depot_map_from_its_turned_lidar(spawn: Any, probe: Any,
+                                                                          tmp_path: Path) -> None:
+    from zros.ament_index_python.packages import get_package_share_directory
+    from zros.map_io import load_map
+    from zros.qos import qos_profile_sensor_data
+    from zros.sim.grid_lidar import GridLidar
+    from zros.tf2_ros import Buffer, TransformListener
+    from interfaces.geometry_msgs.msg import PoseWithCovarianceStamped
+    from interfaces.sensor_msgs.msg import LaserScan
+    from integration.test_loopback_sim import _initial_pose, _map_to_base
+    scans: list = []
+    probe.create_subscription(LaserScan, 'scan', scans.append, qos_profile_sensor_data)
+    buffer = Buffer()
+    TransformListener(buffer, probe)
+    place = probe.create_publisher(PoseWithCovarianceStamped, 'initialpose', 10)
+    (tmp_path / 'tb4_loopback.launch.py').write_text(LOOPBACK_LAUNCH)
+    launch = spawn.launch(tmp_path / 'tb4_loopback.launch.py')
+    # The depot map's frame starts where the robot does: (0, 0) facing +x.
+    wait_until(lambda: (place.publish(_initial_pose(probe, 0.0, 0.0, 0.0)) or True) and _map_to_base(buffer), 120,
+               interval=0.5, message=lambda: f'map -> base_footprint\n{launch.output()}')
+    wait_until(lambda: scans and np.isfinite(scans[-1].ranges).sum() > 100, 60,
+               message=lambda: f'a scan of the depot\n{launch.output()}')
+    scan = scans[-1]
+    assert scan.header.frame_id == 'rplidar_link'
+    grid = load_map(Path(get_package_share_directory('nav2_bringup')) / 'maps' / 'depot.yaml')
+    lidar = GridLidar(grid.data, grid.geometry)
+    expected = lidar.scan((-0.04, 0.0, math.pi / 2), scan.angle_min, scan.angle_increment, len(scan.ranges),
+                          scan.range_max)
+    assert np.allclose(np.asarray(scan.ranges), expected, rtol=1e-4)
