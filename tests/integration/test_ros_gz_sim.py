@@ -47,14 +47,18 @@ def generate_launch_description():
 '''
 
 
-def sandbox_world(tmp_path: Path) -> Path:
-    """tb3_sandbox.sdf.xacro through xacro, as tb3_simulation_launch.py does before `gz sim`."""
+def xacro_world(tmp_path: Path, package: str, world_file: str) -> Path:
+    """A package's world through xacro (headless), as Nav2's tb3/tb4 launch files do before `gz sim`."""
     from zros.ament_index_python.packages import get_package_share_directory
     world = tmp_path / 'nav2_world.sdf'
-    source = Path(get_package_share_directory('nav2_minimal_tb3_sim')) / 'worlds' / 'tb3_sandbox.sdf.xacro'
+    source = Path(get_package_share_directory(package)) / 'worlds' / world_file
     subprocess.run([str(Path(sys.executable).parent / 'xacro'), '-o', str(world), 'headless:=True', str(source)],
                    check=True, timeout=60)
     return world
+
+
+def sandbox_world(tmp_path: Path) -> Path:
+    return xacro_world(tmp_path, 'nav2_minimal_tb3_sim', 'tb3_sandbox.sdf.xacro')
 
 
 class Listener:
@@ -75,10 +79,25 @@ class Listener:
         self.executor.shutdown(timeout_sec=2)
 
 
+def drive_forward(listener: Listener, speed: float, distance: float, launch: Any) -> None:
+    """Publish `speed` on /cmd_vel until /odom (which `listener` keeps) has gone `distance` along x."""
+    from interfaces.geometry_msgs.msg import Twist
+    odom = listener.received['/odom']
+    cmd = listener.node.create_publisher(Twist, '/cmd_vel', 10)
+    start = odom[-1].pose.pose.position.x
+    forward = Twist()
+    forward.linear.x = speed
+
+    def moved() -> bool:
+        cmd.publish(forward)
+        time.sleep(0.2)
+        return odom[-1].pose.pose.position.x > start + distance
+    wait_until(moved, 120, message=lambda: f'the robot did not move\n{launch.output()}')
+
+
 @pytest.mark.timeout(600)
 def test_the_tb3_simulation_half_gives_the_robots_topics_and_it_drives(spawn: Any, context: Any,
                                                                         tmp_path: Path) -> None:
-    from interfaces.geometry_msgs.msg import Twist
     from interfaces.nav_msgs.msg import Odometry
     from interfaces.rosgraph_msgs.msg import Clock
     from interfaces.sensor_msgs.msg import JointState, LaserScan
@@ -105,16 +124,7 @@ def test_the_tb3_simulation_half_gives_the_robots_topics_and_it_drives(spawn: An
         assert "Spawned waffle 'turtlebot3_waffle' at x=-2 y=-0.5 yaw=0" in launch.output()
         # The sandbox's arena is there: facing +x from (-2, -0.5), the wall's inner face is near.
         assert 0.3 < min(r for r in scan.ranges if r == r) < 3.0
-        cmd = listener.node.create_publisher(Twist, '/cmd_vel', 10)
-        start = got['/odom'][-1].pose.pose.position.x
-        forward = Twist()
-        forward.linear.x = 0.2
-
-        def moved() -> bool:
-            cmd.publish(forward)
-            time.sleep(0.2)
-            return got['/odom'][-1].pose.pose.position.x > start + 0.1
-        wait_until(moved, 120, message=lambda: f'the robot did not move\n{launch.output()}')
+        drive_forward(listener, 0.2, 0.1, launch)
     finally:
         listener.close()
 

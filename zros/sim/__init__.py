@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from zros.rotations import wrap_angle
 from zros.sim.raster import OccupancyRaster, rasterize
-from zros.sim.robot import BURGER, WAFFLE, WAFFLE_PI, RobotSpec, robot_spec
+from zros.sim.robot import BURGER, TURTLEBOT4, WAFFLE, WAFFLE_PI, RobotSpec, robot_spec
 from zros.sim.sensors import LDS_01, TURTLEBOT3_IMU, ImuReading, ImuSpec, LidarSpec
 from zros.sim.simulation import DEFAULT_DT, OdometryState, SimError, SimRobot, Simulation
 from zros.sim.world import Pose2D, World
@@ -30,6 +30,6 @@ __all__ = [
     'Simulation', 'SimRobot', 'SimError', 'OdometryState', 'DEFAULT_DT',
     'World', 'Pose2D', 'load_world', 'parse_world', 'world_names', 'world_path', 'WORLDS_DIR',
     'WorldFileError', 'OccupancyRaster', 'rasterize',
-    'RobotSpec', 'BURGER', 'WAFFLE', 'WAFFLE_PI', 'robot_spec', 'wrap_angle',
+    'RobotSpec', 'BURGER', 'WAFFLE', 'WAFFLE_PI', 'TURTLEBOT4', 'robot_spec', 'wrap_angle',
     'LidarSpec', 'LDS_01', 'ImuSpec', 'TURTLEBOT3_IMU', 'ImuReading',
 ]

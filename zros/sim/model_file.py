@@ -31,8 +31,10 @@ Where a Gazebo Sim model says nothing, its topics and frames are Gazebo's defaul
 (zros.sim.gz_topics); `RobotModel.topics` holds them, as Gazebo topic names, and its outputs
 (`drive`, `scan`, `imu_output`, `joint_states`) carry the same names and frames.
 A sensor or publisher the file lacks is not published (Gazebo publishes only what its plugins
-say). The rest of the robot (body disc, mounts, speed limits) is the TurtleBot3 the XML names
-(`waffle_pi`, `waffle`, `burger`), else `fallback` ($TURTLEBOT3_MODEL). A model without a
+say). The rest of the robot (body disc, mounts, speed limits) is the robot whose wheels the Gazebo
+Sim diff-drive plugin states (the TurtleBot4's Create 3 base: separation 0.233 m, radius
+0.03575 m), else the TurtleBot3 the XML names (`waffle_pi`, `waffle`, `burger`), else `fallback`
+($TURTLEBOT3_MODEL). A model without a
 diff-drive plugin is that TurtleBot3 as ROBOTIS's model file describes it, with a one-line
 `warning`.
 """
@@ -42,7 +44,7 @@ from dataclasses import dataclass, replace
 from typing import NamedTuple
 
 from zros.sim.gz_topics import RobotTopics, default_topics, gz_name
-from zros.sim.robot import RobotSpec, odometry_source, robot_spec
+from zros.sim.robot import TURTLEBOT4, RobotSpec, odometry_source, robot_spec
 from zros.sim.sdf import SdfError, XmlElement, flag, numbers, parse_xml
 from zros.sim.sensors import LDS_01, TURTLEBOT3_IMU, ImuSpec, LidarSpec
 
@@ -96,6 +98,9 @@ TURTLEBOT3_DRIVE = DiffDrivePlugin(publish_odom=True, publish_odom_tf=True, upda
 TURTLEBOT3_SCAN = SensorOutput('scan', 'base_scan', LDS_01.rate)
 TURTLEBOT3_IMU_OUTPUT = SensorOutput('imu', 'imu_link', TURTLEBOT3_IMU.rate)
 TURTLEBOT3_JOINT_STATES = JointStateOutput('joint_states', 30.0, WHEEL_JOINTS)
+#: Robots known by their wheels (a model file names no robot zros could look up otherwise).
+_BY_WHEELS = (TURTLEBOT4,)
+_WHEEL_TOLERANCE = 1e-4    # [m]
 
 
 class RobotModel(NamedTuple):
@@ -140,7 +145,7 @@ def robot_from_xml(xml: str, *, fallback: str, source: str = '<robot XML>', worl
     lidar = _lidar(ray[1], source) if ray else LDS_01
     imu_spec = _imu(imu[1], source) if imu else None
     if gz is not None:
-        return _gz_model(root, model, name, world, gz, base, lidar, ray, imu, imu_spec, source)
+        return _gz_model(root, model, name, world, gz, _robot_by_wheels(gz, base, source), lidar, ray, imu, imu_spec, source)
     spec = replace(base,
                    wheel_separation=_number(classic, 'wheel_separation', base.wheel_separation, source),
                    wheel_radius=_number(classic, 'wheel_diameter', 2 * base.wheel_radius, source) / 2,
@@ -209,6 +214,14 @@ def _sensor(root: XmlElement, types: tuple[str, ...]) -> tuple[XmlElement, XmlEl
     return None
 
 
+def _robot_by_wheels(plugin: XmlElement, named: RobotSpec, source: str) -> RobotSpec:
+    """The known robot whose wheel separation and radius the diff-drive `plugin` states, else `named`."""
+    wheels = (_number(plugin, 'wheel_separation', 0.0, source), _number(plugin, 'wheel_radius', 0.0, source))
+    return next((spec for spec in _BY_WHEELS
+                 if abs(spec.wheel_separation - wheels[0]) < _WHEEL_TOLERANCE
+                 and abs(spec.wheel_radius - wheels[1]) < _WHEEL_TOLERANCE), named)
+
+
 def _plugin(root: XmlElement, marks: tuple[str, ...]) -> XmlElement | None:
     """The first `<plugin>` whose filename or name contains one of `marks`."""
     return next((p for p in root.iter('plugin')
@@ -227,6 +240,8 @@ def _gz_topics(root: XmlElement, model: XmlElement | None, name: str, world: str
     """Gazebo Sim's topics and frames of a model: what its plugins and sensors say, else Gazebo's
     defaults (a sensor's default topic is scoped by its link and name)."""
     links = {id(s): link.attrib.get('name', '') for link in root.iter('link') for s in link.iter('sensor')}
+    links.update({id(s): g.attrib['reference'] for g in root.iter('gazebo') if g.attrib.get('reference')
+                  for s in g.iter('sensor')})   # a URDF's sensors sit in <gazebo reference="LINK">
     first_link = next(iter(model.findall('link')), None) if model is not None else None
 
     def scoped(sensor: XmlElement | None, kind: str) -> tuple[str, str]:

@@ -1,8 +1,15 @@
-"""TurtleBot3 models and their drive: the numbers, the differential-drive law, wheel odometry.
+"""TurtleBot3 and TurtleBot4 models and their drive: the numbers, the differential-drive law, wheel odometry.
 
 Numbers are TurtleBot3's (URDF, Gazebo model.sdf, teleop limits; see the reference digest):
 wheel radius 0.033 m, wheel separation 0.160 m (burger), speed limits 0.22 m/s and 2.84 rad/s,
 wheel acceleration limited to 1.0 m/s^2 as Gazebo's diff-drive plugin does.
+
+The TurtleBot4 (`TURTLEBOT4`) is a Create 3 base with an RPLIDAR A1 on its shell, as Nav2's
+nav2_minimal_tb4_description states it for Gazebo Sim: wheel separation 0.233 m, wheel radius
+0.03575 m, limits 0.5 m/s, 2.0 rad/s and 2 m/s^2, a 0.164 m body disc, base_link on the floor
+(base_footprint coincides with it), the lidar 0.193 m up and turned a quarter turn left
+(`lidar_yaw`: its 0 rad beam points along base_link's +y). zros.sim.model_file picks it for a
+model whose diff-drive plugin has its wheels.
 
 The body is a disc around base_footprint (`body_radius`): it covers the wheels and the lidar, so
 turning in place never touches anything; the burger's square plate reaches 0.124 m at its back
@@ -28,7 +35,7 @@ import numpy as np
 
 from zros.rotations import wrap_angle
 
-__all__ = ['RobotSpec', 'BURGER', 'WAFFLE', 'WAFFLE_PI', 'robot_spec', 'DiffDrive', 'WheelOdometry',
+__all__ = ['RobotSpec', 'BURGER', 'WAFFLE', 'WAFFLE_PI', 'TURTLEBOT4', 'robot_spec', 'DiffDrive', 'WheelOdometry',
            'clamp', 'integrate_twist', 'ODOMETRY_SOURCES', 'odometry_source']
 
 #: Gazebo's diff-drive `odometry_source` values by their number: 0 ENCODER, 1 WORLD.
@@ -55,6 +62,7 @@ class RobotSpec:
     wheel_mounts: tuple[tuple[float, float, float], tuple[float, float, float]]   # left, right
     caster_mounts: tuple[tuple[float, float, float], ...]
     mass: float = 1.0                  # [kg]
+    lidar_yaw: float = 0.0             # [rad] the lidar frame's yaw in base_link
 
 
 BURGER = RobotSpec(
@@ -72,6 +80,14 @@ WAFFLE = RobotSpec(
     caster_mounts=((-0.177, -0.064, -0.004), (-0.177, 0.064, -0.004)), mass=1.8)
 
 WAFFLE_PI = RobotSpec(**{**WAFFLE.__dict__, 'model': 'waffle_pi'})
+
+#: Create 3 base (wheels, caster, IMU) + TurtleBot4 shell with the RPLIDAR A1 (rplidar_link).
+TURTLEBOT4 = RobotSpec(
+    model='turtlebot4', wheel_radius=0.03575, wheel_separation=0.233, max_linear=0.5, max_angular=2.0,
+    max_wheel_acceleration=2.0, body_radius=0.164, base_height=0.0,
+    lidar_mount=(-0.04, 0.0, 0.1929), lidar_housing_radius=0.12, imu_mount=(0.0506, 0.0437, 0.0844),
+    wheel_mounts=((0.0, 0.1165, 0.0402), (0.0, -0.1165, 0.0402)), caster_mounts=((0.125, 0.0, 0.0139),),
+    mass=3.4, lidar_yaw=math.pi / 2)
 
 _MODELS = {spec.model: spec for spec in (BURGER, WAFFLE, WAFFLE_PI)}
 

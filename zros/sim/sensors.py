@@ -19,7 +19,7 @@ import numpy as np
 
 from zros.sim.raycast import cast_fan
 
-__all__ = ['LidarSpec', 'LDS_01', 'ImuSpec', 'TURTLEBOT3_IMU', 'ImuReading', 'scan_ranges', 'GRAVITY']
+__all__ = ['LidarSpec', 'LDS_01', 'RPLIDAR_A1', 'ImuSpec', 'TURTLEBOT3_IMU', 'ImuReading', 'scan_ranges', 'GRAVITY']
 
 GRAVITY = 9.80665
 
@@ -45,6 +45,10 @@ class LidarSpec:
 
 
 LDS_01 = LidarSpec()
+
+#: The TurtleBot4's RPLIDAR A1 as its Gazebo Sim model states it: 360 samples over 0-6.28 rad,
+#: 0.164-20 m, 10 Hz (the model gives no noise; zros.sim.model_file then keeps the LDS-01's).
+RPLIDAR_A1 = LidarSpec(samples=360, angle_min=0.0, angle_max=6.28, range_min=0.164, range_max=20.0, rate=10.0)
 
 
 @dataclass(frozen=True)

@@ -404,6 +404,7 @@ class Simulation:
     # -- sensing ---------------------------------------------------------------------------
     def _scan(self, robot: SimRobot, noise: bool) -> np.ndarray:
         x, y, yaw = robot.sensor_pose(robot.spec.lidar_mount)
+        yaw += robot.spec.lidar_yaw
         circles, edges = self.world.circles, self.world.edges
         others = [o for o in self.robots.values() if o is not robot]
         if others:
