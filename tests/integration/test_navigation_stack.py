@@ -298,6 +298,8 @@ navigator.setInitialPose(start)
 # with a timeout, gives up; then wait for the navigator alone.
 print('default wait:', navigator.waitUntilNav2Active(timeout=2.0), flush=True)
 assert navigator.waitUntilNav2Active(localizer='')
+# Jazzy's name for a localizer that is no lifecycle node (robot_localization's EKF, GPS): not asked
+assert navigator.waitUntilNav2Active(localizer='robot_localization', timeout=30.0)
 goal = PoseStamped()
 goal.header.frame_id = 'map'
 # Between four pillars, 0.6 m clear of each (a goal a few cm from a pillar is lethal as soon as

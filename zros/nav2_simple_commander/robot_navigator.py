@@ -347,10 +347,12 @@ class BasicNavigator(Node):
         """Block until the localizer (if any) and the navigator are active, and amcl has a pose.
 
         Every few seconds it says who is not ready and why. With `timeout` [s] it gives up and
-        returns False; otherwise it returns True once Nav2 is ready.
+        returns False; otherwise it returns True once Nav2 is ready. `localizer='robot_localization'`
+        (Nav2 Jazzy's name for a localizer that is not a lifecycle node, as with GPS) or ''
+        waits for the navigator alone.
         """
         deadline = None if timeout is None else time.monotonic() + timeout
-        if localizer:
+        if localizer and localizer != 'robot_localization':      # not a lifecycle node: nothing to ask
             if not self._waitForNodeToActivate(localizer, deadline):
                 return False
             if localizer == 'amcl' and not self._waitForInitialPose(deadline):
