@@ -20,7 +20,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-__all__ = ['Topology', 'unavailable_reason', 'remove_namespace', 'remove_stale', 'ROBOT_ADDRESS', 'LAPTOP_ADDRESS', 'LINK_ADDRESS', 'ROBOT_CONNECT',
+__all__ = ['Topology', 'IP', 'ip', 'unavailable_reason', 'remove_namespace', 'remove_stale', 'ROBOT_ADDRESS', 'LAPTOP_ADDRESS', 'LINK_ADDRESS', 'ROBOT_CONNECT',
            'SHAPER']
 
 PREFIX = 'zroslink'
@@ -30,41 +30,52 @@ ROUTER_PORT = 7447
 #: what the robot's processes put in ZROS_CONNECT: the shaper's end of the link
 ROBOT_CONNECT = f'tcp/{LINK_ADDRESS}:{ROUTER_PORT}'
 SHAPER = Path(__file__).resolve().parent / 'link_shaper.py'
-_IP = shutil.which('ip') or '/usr/sbin/ip'
+IP = shutil.which('ip') or '/usr/sbin/ip'
 
 
-def _run(*args: str, check: bool = True) -> str:
-    done = subprocess.run([_IP, *args], capture_output=True, text=True, timeout=20)
+def ip(*args: str, check: bool = True) -> str:
+    """Run iproute2's `ip ARGS`; its output, or RuntimeError with its message (unless not `check`)."""
+    done = subprocess.run([IP, *args], capture_output=True, text=True, timeout=20)
     if check and done.returncode:
         raise RuntimeError(f'ip {" ".join(args)}: {done.stderr.strip()}')
     return done.stdout
 
 
 def unavailable_reason() -> str | None:
-    """Why namespaces cannot be built here, or None."""
+    """Why namespaces, veth pairs and bridges cannot be built here (tried once, then removed),
+    or None."""
     if not sys.platform.startswith('linux'):
         return 'network namespaces need Linux'
     if os.geteuid() != 0:
-        return 'needs root to create network namespaces'
-    if not os.path.exists(_IP):
+        return 'needs root to create network namespaces, veth pairs and bridges'
+    if not os.path.exists(IP):
         return 'needs iproute2 (the ip command)'
+    probe = f'{PREFIX}-{os.getpid()}-probe'
+    try:
+        ip('netns', 'add', probe)
+        ip('-n', probe, 'link', 'add', 'br0', 'type', 'bridge')
+        ip('-n', probe, 'link', 'add', 'p0', 'type', 'veth', 'peer', 'name', 'p1')
+    except (RuntimeError, OSError, subprocess.TimeoutExpired) as exc:
+        return f'cannot create network namespaces, bridges or veth pairs here: {exc}'
+    finally:
+        ip('netns', 'del', probe, check=False)
     return None
 
 
 def remove_namespace(ns: str) -> None:
     """Kill what still runs in `ns` (the namespace is its creator's), then delete it."""
-    for pid in _run('netns', 'pids', ns, check=False).split():
+    for pid in ip('netns', 'pids', ns, check=False).split():
         try:
             os.kill(int(pid), signal.SIGKILL)
         except (ProcessLookupError, ValueError):
             pass
-    _run('netns', 'del', ns, check=False)
+    ip('netns', 'del', ns, check=False)
 
 
 def remove_stale(prefix: str) -> None:
     """Delete the namespaces `<prefix>-<pid>-*` whose creating process `<pid>` is gone (a run
     that died without cleaning up)."""
-    for line in _run('netns', 'list', check=False).splitlines():
+    for line in ip('netns', 'list', check=False).splitlines():
         name = (line.split() or [''])[0]
         parts = name.split('-')
         if len(parts) == 3 and parts[0] == prefix and parts[1].isdigit() and not _alive(int(parts[1])):
@@ -99,24 +110,24 @@ class Topology:
 
     def _build(self) -> None:
         for ns in (self.robot, self.mid, self.laptop):
-            _run('netns', 'add', ns)
+            ip('netns', 'add', ns)
             self._namespaces.append(ns)
-            _run('-n', ns, 'link', 'set', 'lo', 'up')
-            subprocess.run([_IP, 'netns', 'exec', ns, 'sysctl', '-qw', 'net.ipv6.conf.all.disable_ipv6=1'],
+            ip('-n', ns, 'link', 'set', 'lo', 'up')
+            subprocess.run([IP, 'netns', 'exec', ns, 'sysctl', '-qw', 'net.ipv6.conf.all.disable_ipv6=1'],
                            capture_output=True, timeout=20)
         for ns, end, address, mid_end, mid_address in ((self.robot, 'eth0', ROBOT_ADDRESS, 'to_robot', LINK_ADDRESS),
                                                        (self.laptop, 'eth0', LAPTOP_ADDRESS, 'to_laptop', LINK_LAPTOP_ADDRESS)):
-            _run('link', 'add', end, 'netns', ns, 'type', 'veth', 'peer', 'name', mid_end, 'netns', self.mid)
-            _run('-n', ns, 'addr', 'add', f'{address}/24', 'dev', end)
-            _run('-n', self.mid, 'addr', 'add', f'{mid_address}/24', 'dev', mid_end)
-            _run('-n', ns, 'link', 'set', end, 'up')
-            _run('-n', self.mid, 'link', 'set', mid_end, 'up')
+            ip('link', 'add', end, 'netns', ns, 'type', 'veth', 'peer', 'name', mid_end, 'netns', self.mid)
+            ip('-n', ns, 'addr', 'add', f'{address}/24', 'dev', end)
+            ip('-n', self.mid, 'addr', 'add', f'{mid_address}/24', 'dev', mid_end)
+            ip('-n', ns, 'link', 'set', end, 'up')
+            ip('-n', self.mid, 'link', 'set', mid_end, 'up')
 
     def spawn(self, ns: str, argv: list[str], name: str, env: dict[str, str] | None = None,
               cwd: Path | None = None) -> subprocess.Popen:
         """Start `argv` in namespace `ns`, its own process group, output in `<logs>/<name>.log`."""
         log = open(self.logs / f'{name}.log', 'wb')
-        proc = subprocess.Popen([_IP, 'netns', 'exec', ns, *map(str, argv)], stdout=log, stderr=subprocess.STDOUT,
+        proc = subprocess.Popen([IP, 'netns', 'exec', ns, *map(str, argv)], stdout=log, stderr=subprocess.STDOUT,
                                 stdin=subprocess.DEVNULL, env=env, cwd=cwd, start_new_session=True)
         log.close()
         proc.log = self.logs / f'{name}.log'   # type: ignore[attr-defined]

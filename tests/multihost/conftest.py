@@ -15,7 +15,6 @@ left-overs of a crashed run (its pid is gone) are removed at the start of the ne
 from __future__ import annotations
 
 import os
-import shutil
 import signal
 import subprocess
 import sys
@@ -25,7 +24,7 @@ from typing import Callable
 
 import pytest
 
-from tools.link_netns import remove_namespace, remove_stale
+from tools.link_netns import IP, ip as _ip, remove_namespace, remove_stale, unavailable_reason
 
 REPO = Path(__file__).resolve().parents[2]
 PREFIX = 'zrosmh'
@@ -33,36 +32,9 @@ SUBNET = '10.123.0'
 HOSTS = ('h1', 'h2', 'h3')
 ROUTER = f'{SUBNET}.1'
 
-IP = shutil.which('ip') or next((p for p in ('/usr/sbin/ip', '/sbin/ip') if os.path.exists(p)), None)
 _SCRUBBED = ('ZROS_CONNECT', 'ZROS_LISTEN', 'ZROS_DISCOVERY', 'ZROS_CONFIG', 'ZROS_DOMAIN_ID', 'ROS_DOMAIN_ID',
              'ZROS_INTERFACE_PATH', 'ZROS_NODE_PATH', 'ZENOH_CONFIG', 'RCUTILS_CONSOLE_OUTPUT_FORMAT',
              'RCUTILS_LOGGING_USE_STDOUT')
-
-
-def _ip(*args: str, check: bool = True) -> subprocess.CompletedProcess:
-    result = subprocess.run([IP, *args], capture_output=True, text=True, timeout=20)
-    if check and result.returncode != 0:
-        raise RuntimeError(f"ip {' '.join(args)}: {result.stderr.strip()}")
-    return result
-
-
-def unavailable_reason() -> str | None:
-    if not sys.platform.startswith('linux'):
-        return 'network namespaces need Linux'
-    if os.geteuid() != 0:
-        return 'needs root: the test creates network namespaces, veth pairs and a bridge'
-    if IP is None:
-        return 'needs iproute2 (the `ip` command) to build network namespaces'
-    probe = f'{PREFIX}-{os.getpid()}-probe'
-    try:
-        _ip('netns', 'add', probe)
-        _ip('-n', probe, 'link', 'add', 'br0', 'type', 'bridge')
-        _ip('-n', probe, 'link', 'add', 'p0', 'type', 'veth', 'peer', 'name', 'p1')
-    except (RuntimeError, OSError, subprocess.TimeoutExpired) as exc:
-        return f'cannot create network namespaces, bridges or veth pairs here: {exc}'
-    finally:
-        _ip('netns', 'del', probe, check=False)
-    return None
 
 
 class Proc:
