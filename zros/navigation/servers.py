@@ -102,7 +102,7 @@ class GoalRunner:
                     self.stop_if_current(handle)
                     handle.canceled()
                     return result
-                started = clock.now().nanoseconds
+                started = clock.now().nanoseconds if report_missed_rate else 0
                 done = step()
                 if done is not None:
                     return done
