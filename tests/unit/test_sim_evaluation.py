@@ -30,11 +30,16 @@ def seen(truth, world_map: OccupancyMap) -> np.ndarray:
     return walls
 
 
-def test_a_perfect_map_scores_perfectly_and_shows_no_red():
+def room_maps() -> tuple:
+    """The room's truth raster, its perfect 5 cm map, and the wall cells a robot inside sees."""
     world = room()
     truth = rasterize(world, 0.05)
     perfect = ground_truth_map(world, 0.05)
-    walls = seen(truth, perfect)
+    return truth, perfect, seen(truth, perfect)
+
+
+def test_a_perfect_map_scores_perfectly_and_shows_no_red():
+    truth, perfect, walls = room_maps()
     quality = map_quality(perfect, np.zeros(3), truth, walls)
     assert quality.wall_recall == 1.0 and quality.false_occupied == 0.0 and quality.wall_cells > 200
     assert quality.false_occupied_beyond_one_cell == 0.0
@@ -46,10 +51,7 @@ def test_a_perfect_map_scores_perfectly_and_shows_no_red():
 
 
 def test_a_map_in_another_frame_scores_the_same_once_the_frame_is_given():
-    world = room()
-    truth = rasterize(world, 0.05)
-    perfect = ground_truth_map(world, 0.05)
-    walls = seen(truth, perfect)
+    truth, perfect, walls = room_maps()
     spawn = np.array([2.0, 1.5, 0.0])                  # SLAM's map frame: where the robot started
     ox, oy, _ = perfect.origin
     in_map = OccupancyMap(perfect.data, perfect.resolution, (ox - 2.0, oy - 1.5, 0.0))
@@ -57,10 +59,7 @@ def test_a_map_in_another_frame_scores_the_same_once_the_frame_is_given():
 
 
 def test_a_map_two_cells_off_is_counted_and_painted_where_it_is_wrong():
-    world = room()
-    truth = rasterize(world, 0.05)
-    perfect = ground_truth_map(world, 0.05)
-    walls = seen(truth, perfect)
+    truth, perfect, walls = room_maps()
     ox, oy, _ = perfect.origin
     shifted = OccupancyMap(perfect.data, perfect.resolution, (ox + 0.1, oy, 0.0))     # 10 cm east
     quality = map_quality(shifted, np.zeros(3), truth, walls)
@@ -78,10 +77,7 @@ def test_a_map_two_cells_off_is_counted_and_painted_where_it_is_wrong():
 
 def test_a_wall_one_cell_thick_in_front_of_its_face_is_false_only_to_the_strict_count():
     """What lidar noise does to a face on a grid line: the free cell in front is marked too."""
-    world = room()
-    truth = rasterize(world, 0.05)
-    perfect = ground_truth_map(world, 0.05)
-    walls = seen(truth, perfect)
+    truth, perfect, walls = room_maps()
     ox, oy, _ = perfect.origin
     one_off = OccupancyMap(perfect.data, perfect.resolution, (ox + 0.05, oy, 0.0))
     quality = map_quality(one_off, np.zeros(3), truth, walls)
