@@ -124,7 +124,7 @@ navigator = BasicNavigator()
 start = PoseStamped()
 start.header.frame_id = 'map'
 start.pose.position.x, start.pose.position.y, start.pose.orientation.w = -2.0, -0.5, 1.0
-navigator.waitUntilNav2Active(localizer='robot_localization')
+navigator.waitUntilNav2Active(localizer='map_server')
 # Placed once the stack is up (a pose sent before the simulator subscribes is lost, as in ROS).
 navigator.setInitialPose(start)
 time.sleep(1.0)
