@@ -19,7 +19,9 @@ _WHEEL_ROLL = -1.57        # the URDF's wheel joint rpy: the wheel axle along ba
 
 
 def static_frames(spec: RobotSpec) -> list[tuple[str, str, tuple[float, float, float]]]:
-    """(parent, child, translation) of every fixed joint, none of which rotates."""
+    """(parent, child, translation) of the fixed joints the simulated robot has (not the URDF's
+    camera frames), all unrotated: the URDF's casters carry ROBOTIS's -1.57 roll, which nothing
+    reads from a caster frame, so the simulator leaves it out."""
     frames = [('base_footprint', 'base_link', (0.0, 0.0, spec.base_height)),
               ('base_link', 'base_scan', spec.lidar_mount),
               ('base_link', 'imu_link', spec.imu_mount)]

@@ -86,5 +86,15 @@ def test_each_urdf_has_the_simulators_fixed_frames_and_wheel_joints(model: str) 
     from nodes.turtlebot3_gazebo._frames import WHEEL_JOINTS, static_frames
     robot = parse_urdf((PACKAGE / 'urdf' / f'turtlebot3_{model}.urdf').read_text(encoding='utf-8'))
     fixed = {(j.parent, j.child): tuple(j.origin.xyz) for j in robot.joints.values() if j.type == 'fixed'}
-    assert fixed == {(parent, child): pytest.approx(xyz) for parent, child, xyz in static_frames(robot_spec(model))}
+    simulated = {(parent, child): pytest.approx(xyz) for parent, child, xyz in static_frames(robot_spec(model))}
+    assert {key: fixed[key] for key in simulated} == simulated
+    cameras = {child for parent, child in fixed.keys() - simulated.keys()}
+    assert cameras == {'burger': set(),
+                       'waffle': {'camera_link', 'camera_rgb_frame', 'camera_rgb_optical_frame',
+                                  'camera_depth_frame', 'camera_depth_optical_frame'},
+                       'waffle_pi': {'camera_link', 'camera_rgb_frame', 'camera_rgb_optical_frame'}}[model]
+    optical = next(j for j in robot.joints.values() if j.child == 'camera_rgb_optical_frame') if cameras else None
+    assert optical is None or tuple(optical.origin.rpy) == pytest.approx((-1.57, 0.0, -1.57))
+    assert all(tuple(j.origin.rpy) == pytest.approx((-1.57, 0.0, 0.0))
+               for j in robot.joints.values() if j.child.startswith('caster_'))
     assert {j.name for j in robot.joints.values() if j.type == 'continuous'} == set(WHEEL_JOINTS)

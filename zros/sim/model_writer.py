@@ -23,7 +23,23 @@ __all__ = ['model_sdf', 'model_urdf', 'model_config', 'BODY_HEIGHT']
 
 BODY_HEIGHT = 0.14          # [m] of the body cylinder, from base_link up
 _WHEEL_WIDTH = 0.018
-_WHEEL_ROLL = -1.57         # ROBOTIS's wheel joint roll: the axle along base_link's y
+_WHEEL_ROLL = -1.57         # ROBOTIS's wheel and caster joint roll: the axle along base_link's y
+_OPTICAL = (-1.57, 0.0, -1.57)   # camera frame (x forward) -> optical frame (z forward), as ROBOTIS writes it
+#: The camera's fixed frames in ROBOTIS's turtlebot3_gazebo URDFs, (joint, parent, child, xyz, rpy):
+#: the waffle's RealSense R200 and the waffle_pi's Raspberry Pi camera. The simulator has no
+#: camera; the frames are here so that a user's TF tree (and RViz's camera frames) match upstream's.
+_CAMERA_FRAMES: dict[str, tuple[tuple[str, str, str, tuple[float, float, float], tuple[float, float, float]], ...]] = {
+    'waffle': (
+        ('camera_joint', 'base_link', 'camera_link', (0.064, -0.065, 0.094), (0, 0, 0)),
+        ('camera_rgb_joint', 'camera_link', 'camera_rgb_frame', (0.005, 0.018, 0.013), (0, 0, 0)),
+        ('camera_rgb_optical_joint', 'camera_rgb_frame', 'camera_rgb_optical_frame', (0, 0, 0), _OPTICAL),
+        ('camera_depth_joint', 'camera_link', 'camera_depth_frame', (0.005, 0.028, 0.013), (0, 0, 0)),
+        ('camera_depth_optical_joint', 'camera_depth_frame', 'camera_depth_optical_frame', (0, 0, 0), _OPTICAL)),
+    'waffle_pi': (
+        ('camera_joint', 'base_link', 'camera_link', (0.073, -0.011, 0.084), (0, 0, 0)),
+        ('camera_rgb_joint', 'camera_link', 'camera_rgb_frame', (0.003, 0.011, 0.009), (0, 0, 0)),
+        ('camera_rgb_optical_joint', 'camera_rgb_frame', 'camera_rgb_optical_frame', (0, 0, 0), _OPTICAL)),
+}
 
 
 def _n(*values: float) -> str:
@@ -147,12 +163,14 @@ def model_urdf(spec: RobotSpec, *, note: str = '') -> str:
                         (_WHEEL_ROLL, 0, 0), '\n    <axis xyz="0 0 1"/>'),
                   cylinder_link(f'wheel_{side}_link', spec.wheel_radius, _WHEEL_WIDTH)]
     for name, mount in _casters(spec):
-        parts += [joint(name.removesuffix('_link') + '_joint', 'fixed', 'base_link', name, mount, (0, 0, 0)),
+        parts += [joint(name.removesuffix('_link') + '_joint', 'fixed', 'base_link', name, mount, (_WHEEL_ROLL, 0, 0)),
                   f'  <link name="{name}"/>\n']
     parts += [joint('imu_joint', 'fixed', 'base_link', 'imu_link', spec.imu_mount, (0, 0, 0)),
               '  <link name="imu_link"/>\n',
               joint('scan_joint', 'fixed', 'base_link', 'base_scan', spec.lidar_mount, (0, 0, 0)),
               cylinder_link('base_scan', spec.lidar_housing_radius, 0.0315)]
+    for name, parent, child, xyz, rpy in _CAMERA_FRAMES.get(spec.model, ()):
+        parts += [joint(name, 'fixed', parent, child, xyz, rpy), f'  <link name="{child}"/>\n']
     comment = f'<!-- {escape(note)} -->\n' if note else ''
     return f'<?xml version="1.0"?>\n{comment}<robot name="turtlebot3_{spec.model}">\n  ' + '  '.join(
         p if not p.startswith('  ') else p[2:] for p in parts) + '</robot>\n'
