@@ -59,6 +59,7 @@ import sys
 from dataclasses import dataclass, field, replace
 
 from zros.errors import RCLError, ZrosError
+from zros.priority import ENV as PRIORITY_ENV, parse_topic_priorities
 
 __all__ = ['SessionSettings', 'settings_from_env', 'security_config_file', 'HUB_BASE_PORT', 'open_session', 'build_config',
            'validate_endpoint', 'DISCOVERY_MODES', 'SETTINGS_ENV', 'SESSION_OPTIONS', 'add_session_options',
@@ -258,6 +259,8 @@ def settings_from_env(env: os._Environ | dict | None = None, *, domain_id: int |
         reasons['domain_id'] = 'argument'
     if not 0 <= domain_id <= 232:
         raise RCLError(f'domain id must be within 0-232, got {domain_id}')
+    # per-topic priorities (zros.priority): a bad rule stops the process here, before any node
+    parse_topic_priorities(env.get(PRIORITY_ENV, ''))
 
     config_file = (env.get('ZROS_CONFIG') or '').strip() or None
     secure = False
