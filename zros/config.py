@@ -471,8 +471,12 @@ def build_config(settings: SessionSettings, *, as_hub: bool, mesh: bool = True):
                 put(key, LOOPBACK_LEASE_MS)
     put('timestamping/enabled', True)
     from zros.shm import zenoh_settings
-    for key, value in zenoh_settings().items():  # the shared-memory pool (zros.shm)
-        if unset(key):
+    # the shared-memory pool (zros.shm). A file's values include Zenoh's defaults (shared memory
+    # on), so ZROS_SHM_POOL_SIZE, when given, wins over the file as the other variables do: a
+    # robot's client config must not bring shared memory back across namespaces of one host.
+    shm_given = bool(os.environ.get('ZROS_SHM_POOL_SIZE', '').strip())
+    for key, value in zenoh_settings().items():
+        if shm_given or unset(key):
             put(key, value)
     # The loopback hub is re-dialled quickly: when its process exits, the next zros process takes
     # the port over, and a short-lived one (a CLI command) only waits ~0.3 s for peers to join.
