@@ -46,6 +46,7 @@ __all__ = ['LinkSettings', 'TokenBucket', 'Outages', 'AnyOutage', 'Direction', '
            'main']
 
 CHUNK = 4096               # [bytes] read at a time: a few frames, so a big message is paced, not sent whole
+KERNEL_BUFFER = 1 << 15    # [bytes] SO_RCVBUF of the proxy's sockets (the kernel doubles it)
 WINDOW = 1 << 18           # [bytes] held per direction before the proxy stops reading: about 1 s at 2 Mbit/s, an access point's queue
 
 
@@ -313,7 +314,11 @@ class Shaper:
             _reset(writer)
             return
         for w in (writer, up_writer):
-            w.get_extra_info('socket').setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+            sock = w.get_extra_info('socket')
+            sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+            # the link's queue is WINDOW, not a kernel receive buffer that autotuning grows to
+            # megabytes while the proxy is not reading: that would be seconds of hidden queue
+            sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, KERNEL_BUFFER)
         self._connections.update((writer, up_writer))
         pipes = (_Pipe(self.link.up, self.link, reader, up_writer), _Pipe(self.link.down, self.link, up_reader, writer))
         tasks = [asyncio.ensure_future(c) for p in pipes for c in (p.read(), p.write())]

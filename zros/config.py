@@ -59,6 +59,7 @@ import sys
 from dataclasses import dataclass, field, replace
 
 from zros.errors import RCLError, ZrosError
+from zros.priority import ENV as PRIORITY_ENV, parse_topic_priorities
 
 __all__ = ['SessionSettings', 'settings_from_env', 'security_config_file', 'HUB_BASE_PORT', 'open_session', 'build_config',
            'validate_endpoint', 'DISCOVERY_MODES', 'SETTINGS_ENV', 'SESSION_OPTIONS', 'add_session_options',
@@ -258,6 +259,8 @@ def settings_from_env(env: os._Environ | dict | None = None, *, domain_id: int |
         reasons['domain_id'] = 'argument'
     if not 0 <= domain_id <= 232:
         raise RCLError(f'domain id must be within 0-232, got {domain_id}')
+    # per-topic priorities (zros.priority): a bad rule stops the process here, before any node
+    parse_topic_priorities(env.get(PRIORITY_ENV, ''))
 
     config_file = (env.get('ZROS_CONFIG') or '').strip() or None
     secure = False
@@ -468,8 +471,12 @@ def build_config(settings: SessionSettings, *, as_hub: bool, mesh: bool = True):
                 put(key, LOOPBACK_LEASE_MS)
     put('timestamping/enabled', True)
     from zros.shm import zenoh_settings
-    for key, value in zenoh_settings().items():  # the shared-memory pool (zros.shm)
-        if unset(key):
+    # the shared-memory pool (zros.shm). A file's values include Zenoh's defaults (shared memory
+    # on), so ZROS_SHM_POOL_SIZE, when given, wins over the file as the other variables do: a
+    # robot's client config must not bring shared memory back across namespaces of one host.
+    shm_given = bool(os.environ.get('ZROS_SHM_POOL_SIZE', '').strip())
+    for key, value in zenoh_settings().items():
+        if shm_given or unset(key):
             put(key, value)
     # The loopback hub is re-dialled quickly: when its process exits, the next zros process takes
     # the port over, and a short-lived one (a CLI command) only waits ~0.3 s for peers to join.

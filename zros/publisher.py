@@ -6,6 +6,7 @@ from typing import TYPE_CHECKING, Any, Callable, Generic
 from zros.entity import NodeEntity
 from zros.graph import EntityKind
 from zros.message import MsgT, encoder
+from zros.priority import transport_priority
 from zros.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from zros.wire import AttachmentWriter
 
@@ -36,9 +37,13 @@ class Publisher(NodeEntity, Generic[MsgT]):
         session = node.context.session
         key = topic_key(node.context.domain_id, topic)
         reliable = qos.reliability != ReliabilityPolicy.BEST_EFFORT
+        # zros.priority: a cmd_vel overtakes a map queued on a slow link
+        self.transport_priority = transport_priority(topic, msg_type._TYPE)
         options: dict[str, Any] = dict(
             congestion_control=zenoh.CongestionControl.BLOCK if reliable else zenoh.CongestionControl.DROP,
             reliability=zenoh.Reliability.RELIABLE if reliable else zenoh.Reliability.BEST_EFFORT,
+            priority=getattr(zenoh.Priority, self.transport_priority.priority.upper()),
+            express=self.transport_priority.express,
         )
         if qos.durability == DurabilityPolicy.TRANSIENT_LOCAL:
             self._zenoh = zenoh.ext.declare_advanced_publisher(

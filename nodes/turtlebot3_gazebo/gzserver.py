@@ -92,7 +92,8 @@ class GazeboNode(Node):
         self._robots: dict[str, _Robot] = {}
         world = load_world(self._string('world', 'empty_world'), on_warning=self.get_logger().warn)
         self._world_name = world.name
-        self._sim = Simulation(world, seed=self._integer('seed', 0), on_collision=self._on_collision)
+        self._sim = Simulation(world, seed=self._integer('seed', 0), on_collision=self._on_collision,
+                               on_command_timeout=self._on_command_timeout)
         self._rtf = self._number('real_time_factor', 1.0, minimum=0.0)
         self._clock_period_ns = int(1e9 / self._number('publish_rate', 100.0, minimum=1e-3))
         self._paused = bool(self.declare_parameter('paused', False).value)
@@ -223,6 +224,12 @@ class GazeboNode(Node):
         p = robot.pose
         self.get_logger().warn(f"'{robot.name}' collided at x={p.x:.2f} y={p.y:.2f} "
                                f'(collision #{robot.collisions})', throttle_duration_sec=1.0)
+
+    def _on_command_timeout(self, robot: SimRobot) -> None:
+        """The watchdog stopped a robot whose commands stopped coming (a lost link, a dead
+        controller): say so once, with the simulated time to the step (benchmarks/link.py reads it)."""
+        self.get_logger().warn(f"'{robot.name}' stopped: no cmd_vel for {robot.command_timeout:g} s "
+                               f'(cmd_vel_timeout) at {self._sim.time_ns / 1e9:.3f} s simulated time')
 
     # -- services ----------------------------------------------------------------------------
     def _create_services(self) -> None:

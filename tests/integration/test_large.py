@@ -9,6 +9,7 @@ import json
 
 import numpy as np
 
+from conftest import REPO
 from zros.executors import SingleThreadedExecutor
 from zros.keys import topic_key
 from zros.node import Node
@@ -95,6 +96,9 @@ def test_shared_memory_settings(monkeypatch):
     from zros.config import SessionSettings, build_config
     monkeypatch.setenv('ZROS_SHM_POOL_SIZE', '0')
     config = build_config(SessionSettings(), as_hub=False)
+    assert json.loads(config.get_json('transport/shared_memory/enabled')) is False
+    # with a config file (the robot's client.json5) too: the variable wins over Zenoh's default
+    config = build_config(SessionSettings(config_file=str(REPO / 'configs' / 'zenoh' / 'client.json5')), as_hub=False)
     assert json.loads(config.get_json('transport/shared_memory/enabled')) is False
     monkeypatch.setenv('ZROS_SHM_POOL_SIZE', '128M')
     config = build_config(SessionSettings(), as_hub=False)

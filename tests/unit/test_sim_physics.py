@@ -189,17 +189,43 @@ def test_reset_restarts_time_poses_odometry_and_noise() -> None:
 
 
 def test_command_timeout_stops_a_robot_that_hears_nothing() -> None:
-    sim = Simulation(load_world('empty_world'))
+    stops: list[float] = []
+    sim = Simulation(load_world('empty_world'), on_command_timeout=lambda r: stops.append(sim.time))
     robot = sim.add_robot('burger', (0.0, 0.0, 0.0))
     robot.command_timeout = 0.5
     robot.command(0.2, 0.0)
     sim.step(3.0)
     assert robot.velocity == (0.0, 0.0)
-    assert robot.pose.x == pytest.approx(0.2 * 0.5, abs=0.01)
+    assert robot.pose.x == pytest.approx(0.2 * 0.5 - 0.2 ** 2 / 2 / 1.0, abs=0.003)   # less the run-up, no run-down
+    assert len(stops) == 1 and 0.5 < stops[0] <= 0.5 + sim.dt + 1e-9      # reported once, to the step
     robot.command_timeout = None          # the default: the last command holds
     robot.command(0.2, 0.0)
     sim.step(3.0)
-    assert robot.velocity[0] == pytest.approx(0.2)
+    assert robot.velocity[0] == pytest.approx(0.2) and len(stops) == 1
+    robot.command(0.0, 0.0)               # at rest when the timeout passes: nothing to report
+    robot.command_timeout = 0.5
+    sim.step(3.0)
+    assert len(stops) == 1
+
+
+def test_the_watchdog_stops_at_once_where_a_zero_command_decelerates() -> None:
+    """A zero command is paced by the wheels' acceleration limit (Gazebo's plugin); the timeout
+    is the base's watchdog, which zeroes the motors: no movement after the step it fires in."""
+    sim = Simulation(load_world('empty_world'))
+    braked, cut = sim.add_robot('braked', (0.0, 0.0, 0.0)), sim.add_robot('cut', (0.0, 2.0, 0.0))
+    cut.command_timeout = 0.5
+    for robot in (braked, cut):
+        robot.command(0.2, 0.0)
+    sim.step(0.5)
+    braked.command(0.0, 0.0)
+    sim.step(steps=2)
+    x_braked, x_cut = braked.pose.x, cut.pose.x
+    sim.step(1.0)
+    assert braked.pose.x - x_braked == pytest.approx(0.2 ** 2 / 2 / 1.0, abs=0.002)   # v^2/2a at 1 m/s^2
+    assert cut.pose.x == x_cut and cut.velocity == (0.0, 0.0)
+    cut.command(0.0, 0.5)                 # a new command re-arms it: one report per silence
+    sim.step(1.0)
+    assert cut.velocity == (0.0, 0.0)
 
 
 def test_bad_spawns_and_teleports_are_refused() -> None:

@@ -80,7 +80,8 @@ class SimRobot:
         self.lidar = lidar
         self.imu_spec = imu
         self.spawn_pose = pose
-        #: Seconds without a new command after which the robot stops; None: commands hold forever.
+        #: Seconds without a new command after which the robot stops at once (a base's watchdog);
+        #: None: commands hold forever.
         self.command_timeout: float | None = None
         self.collisions = 0
         self._sim = sim
@@ -101,6 +102,7 @@ class SimRobot:
         slip = self._slip_stddev if self.odometry_source == 'encoder' else 0.0
         self.odom = WheelOdometry(self.spec, self._odom_rng, slip)
         self._last_command_ns = self._sim.time_ns
+        self._timed_out = False
         self._velocity = (0.0, 0.0)
         self._acceleration = 0.0
         body = pymunk.Body(self.spec.mass, math.inf)
@@ -125,6 +127,7 @@ class SimRobot:
             raise ValueError(f'command must be finite, got linear={linear}, angular={angular}')
         self.drive.set_target(linear, angular)
         self._last_command_ns = self._sim.time_ns
+        self._timed_out = False
 
     # -- state -----------------------------------------------------------------------------
     @property
@@ -179,12 +182,22 @@ class SimRobot:
                           (self._acceleration + a * n[3], linear * angular + a * n[4], GRAVITY + a * n[5]))
 
     # -- stepping (called by Simulation) -------------------------------------------------------
-    def _before_step(self, dt: float) -> None:
+    def _before_step(self, dt: float) -> bool:
+        """Set this step's wheel speeds; True if the command timeout stopped a moving robot now.
+
+        The timeout is a real base's watchdog (OpenCR's firmware), not a command: it zeroes the
+        wheels at once, without the acceleration limit that paces commanded changes, so a
+        robot that loses its commands stops `command_timeout` after the last one, to a step."""
+        stopped = False
         timeout = self.command_timeout
-        if timeout is not None and self._sim.time_ns - self._last_command_ns > timeout * 1e9:
-            self.drive.target = (0.0, 0.0)
+        if (timeout is not None and not self._timed_out
+                and self._sim.time_ns - self._last_command_ns > timeout * 1e9):
+            self._timed_out = True
+            stopped = self.drive.target != (0.0, 0.0) or self.drive.wheel_speeds != (0.0, 0.0)
+            self.drive.stop()
         self._drive_speeds = self.drive.update(dt)
         self._start = (self._body.position, self._body.angle)
+        return stopped
 
     def _set_velocity(self, body: pymunk.Body, gravity: object, damping: float, dt: float) -> None:
         """pymunk's velocity function: runs after positions move and before contacts are
@@ -227,10 +240,13 @@ class Simulation:
         dt: physics step [s].
         seed: seeds every noise generator (per robot, per sensor).
         on_collision: called with the robot, after the step, each time one starts touching something.
+        on_command_timeout: called with the robot, before the step (at `time`), each time its
+            `command_timeout` stops it while it was moving or commanded to.
     """
 
     def __init__(self, world: World, *, dt: float = DEFAULT_DT, seed: int = 0,
-                 on_collision: Callable[[SimRobot], None] | None = None) -> None:
+                 on_collision: Callable[[SimRobot], None] | None = None,
+                 on_command_timeout: Callable[[SimRobot], None] | None = None) -> None:
         if not dt > 0:
             raise ValueError(f'dt must be > 0, got {dt}')
         self.world = world
@@ -240,6 +256,7 @@ class Simulation:
         self.time_ns = 0
         self.robots: dict[str, SimRobot] = {}
         self.on_collision = on_collision
+        self.on_command_timeout = on_command_timeout
         self._next_index = 0
         self._build_space()
 
@@ -393,7 +410,8 @@ class Simulation:
         dt = self.dt
         robots = list(self.robots.values())
         for robot in robots:
-            robot._before_step(dt)
+            if robot._before_step(dt) and self.on_command_timeout is not None:
+                self.on_command_timeout(robot)
         self.space.step(dt)
         self.time_ns += self.dt_ns
         for robot in robots:
