@@ -187,6 +187,15 @@ def test_a_beam_grazing_a_thin_wall_is_still_a_hit():
     assert distance[0, 0] == 0.0 and distance[1, 0] <= 0.05       # a hit, and a near one: never the maximum
 
 
+def test_parameters_from_a_params_file_section_cast_and_ignore_other_names():
+    parameters = AmclParameters.from_parameters({'alpha1': 1, 'max_beams': 30.0, 'do_beamskip': True,
+                                                 'laser_model_type': 'likelihood_field_prob', 'use_sim_time': True})
+    assert parameters.alpha1 == 1.0 and isinstance(parameters.alpha1, float)
+    assert parameters.max_beams == 30 and isinstance(parameters.max_beams, int)
+    assert parameters.do_beamskip and parameters.laser_model_type == 'likelihood_field_prob'
+    assert parameters.alpha2 == AmclParameters().alpha2
+
+
 # -- the particle filter ---------------------------------------------------------------------------------
 def test_kld_limit_grows_with_the_occupied_bins_within_bounds():
     k = np.array([0, 1, 2, 10, 50, 200, 5000])
