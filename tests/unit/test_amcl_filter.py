@@ -147,6 +147,55 @@ def test_beam_skipping_leaves_out_beams_the_map_does_not_explain():
     assert np.allclose(with_person / with_person[0], without / without[0])
 
 
+def thick_wall_map(middle: int) -> MapGrid:
+    """A room 2 m x 2 m at 0.05 m with a wall three cells thick at x = 1.0-1.15 m (columns 20-22),
+    free on both sides; its middle column is `middle` (-1: unknown, as a lidar maps a wall; 100: solid)."""
+    data = np.zeros((40, 40), dtype=np.int8)
+    data[:, 20] = data[:, 22] = 100
+    data[:, 21] = middle
+    return MapGrid(data, resolution=0.05, origin=(0.0, 0.0))
+
+
+@pytest.mark.parametrize('middle', [-1, 100])
+def test_a_beam_that_came_out_through_a_wall_is_no_hit(middle):
+    model = create_laser_model('likelihood_field_prob', thick_wall_map(middle), z_hit=0.5, z_rand=0.5,
+                               sigma_hit=0.2, max_dist=2.0, max_beams=2)
+    ranges, bearings = np.array([0.52]), np.array([0.0])           # one beam, straight along +x
+    # From x = 0.5 the beam ends on the near face (x 1.02); 0.11 m closer on the far face (1.13),
+    # 0.16 m closer one cell past it (1.18); 0.06 m closer inside the wall (1.08).
+    particles = np.array([[0.5, 1.0, 0.0], [0.61, 1.0, 0.0], [0.66, 1.0, 0.0], [0.56, 1.0, 0.0]])
+    distance = model.end_distances(particles, ranges, bearings, (0.0, 0.0, 0.0))[:, 0]
+    assert distance[0] == 0.0
+    assert distance[1] == distance[2] == 2.0                      # as if the beam had ended off the map
+    assert distance[3] == pytest.approx(0.05 if middle < 0 else 0.0)    # still inside: the field's own score
+    likelihood = model.likelihood(particles, LaserScanData(ranges, bearings, 3.5), (0.0, 0.0, 0.0))
+    assert likelihood[0] > 2.0 * likelihood[1]                     # Nav2's field scores both as hits
+
+
+def test_a_beam_grazing_a_thin_wall_is_still_a_hit():
+    data = np.full((40, 40), -1, dtype=np.int8)                   # unknown beyond a one-cell wall at row 20
+    data[:20] = 0
+    data[20] = 100
+    model = create_laser_model('likelihood_field_prob', MapGrid(data, resolution=0.05, origin=(0.0, 0.0)),
+                               z_hit=0.5, z_rand=0.5, sigma_hit=0.2, max_dist=2.0, max_beams=2)
+    # From (0.1, 0.85) to (1.8, 1.02) on the wall's face, 5.7 deg off it: the look-back points stay
+    # in the face's cells; from 1 cm higher the end point lies just behind the face.
+    bearing = math.atan2(0.17, 1.7)
+    particles = np.array([[0.1, 0.85, 0.0], [0.1, 0.86, 0.0]])
+    distance = model.end_distances(particles, np.array([math.hypot(1.7, 0.17)]), np.array([bearing]),
+                                   (0.0, 0.0, 0.0))
+    assert distance[0, 0] == 0.0 and distance[1, 0] <= 0.05       # a hit, and a near one: never the maximum
+
+
+def test_parameters_from_a_params_file_section_cast_and_ignore_other_names():
+    parameters = AmclParameters.from_parameters({'alpha1': 1, 'max_beams': 30.0, 'do_beamskip': True,
+                                                 'laser_model_type': 'likelihood_field_prob', 'use_sim_time': True})
+    assert parameters.alpha1 == 1.0 and isinstance(parameters.alpha1, float)
+    assert parameters.max_beams == 30 and isinstance(parameters.max_beams, int)
+    assert parameters.do_beamskip and parameters.laser_model_type == 'likelihood_field_prob'
+    assert parameters.alpha2 == AmclParameters().alpha2
+
+
 # -- the particle filter ---------------------------------------------------------------------------------
 def test_kld_limit_grows_with_the_occupied_bins_within_bounds():
     k = np.array([0, 1, 2, 10, 50, 200, 5000])

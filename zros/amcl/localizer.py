@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import Mapping, NamedTuple
 
 import numpy as np
 
@@ -74,6 +74,13 @@ class AmclParameters:
     update_min_d: float = 0.25
     z_hit: float = 0.5
     z_rand: float = 0.5
+
+    @classmethod
+    def from_parameters(cls, values: Mapping[str, object]) -> AmclParameters:
+        """The tunables named in `values` (an `amcl:` section's ros__parameters; other names are
+        ignored), each cast to its field's type; the others keep their defaults."""
+        defaults = cls()
+        return cls(**{name: type(default)(values[name]) for name, default in vars(defaults).items() if name in values})
 
 
 class UpdateResult(NamedTuple):

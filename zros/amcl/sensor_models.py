@@ -18,18 +18,38 @@ Both are nav2_amcl's likelihood-field models, vectorised over particles x beams:
 Beams: `max_beams` evenly spaced ones (step (n - 1) // (max_beams - 1), Nav2's integer step);
 a beam at or beyond range_max, or NaN, is not used. The laser's mount (x, y, yaw in the base
 frame) is composed with each particle's pose.
+
+Walls have a thickness on the map, and a lidar only ever sees their near face. Nav2's field
+scores an end point on a wall's far face as a perfect hit, so a particle that stands up to a
+wall's thickness too close to it scores as well as the right one: a plateau the cloud drifts on
+(12-14 cm along turtlebot3_house's 0.15 m walls). Here (zros's addition) a beam whose end point
+lies in a known cell (free or occupied) while one of the `LOOK_BACK` points one, two, three
+cells before it along the beam lies inside an obstacle (an unknown cell, as a wall's inside is
+on a map made by a lidar, or an occupied cell with no free neighbour) came out through the
+other side: it scores as an end point off the map (the field's maximum distance). An end point
+still inside the obstacle keeps the field's score, so a particle a little too close scores as
+one a little too far (grazing beams along a face cross no inside and are untouched). The test
+is precomputed per map for `DIRECTIONS` beam directions (`emerging_cells`), so it costs one
+lookup per beam, not Nav2's ray casting (its `beam` model).
 """
 from __future__ import annotations
 
 from typing import NamedTuple
 
 import numpy as np
-from scipy.ndimage import distance_transform_edt
+from scipy.ndimage import binary_erosion, distance_transform_edt
 
 from zros.amcl.map_grid import MapGrid
 
 __all__ = ['LaserScanData', 'LikelihoodFieldModel', 'LikelihoodFieldProbModel', 'create_laser_model',
-           'LASER_MODELS', 'distance_field']
+           'LASER_MODELS', 'LOOK_BACK', 'DIRECTIONS', 'distance_field', 'emerging_cells']
+
+#: [cells] How far back from a beam's end point to look for an obstacle's inside: a wall three
+#: cells thick (turtlebot3_house's 0.15 m at 0.05 m) is caught from its far face and the cell past it.
+LOOK_BACK = 3
+#: Beam directions the look-back is precomputed for (one bit each of a uint16 per cell): 22.5 deg
+#: apart, so a look-back point is at most 3 cells x sin(11.25 deg) = 0.6 cell off the beam.
+DIRECTIONS = 16
 
 
 class LaserScanData(NamedTuple):
@@ -48,6 +68,27 @@ def distance_field(grid: MapGrid, max_dist: float) -> np.ndarray:
     return np.minimum(distance_transform_edt(~grid.occupied) * grid.resolution, max_dist)
 
 
+def emerging_cells(grid: MapGrid) -> np.ndarray:
+    """Per cell (height, width) uint16: bit d is set when a beam ending in this known cell in
+    direction d x 360/DIRECTIONS deg came out of an obstacle's inside (one of the LOOK_BACK cells
+    before it, along that direction, is unknown or occupied with no free neighbour). Computed
+    once per map, so scoring a beam costs one lookup instead of LOOK_BACK."""
+    opaque = (grid.data < 0) | binary_erosion(grid.occupied)
+    known = grid.data >= 0
+    bits = np.zeros(grid.data.shape, dtype=np.uint16)
+    height, width = opaque.shape
+    for d in range(DIRECTIONS):
+        angle = 2.0 * np.pi * d / DIRECTIONS
+        behind = np.zeros_like(opaque)
+        for steps in range(1, LOOK_BACK + 1):
+            dc, dr = int(round(steps * np.cos(angle))), int(round(steps * np.sin(angle)))
+            # behind[r, c] |= opaque[r - dr, c - dc], where that cell is on the map
+            behind[max(dr, 0):height + min(dr, 0), max(dc, 0):width + min(dc, 0)] |= \
+                opaque[max(-dr, 0):height - max(dr, 0), max(-dc, 0):width - max(dc, 0)]
+        bits |= (known & behind).astype(np.uint16) << np.uint16(d)
+    return bits
+
+
 class LikelihoodFieldModel:
     """The likelihood-field laser model (see the module docstring)."""
 
@@ -61,18 +102,10 @@ class LikelihoodFieldModel:
         self.z_hit, self.z_rand, self.sigma_hit = z_hit, z_rand, sigma_hit
         self.max_dist, self.max_beams = float(max_dist), int(max_beams)
         self.distance = distance_field(grid, self.max_dist).ravel()
-        self._tables: dict[float, tuple[np.ndarray, float]] = {}
+        self.emerges = emerging_cells(grid).ravel()
 
     def _pz(self, distance: np.ndarray | float, range_max: float) -> np.ndarray | float:
         return self.z_hit * np.exp(-(np.square(distance)) / (2.0 * self.sigma_hit ** 2)) + self.z_rand / range_max
-
-    def _score_table(self, range_max: float) -> tuple[np.ndarray, float]:
-        """A beam's score for an end point in each cell, and off the map (cached per range_max)."""
-        table = self._tables.get(range_max)
-        if table is None:
-            table = self._tables[range_max] = (self._pz(self.distance, range_max) ** 3,
-                                               float(self._pz(self.max_dist, range_max)) ** 3)
-        return table
 
     def beams(self, scan: LaserScanData) -> tuple[np.ndarray, np.ndarray]:
         """The ranges and bearings of the beams used: sub-sampled, valid ones only."""
@@ -81,10 +114,11 @@ class LikelihoodFieldModel:
         valid = np.isfinite(ranges) & (ranges < scan.range_max)
         return ranges[valid], bearings[valid]
 
-    def end_cells(self, particles: np.ndarray, ranges: np.ndarray, bearings: np.ndarray,
-                  laser_pose: tuple[float, float, float]) -> tuple[np.ndarray, np.ndarray]:
-        """Flat map indices (N, B) of each beam's end point from each particle, and whether it
-        is on the map."""
+    def end_distances(self, particles: np.ndarray, ranges: np.ndarray, bearings: np.ndarray,
+                      laser_pose: tuple[float, float, float]) -> np.ndarray:
+        """The distance [m] (N, B) each beam's end point, cast from each particle, scores with:
+        the field's value there, the maximum off the map or when the beam came out through an
+        obstacle (the module docstring)."""
         lx, ly, lyaw = laser_pose
         cos_p, sin_p = np.cos(particles[:, 2]), np.sin(particles[:, 2])
         sx = particles[:, 0] + lx * cos_p - ly * sin_p
@@ -94,7 +128,12 @@ class LikelihoodFieldModel:
         hx = sx[:, None] + cos_s[:, None] * rc[None, :] - sin_s[:, None] * rs[None, :]
         hy = sy[:, None] + sin_s[:, None] * rc[None, :] + cos_s[:, None] * rs[None, :]
         rows, cols, inside = self.grid.cells(hx, hy)
-        return rows * self.grid.width + cols, inside
+        cells = rows * self.grid.width + cols
+        distance = np.where(inside, self.distance[cells], self.max_dist)
+        direction = np.floor((particles[:, 2, None] + lyaw + bearings[None, :]) * (DIRECTIONS / (2.0 * np.pi)) + 0.5)
+        bit = (direction.astype(np.int64) % DIRECTIONS).astype(np.uint16)
+        emerged = inside & ((self.emerges[cells] >> bit) & 1).astype(bool)
+        return np.where(emerged, self.max_dist, distance)
 
     def explained_share(self, pose: np.ndarray, scan: LaserScanData, laser_pose: tuple[float, float, float], *,
                         within: float) -> float:
@@ -105,8 +144,7 @@ class LikelihoodFieldModel:
         ranges, bearings = self.beams(scan)
         if len(ranges) == 0:
             return float('nan')
-        cells, inside = self.end_cells(np.asarray(pose, dtype=np.float64)[None, :], ranges, bearings, laser_pose)
-        distance = np.where(inside, self.distance[cells], self.max_dist)
+        distance = self.end_distances(np.asarray(pose, dtype=np.float64)[None, :], ranges, bearings, laser_pose)
         return float(np.mean(distance < within))
 
     def likelihood(self, particles: np.ndarray, scan: LaserScanData,
@@ -115,13 +153,11 @@ class LikelihoodFieldModel:
         ranges, bearings = self.beams(scan)
         if len(ranges) == 0:
             return np.ones(len(particles))
-        cells, inside = self.end_cells(particles, ranges, bearings, laser_pose)
-        return self._score(cells, inside, float(scan.range_max))
+        return self._score(self.end_distances(particles, ranges, bearings, laser_pose), float(scan.range_max))
 
-    def _score(self, cells: np.ndarray, inside: np.ndarray, range_max: float) -> np.ndarray:
-        """Each particle's factor from its beams' end cells (N, B)."""
-        table, off_map = self._score_table(range_max)
-        return 1.0 + np.where(inside, table[cells], off_map).sum(axis=1)
+    def _score(self, distance: np.ndarray, range_max: float) -> np.ndarray:
+        """Each particle's factor from its beams' end-point distances (N, B)."""
+        return 1.0 + np.sum(self._pz(distance, range_max) ** 3, axis=1)
 
 
 class LikelihoodFieldProbModel(LikelihoodFieldModel):
@@ -137,8 +173,7 @@ class LikelihoodFieldProbModel(LikelihoodFieldModel):
         self.beam_skip_threshold = beam_skip_threshold
         self.beam_skip_error_threshold = beam_skip_error_threshold
 
-    def _score(self, cells: np.ndarray, inside: np.ndarray, range_max: float) -> np.ndarray:
-        distance = np.where(inside, self.distance[cells], self.max_dist)
+    def _score(self, distance: np.ndarray, range_max: float) -> np.ndarray:
         log_pz = np.log(self._pz(distance, range_max))
         if self.do_beamskip:
             explained = (distance < self.beam_skip_distance).mean(axis=0) > self.beam_skip_threshold
