@@ -25,7 +25,7 @@ What is measured:
   the link's return until `zros node list` on the laptop shows /gazebo and
   /robot_state_publisher. Goal: <= 2 s.
 
-    sudo python benchmarks/link.py --navigate 20  # 20 goals with drop-outs, about 25 minutes
+    sudo python benchmarks/link.py --navigate 20  # 20 goals with drop-outs, about 10 minutes
     sudo python benchmarks/link.py --soak 30      # 30 minutes of goals: memory, graph, lost messages
 
 `--navigate N` (instead of the measurements above): BasicNavigator, as a user's mission script
