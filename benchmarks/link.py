@@ -28,20 +28,43 @@ What is measured:
 - `graph`: after a drop-out that resets the connections (and one that holds them), the time from
   the link's return until `zros node list` on the laptop shows /gazebo and
   /robot_state_publisher. Goal: <= 2 s.
-Navigation success over the link and the 30-minute soak are not measured yet (issue 36).
+
+    sudo python benchmarks/link.py --navigate 20  # 20 goals with drop-outs, about 10 minutes
+    sudo python benchmarks/link.py --soak 30      # 30 minutes of goals: memory, graph, lost messages
+
+`--navigate N` (instead of the measurements above): BasicNavigator, as a user's mission script
+on the laptop, drives N seeded goals in turtlebot3_world (benchmarks/navigation.py's draw: free
+cells >= 0.2 m from any obstacle, reachable on the map) while the link drops for `--drop` s
+every `--period` s. A goal ends as Nav2 says (SUCCEEDED, or FAILED with its error code), or is
+canceled when it has run 3 x (path length / 0.22 m/s) + 30 s of simulated time. A goal whose
+attempt failed while or shortly after (`RETRY_GRACE_S`) the link was down is sent again, up to
+`RETRIES` times, as a mission does: first-try and with-retry figures are both reported.
+Collisions: the simulator's contact count (/sim/collisions). Goals: >= 95 % with retries, 0
+collisions.
+
+`--soak MINUTES`: the same for MINUTES of wall time, with a reliable probe topic from the robot
+(tests/multihost/seqnode.py at 20 Hz) and: the RSS and PSS of every process in both namespaces
+at the start, after the warm-up (a sixth of the run, at most 5 minutes) and at the end (goal:
+<= 10 % growth after the warm-up); the graph's entities (liveliness tokens) the laptop sees at
+the start, after the warm-up and at the end (goal: equal after the warm-up: the servers create some
+on their first goal; nothing leaked); the probe's missing sequence numbers
+(goal: 0).
 """
 from __future__ import annotations
 
 import argparse
+import collections
 import json
 import math
 import os
 import re
+import statistics
 import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
+from typing import Iterator
 
 REPO = Path(__file__).resolve().parents[1]
 if str(REPO) not in sys.path:
@@ -51,6 +74,10 @@ from tools.link_netns import ROBOT_CONNECT, Topology, unavailable_reason  # noqa
 from tools.link_shaper import control  # noqa: E402
 
 GOALS = {'stop_s': 0.5, 'graph_s': 2.0, 'link_bit_s': 2e6}
+RETRIES = 2               # a mission sends a goal the link's loss failed again, this many times
+RETRY_GRACE_S = 10.0      # [s] after the link returns, a failure still counts as the drop-out's
+START_POSE = (-2.0, -0.5)  # robot.launch.py's spawn pose, in the map frame
+SEQ_NODE = REPO / 'tests' / 'multihost' / 'seqnode.py'
 ROBOT_NODES = ('/gazebo', '/robot_state_publisher')
 CLIENT = str(REPO / 'configs' / 'zenoh' / 'client.json5')
 
@@ -144,6 +171,183 @@ def clock_now(out: str) -> None:
     zros.spin(node)
 
 
+# -- navigation over the link: the bookkeeping ---------------------------------------------------
+def failed_by_drop(start: float, end: float, drops: list[tuple[float, float]], grace: float = RETRY_GRACE_S) -> bool:
+    """Whether an attempt that ran from `start` to `end` (wall time) met a drop-out: one of
+    `drops` (start, end) began before the attempt ended and ended less than `grace` s before it
+    started (localization and the costmaps take a few seconds to catch up on the backlog)."""
+    return any(d0 <= end and d1 + grace >= start for d0, d1 in drops)
+
+
+def goal_summary(goals: list[list[dict]]) -> dict:
+    """Figures of a mission from each goal's attempts (dicts with `outcome` and `sim_s`, in order):
+    goals reached at the first try and with the retries, and the simulated time of each
+    reached goal, all of its attempts included."""
+    reached = [g for g in goals if g and g[-1]['outcome'] == 'succeeded']
+    times = [sum(a['sim_s'] for a in g) for g in reached]
+    return {'goals': len(goals),
+            'first_try': sum(1 for g in goals if g and g[0]['outcome'] == 'succeeded'),
+            'with_retry': len(reached),
+            'retried': sum(1 for g in goals if len(g) > 1),
+            'met_drop': sum(1 for g in goals if any(a.get('drop') for a in g)),
+            'goal_s_median': statistics.median(times) if times else math.nan,
+            'goal_s_max': max(times) if times else math.nan}
+
+
+def memory_growth(samples: dict[str, list[int]]) -> dict[str, float]:
+    """Growth of each process's memory from the second sample (after the warm-up) to the last,
+    as a fraction of the second: {label: (last - warm) / warm}, for processes sampled each time."""
+    return {label: (kib[-1] - kib[1]) / kib[1] for label, kib in samples.items() if len(kib) >= 3 and kib[1] > 0}
+
+
+def missing_sequence(seqs: list[int]) -> int:
+    """How many numbers are missing between the first and the last of a stream that counts
+    1, 2, 3, ... (repeats and late ones are not missing)."""
+    if not seqs:
+        return 0
+    return max(seqs) - min(seqs) + 1 - len(set(seqs))
+
+
+def link_goals(count: int, seed: int) -> Iterator[tuple[tuple[float, float, float], float]]:
+    """`count` seeded goals (drawn as they are asked for) in turtlebot3_world on turtlebot3_navigation2's map (the laptop's),
+    each reachable from the one before (the first from the spawn pose), and its ideal time
+    [s]: the planned path's length at the burger's 0.22 m/s."""
+    import numpy as np
+
+    from benchmarks.navigation import MAX_SPEED, draw_goal, goal_candidates, stack_parameters
+    from zros.ament_index_python.packages import get_package_share_directory
+    from zros.map_io import load_map
+    from zros.navigation.costmap import LayeredCostmap
+    from zros.navigation.planner import GridPlanner
+    from zros.sim import load_world
+
+    grid = load_map(Path(get_package_share_directory('turtlebot3_navigation2')) / 'map' / 'map.yaml')
+    costmap = LayeredCostmap(stack_parameters()[1])
+    costmap.set_static_map(grid.data, grid.resolution, tuple(grid.origin[:2]))
+    costmap.update()
+    planner = GridPlanner(costmap)
+    candidates = goal_candidates(load_world('turtlebot3_world'), grid)
+    rng = np.random.default_rng(seed)
+    at = START_POSE
+    for _ in range(count):
+        goal, path = draw_goal(rng, candidates, lambda xy: planner.plan(at, xy))
+        yield goal, float(np.linalg.norm(np.diff(path, axis=0), axis=1).sum()) / MAX_SPEED
+        at = goal[:2]
+
+
+def _process_memory(namespaces: list[str]) -> dict[str, tuple[int, int]]:
+    """(RSS, PSS) in KiB of every process in `namespaces`, by `pid command`."""
+    from benchmarks.launch import _memory_kib
+    from tools.link_netns import ip
+
+    table = {}
+    for ns in namespaces:
+        for pid in ip('netns', 'pids', ns, check=False).split():
+            try:
+                argv = Path(f'/proc/{pid}/cmdline').read_bytes().split(b'\0')
+                label = ' '.join(a.decode(errors='replace').rsplit('/', 1)[-1] for a in argv[:6] if a)
+                table[f'{pid} {label}'] = _memory_kib(int(pid))
+            except (OSError, AttributeError, ValueError):
+                continue                                    # gone meanwhile
+    return table
+
+
+# -- the mission, run inside the laptop's namespace ----------------------------------------------
+def mission(config_path: str) -> None:
+    """BasicNavigator driving the goals of `config` (JSON: out, sock, goals, seed, seconds, drop,
+    period; optional max_drops, and modes: the shaper's dropout_mode of each drop-out in turn,
+    'hold' by default) while a thread drops the link every `period` s; writes the attempts, the drop-outs,
+    the collisions and the graph's size at the start and the end to `out`."""
+    import threading
+
+    import zros
+    from zros.graph import fetch_entities
+    from zros.nav2_simple_commander.robot_navigator import BasicNavigator, TaskResult
+    from zros.qos import DurabilityPolicy, QoSProfile
+
+    from interfaces.geometry_msgs.msg import PoseStamped
+    from interfaces.rosgraph_msgs.msg import Clock
+    from interfaces.std_msgs.msg import UInt32
+
+    config = json.loads(Path(config_path).read_text())
+    context = zros.init([])
+    navigator = BasicNavigator()
+    state = {'clock': 0.0, 'collisions': None}
+    navigator.create_subscription(Clock, '/clock',
+                                  lambda m: state.__setitem__('clock', m.clock.sec + m.clock.nanosec / 1e9), 10)
+    navigator.create_subscription(UInt32, 'sim/collisions', lambda m: state.__setitem__('collisions', m.data),
+                                  QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
+
+    def pose(x: float, y: float, yaw: float = 0.0) -> PoseStamped:
+        p = PoseStamped()
+        p.header.frame_id = 'map'
+        p.header.stamp = navigator.get_clock().now().to_msg()
+        p.pose.position.x, p.pose.position.y = x, y
+        p.pose.orientation.z, p.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+        return p
+
+    navigator.setInitialPose(pose(*START_POSE))
+    if not navigator.waitUntilNav2Active(timeout=300):
+        raise SystemExit('link mission: Nav2 did not come up within 300 s')
+    while state['collisions'] is None:
+        zros.spin_once(navigator, timeout_sec=0.2)
+    own = str(context.session.info.zid())
+
+    def entities() -> dict[str, int]:
+        """The graph's entities (liveliness tokens) as `node kind name`: count, this process's own left out."""
+        return dict(collections.Counter(f'{e.node_fqn} {e.kind} {e.name}'.rstrip()
+                                        for e in fetch_entities(context.session, context.domain_id, 3.0) if e.zid != own))
+    out: dict = {'entities_start': entities(),
+                 'collisions_start': state['collisions'], 'drops': [], 'goals': []}
+    stop = threading.Event()
+
+    def dropper() -> None:
+        modes = config.get('modes', ['hold'])
+        while not stop.wait(config['period']) and len(out['drops']) < config.get('max_drops', math.inf):
+            control(config['sock'], cmd='set', dropout_mode=modes[len(out['drops']) % len(modes)])
+            control(config['sock'], cmd='drop', seconds=config['drop'])
+            now = time.time()
+            out['drops'].append((now, now + config['drop']))
+    threading.Thread(target=dropper, daemon=True).start()
+    began = time.monotonic()
+    for (x, y, yaw), ideal in link_goals(config['goals'], config['seed']):
+        if time.monotonic() - began > config['seconds']:
+            break
+        attempts: list[dict] = []
+        out['goals'].append({'goal': (x, y, yaw), 'ideal_s': ideal, 'attempts': attempts})
+        while len(attempts) <= RETRIES:
+            start, sim0 = time.time(), state['clock']
+            navigator.goToPose(pose(x, y, yaw))
+            budget = 3 * ideal + 30.0
+            timed_out = False
+            while not timed_out and not navigator.isTaskComplete():
+                if state['clock'] - sim0 > budget or time.time() - start > 4 * budget + 60:
+                    navigator.cancelTask()
+                    timed_out = True
+            result = navigator.getResult()
+            outcome = 'timed out' if timed_out else 'succeeded' if result == TaskResult.SUCCEEDED else result.name.lower()
+            end = time.time()
+            attempts.append({'outcome': outcome, 'sim_s': state['clock'] - sim0, 'wall': (start, end),
+                             'drop': failed_by_drop(start, end, list(out['drops']))})
+            print(f'goal {len(out["goals"])} ({x:.2f}, {y:.2f}) try {len(attempts)}: {outcome} in '
+                  f'{attempts[-1]["sim_s"]:.1f} s sim{" (the link dropped)" if attempts[-1]["drop"] else ""}',
+                  flush=True)
+            if outcome == 'succeeded' or not attempts[-1]['drop']:
+                break
+        if 'entities_warm' not in out and time.monotonic() - began >= config.get('warmup', 0.0):
+            out['entities_warm'] = entities()      # after a goal: servers create some entities on their first
+        out['collisions_end'] = state['collisions']
+        Path(config['out']).write_text(json.dumps(out, indent=1))     # so far: a mission that hangs still tells
+    stop.set()
+    time.sleep(config['drop'] + 3.0)                     # the last drop-out over, the graph whole again
+    zros.spin_once(navigator, timeout_sec=0.5)
+    out['collisions_end'] = state['collisions']
+    out['entities_end'] = entities()
+    Path(config['out']).write_text(json.dumps(out, indent=1))
+    navigator.destroy_node()
+    zros.shutdown()
+
+
 # -- the benchmark ------------------------------------------------------------------------------
 def _sim_clock(clock_file: Path):
     """wall time -> simulated time, from two readings of --clock's file a second apart (the
@@ -175,6 +379,79 @@ def _last_movement(lines: list[str], start: float, end: float) -> float | None:
     return last
 
 
+def _start_stack(topo: Topology, sock: str, view: bool) -> float:
+    """The shaper, the laptop's router and half of the stack, the robot's half; the seconds until
+    the laptop's graph has the robot's nodes and Nav2's."""
+    topo.start_shaper(Path(sock), '--latency', '0.03', '--jitter', '0.005', '--rate', '2e6')
+    _wait('shaper', lambda: os.path.exists(sock), 15)
+    zros = [sys.executable, '-m', 'zros.cli.main']
+    topo.spawn(topo.laptop, [*zros, 'router'], 'router', _env(), REPO)
+    time.sleep(2.0)
+    topo.spawn(topo.laptop, [*zros, 'launch', 'turtlebot3_bringup', 'laptop.launch.py',
+                             f'view:={"true" if view else "false"}'], 'laptop', _env(), REPO)
+    topo.spawn(topo.robot, [*zros, 'launch', 'turtlebot3_bringup', 'robot.launch.py'], 'robot',
+               _env(ZROS_CONFIG=CLIENT, ZROS_CONNECT=ROBOT_CONNECT), REPO)
+
+    def stack_up() -> bool:
+        nodes = _zros(topo, topo.laptop, 'node', 'list').split()
+        return all(n in nodes for n in (*ROBOT_NODES, '/amcl', '/controller_server', '/bt_navigator'))
+    return _wait('stack (robot and laptop nodes in the graph)', stack_up, 240)
+
+
+def run_navigate(args: argparse.Namespace, goals: int, seconds: float, soak: bool) -> dict:
+    """The mission over the link (`--navigate`, `--soak`): up to `goals` goals for at most
+    `seconds` of wall time; with `soak`, the probe topic and the memory samples as well."""
+    logs = Path(tempfile.mkdtemp(prefix='link-nav-'))
+    sock = str(logs / 'link.sock')
+    me = [sys.executable, str(Path(__file__).resolve())]
+    result: dict = {'settings': {'latency_ms': 30, 'jitter_ms': 5, 'rate_mbit_s': 2, 'drop_s': args.drop,
+                                 'period_s': args.period, 'seed': args.seed}, 'logs': str(logs),
+                    'load_start': os.getloadavg()[0]}
+    with Topology(logs) as topo:
+        result['startup_s'] = _start_stack(topo, sock, args.view)
+        if soak:
+            seq = [sys.executable, str(SEQ_NODE)]
+            sub = topo.spawn(topo.laptop, [*seq, 'sub', 'link_seq_sub'], 'seq_sub', _env(), REPO)
+            topo.spawn(topo.robot, [*seq, 'pub', 'link_seq_pub', '20'], 'seq_pub',
+                       _env(ZROS_CONFIG=CLIENT, ZROS_CONNECT=ROBOT_CONNECT), REPO)
+        config = logs / 'mission.json'
+        config.write_text(json.dumps({'out': str(logs / 'mission-out.json'), 'sock': sock, 'goals': goals,
+                                      'seed': args.seed, 'seconds': seconds, 'drop': args.drop,
+                                      'period': args.period, 'warmup': min(300.0, seconds / 6)}))
+        mission_proc = topo.spawn(topo.laptop, [*me, '--mission', str(config)], 'mission', _env(), REPO)
+        memory: dict[str, list[tuple[int, int]]] = {}
+
+        def sample_memory() -> None:
+            for label, kib in _process_memory([topo.robot, topo.laptop]).items():
+                memory.setdefault(label, []).append(kib)
+        started = time.monotonic()
+        if soak:
+            sample_memory()                                 # the start
+            while mission_proc.poll() is None and time.monotonic() - started < min(300.0, seconds / 6):
+                time.sleep(1.0)
+            sample_memory()                                 # after the warm-up
+        try:
+            mission_proc.wait(timeout=None if math.isinf(seconds) else seconds + 600)
+        except subprocess.TimeoutExpired:
+            result['mission_hung'] = True               # what it wrote after its last goal stands
+        if soak:
+            sample_memory()                                 # the end, the stack still up
+            topo.stop(mission_proc)
+            seqs = [int(n) for n in re.findall(r'^got (\d+)$', sub.log.read_text(errors='replace'), re.M)]
+            result['probe'] = {'received': len(seqs), 'missing': missing_sequence(seqs)}
+            ours = {label: kib for label, kib in memory.items() if 'link.py' not in label and 'seqnode' not in label}
+            result['memory_kib'] = ours
+            result['rss_growth'] = memory_growth({k: [r for r, _ in v] for k, v in ours.items()})
+            result['pss_growth'] = memory_growth({k: [p for _, p in v] for k, v in ours.items()})
+        out = logs / 'mission-out.json'
+        if not out.exists():
+            raise SystemExit(f'link benchmark: the mission failed; see {mission_proc.log}')
+        result['mission'] = json.loads(out.read_text())
+        result['wall_s'] = time.monotonic() - started
+        result['load_end'] = os.getloadavg()[0]
+    return result
+
+
 def run(args: argparse.Namespace) -> dict:
     logs = Path(tempfile.mkdtemp(prefix='link-bench-'))
     sock = str(logs / 'link.sock')
@@ -182,20 +459,8 @@ def run(args: argparse.Namespace) -> dict:
     result: dict = {'settings': {'latency_ms': 30, 'jitter_ms': 5, 'rate_mbit_s': 2, 'view': args.view,
                                  'drop_s': args.drop}}
     with Topology(logs) as topo:
-        topo.start_shaper(Path(sock), '--latency', '0.03', '--jitter', '0.005', '--rate', '2e6')
-        _wait('shaper', lambda: os.path.exists(sock), 15)
         zros = [sys.executable, '-m', 'zros.cli.main']
-        topo.spawn(topo.laptop, [*zros, 'router'], 'router', _env(), REPO)
-        time.sleep(2.0)
-        topo.spawn(topo.laptop, [*zros, 'launch', 'turtlebot3_bringup', 'laptop.launch.py',
-                                 f'view:={"true" if args.view else "false"}'], 'laptop', _env(), REPO)
-        topo.spawn(topo.robot, [*zros, 'launch', 'turtlebot3_bringup', 'robot.launch.py'], 'robot',
-                   _env(ZROS_CONFIG=CLIENT, ZROS_CONNECT=ROBOT_CONNECT), REPO)
-
-        def stack_up() -> bool:
-            nodes = _zros(topo, topo.laptop, 'node', 'list').split()
-            return all(n in nodes for n in (*ROBOT_NODES, '/amcl', '/controller_server', '/bt_navigator'))
-        result['startup_s'] = _wait('stack (robot and laptop nodes in the graph)', stack_up, 240)
+        result['startup_s'] = _start_stack(topo, sock, args.view)
         # where the robot starts (robot.launch.py's pose), as a user gives it in RViz: AMCL then
         # publishes map -> odom, and the costmaps and the pose flow as they do in a real session
         _zros(topo, topo.laptop, 'topic', 'pub', '--once', '/initialpose',
@@ -304,6 +569,46 @@ def table(r: dict) -> str:
     return '\n'.join(rows)
 
 
+def navigate_table(r: dict) -> str:
+    """The mission's figures (and the soak's, when measured) as docs/benchmarks.md's rows."""
+    m = r['mission']
+    goals = [g['attempts'] for g in m['goals']]
+    f = goal_summary(goals)
+    n = max(1, f['goals'])
+    collisions = m['collisions_end'] - m['collisions_start']
+    failed = ', '.join(f"{a['outcome']}{' (drop)' if a['drop'] else ''}" for g in goals for a in g
+                       if a['outcome'] != 'succeeded') or 'none'
+    rows = ['| Measure | Value | Goal |', '|---|---|---|',
+            f"| goals reached, first try | {f['first_try']} of {f['goals']} ({100 * f['first_try'] / n:.0f} %) | |",
+            f"| goals reached, a goal the drop-out failed sent again | {f['with_retry']} of {f['goals']} "
+            f"({100 * f['with_retry'] / n:.0f} %) | >= 95 % |",
+            f"| collisions (the simulator's contacts) | {collisions} | 0 |",
+            f"| sim time per reached goal, median / max | {f['goal_s_median']:.0f} / {f['goal_s_max']:.0f} s | |",
+            f"| drop-outs ({r['settings']['drop_s']:g} s every {r['settings']['period_s']:g} s); goals the link "
+            f"dropped under (or < {RETRY_GRACE_S:g} s before) | {len(m['drops'])}; {f['met_drop']} | |",
+            f"| failed attempts | {failed} | |"]
+    if 'probe' in r:
+        rss, pss = r['rss_growth'], r['pss_growth']
+        worst = max(rss, key=rss.get) if rss else 'none'
+        start, warm, end = m['entities_start'], m.get('entities_warm', {}), m.get('entities_end', {})
+        changed = ''.join(f", `{n}` {warm.get(n, 0)} -> {end.get(n, 0)}" for n in sorted(set(warm) | set(end))
+                          if warm.get(n, 0) != end.get(n, 0))
+        total = [sum(kib[i][0] for kib in r['memory_kib'].values() if len(kib) >= 3) / 1024 for i in range(3)]
+        rows += [f"| RSS of the {len(rss)} processes at start / after warm-up / end | "
+                 f"{total[0]:.0f} / {total[1]:.0f} / {total[2]:.0f} MiB | |",
+                 f"| largest growth after the warm-up, RSS (PSS) | {100 * rss.get(worst, 0.0):+.1f} % "
+                 f"({100 * pss.get(worst, 0.0):+.1f} %), `{worst.split(' ', 1)[-1]}` | <= 10 % |",
+                 f"| graph entities (liveliness tokens) at start / after warm-up / end{changed} | "
+                 f"{sum(start.values())} / {sum(warm.values())} / {sum(end.values())} | equal after warm-up |",
+                 f"| reliable probe (20 Hz, robot -> laptop): received / missing | "
+                 f"{r['probe']['received']} / {r['probe']['missing']} | 0 missing |"]
+    if r.get('mission_hung'):
+        rows.append('| the mission | hung in its last goal: stopped, its goals so far counted | |')
+    rows.append(f"\n(wall {r['wall_s'] / 60:.0f} min, load average {r['load_start']:.1f} -> {r['load_end']:.1f}; "
+                f"logs: {r['logs']})")
+    return '\n'.join(rows)
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('--seconds', type=float, default=20.0, help='measurement window [s]')
@@ -318,6 +623,11 @@ def main() -> int:
     parser.add_argument('--sndbuf', type=int, default=0,
                         help="--part priority: the laptop router's TCP send buffer (Zenoh's "
                              'transport/link/tcp/so_sndbuf) [bytes]; 0: the kernel\'s')
+    parser.add_argument('--navigate', type=int, metavar='GOALS', help='navigation over the link: GOALS goals')
+    parser.add_argument('--soak', type=float, metavar='MINUTES', help='the soak: goals for MINUTES, memory and loss')
+    parser.add_argument('--period', type=float, default=60.0, help='seconds between drop-outs (--navigate, --soak)')
+    parser.add_argument('--seed', type=int, default=1, help='of the goals (--navigate, --soak)')
+    parser.add_argument('--mission', metavar='CONFIG', help=argparse.SUPPRESS)
     parser.add_argument('--probe', nargs=2, metavar=('SECONDS', 'OUT'), help=argparse.SUPPRESS)
     parser.add_argument('--truth', metavar='OUT', help=argparse.SUPPRESS)
     parser.add_argument('--clock', metavar='OUT', help=argparse.SUPPRESS)
@@ -332,6 +642,9 @@ def main() -> int:
         if args.clock:
             clock_now(args.clock)
             return 0
+        if args.mission:
+            mission(args.mission)
+            return 0
     except KeyboardInterrupt:
         return 0
     reason = unavailable_reason()
@@ -342,6 +655,13 @@ def main() -> int:
         import link_priority
         result = link_priority.run(args, _env, _wait)
         print(link_priority.table(result))
+    elif args.navigate is not None or args.soak is not None:
+        if (args.navigate is not None and args.navigate < 1) or (args.soak is not None and args.soak <= 0):
+            print('link benchmark: --navigate needs at least 1 goal, --soak more than 0 minutes', file=sys.stderr)
+            return 1
+        soak = args.soak is not None
+        result = run_navigate(args, 10_000 if soak else args.navigate, args.soak * 60 if soak else math.inf, soak)
+        print(navigate_table(result))
     else:
         result = run(args)
         print(table(result))

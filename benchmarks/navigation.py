@@ -234,6 +234,21 @@ def goal_candidates(world, grid) -> np.ndarray:
     return centres[world.distance(centres) >= CLEARANCE + BURGER.body_radius]
 
 
+def draw_goal(rng: np.random.Generator, candidates: np.ndarray, plan) -> tuple[tuple[float, float, float], np.ndarray]:
+    """A seeded goal (x, y, yaw) at one of `candidates` that `plan(xy)` (a path from the robot,
+    or PlanningError) reaches exactly, and that path: unreachable cells, and cells the planner's
+    tolerance moves, are drawn again."""
+    while True:
+        gx, gy = candidates[rng.integers(len(candidates))]
+        goal = (float(gx), float(gy), float(rng.uniform(-math.pi, math.pi)))
+        try:
+            path = plan(goal[:2])
+        except PlanningError:
+            continue
+        if math.hypot(path[-1][0] - gx, path[-1][1] - gy) <= 1e-6:
+            return goal, path
+
+
 def exact_map(world):
     """The true world's raster as a map (to tell mapping errors from navigation errors)."""
     from zros.map_io import OccupancyMap
@@ -251,16 +266,10 @@ def run_goals(name: str, goals: int, seed: int, map_dir: Path | None) -> dict:
     candidates = goal_candidates(world, grid)
     done, ok, ratios, errors, recoveries, per_goal = 0, 0, [], [], 0, []
     while done < goals:
-        gx, gy = candidates[rng.integers(len(candidates))]
-        goal = (float(gx), float(gy), float(rng.uniform(-math.pi, math.pi)))
-        try:
-            path = stack.plan(goal[:2])
-        except PlanningError:
-            stack.plan_ms.pop()
-            continue                                        # not reachable: draw another goal
-        if math.hypot(path[-1][0] - gx, path[-1][1] - gy) > 1e-6:
-            stack.plan_ms.pop()
-            continue                                        # moved by the tolerance: not a valid goal
+        planned = len(stack.plan_ms)
+        goal, path = draw_goal(rng, candidates, stack.plan)
+        del stack.plan_ms[planned:-1]                       # the rejected draws' plans are not requests
+        gx, gy = goal[:2]
         ideal = float(np.linalg.norm(np.diff(path, axis=0), axis=1).sum()) / MAX_SPEED
         stack.follower.set_path(path, goal[2])
         t0 = sim.time

@@ -161,6 +161,8 @@ class Navigation:
                     if outcome.state in ('CANCELED', 'PREEMPTED'):
                         follow.cancel()
                         return outcome
+                    if follow.poll():
+                        break           # it ended while the path was computed: that is the outcome (the tree's FollowPath)
                     if path is not None:
                         follow = GoalCall(self.server.follow_client, FollowPath.Goal(path=path))
                 rate.sleep()
