@@ -44,6 +44,7 @@ import yaml
 
 from zros.amcl import Amcl, AmclParameters, MapGrid
 from zros.amcl.localizer import compose
+from zros.parameter import parse_parameter_value
 from zros.rotations import angle_diff
 from zros.sim import BURGER, LDS_01, Simulation, load_world, rasterize
 from zros.sim.simulation import DEFAULT_SLIP_STDDEV
@@ -56,9 +57,14 @@ CONFIDENT, WRONG = 0.05, 0.5             # [m^2], [m]: issue 34's "confident and
 SHIPPED = Path(__file__).resolve().parents[1] / 'nodes' / 'turtlebot3_navigation2' / 'param' / 'burger.yaml'
 
 
+#: `--set NAME=VALUE` parameters, applied to every run over the shipped file or Nav2's defaults
+SETTINGS: dict[str, object] = {}
+
+
 def amcl_parameters(model: str, **overrides) -> AmclParameters:
     """`likelihood_field_prob` runs with the shipped burger.yaml's amcl parameters, which set it;
-    `likelihood_field` with Nav2's defaults."""
+    `likelihood_field` with Nav2's defaults; `--set` values over either."""
+    overrides = {**SETTINGS, **overrides}
     if model == 'likelihood_field_prob':
         shipped = yaml.safe_load(SHIPPED.read_text())['amcl']['ros__parameters']
         return AmclParameters.from_parameters({**shipped, **overrides})
@@ -244,5 +250,13 @@ if __name__ == '__main__':
     parser.add_argument('--quick', action='store_true', help='fewer runs (about a minute)')
     parser.add_argument('--part', action='append', choices=PARTS, help='only these rows (default: all)')
     parser.add_argument('--model', action='append', choices=MODELS, help='only this laser model (default: both)')
+    parser.add_argument('--set', action='append', default=[], metavar='NAME=VALUE',
+                        help="an AMCL parameter for every run, by Nav2's name (e.g. alpha1=0.05; repeatable)")
     args = parser.parse_args()
+    known = set(AmclParameters.__dataclass_fields__)
+    for item in args.set:
+        name, sep, value = item.partition('=')
+        if not sep or name not in known:
+            parser.error(f"--set {item}: expected NAME=VALUE with NAME an AMCL parameter")
+        SETTINGS[name] = parse_parameter_value(value)
     main(args.quick, tuple(args.part or PARTS), tuple(args.model or MODELS))
