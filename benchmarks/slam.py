@@ -4,6 +4,7 @@
     python benchmarks/slam.py --world turtlebot3_world --map /tmp/map   # also save the map
     python benchmarks/slam.py --world turtlebot3_house --overlay /tmp/house.png   # map over truth
     python benchmarks/slam.py --json out.json
+    python benchmarks/slam.py --world turtlebot3_house --set do_loop_closing=false   # compare a parameter
 
 Goals (issue 16, docs/architecture.md §9): in turtlebot3_world, trajectory error (ATE RMSE) <= 5 cm and at
 least 5x better than odometry alone; map: >= 95 % of the visible true wall cells found within
@@ -28,13 +29,16 @@ Reported: ATE RMSE (and maximum, final, final heading) of SLAM's map -> base_foo
 scan, and of odometry alone, both in the map frame (where the robot started; no alignment is
 fitted); map quality (zros.sim.evaluation), and the same for a map made from the true poses
 with the same scans (the metric's floor: what a SLAM without pose error would score, so a miss
-is told apart from a strict metric); cost as scans per CPU second of this thread
+is told apart from a strict metric); the optimised keyframe poses' error (what the map is drawn
+from) and each loop closure's error against the true relative pose of its two keyframes (false
+matches are decimetres off, right ones millimetres); cost as scans per CPU second of this thread
 (`time.thread_time`, map updates included) and the CPU share at 5 Hz scans at 1x and 5x.
 """
 from __future__ import annotations
 
 import argparse
 import json
+from dataclasses import fields
 import math
 import platform
 import sys
@@ -56,7 +60,8 @@ from zros.slam import Slam, SlamParameters, scan_points  # noqa: E402
 from zros.slam.grid import LogOddsGrid  # noqa: E402
 from zros.slam.scan import ScanPoints  # noqa: E402
 from zros.image_io import encode_png  # noqa: E402
-from zros.sim.evaluation import in_map_frame, map_quality, overlay, seen_walls, trajectory_error  # noqa: E402
+from zros.sim.evaluation import (edge_errors, in_map_frame, map_quality, overlay, seen_walls,  # noqa: E402
+                                 trajectory_error)
 from zros.slam.geometry import compose, relative  # noqa: E402
 
 GOALS = {'ate_m': 0.05, 'ate_ratio': 5.0, 'wall_recall': 0.95, 'false_occupied': 0.02, 'scans_per_s': 25.0,
@@ -197,7 +202,7 @@ def run(world_name: str, *, seed: int = 1, save_map: str | None = None, overlay_
     spawn_pose = np.array([spawn.x, spawn.y, spawn.yaw])
     slam = Slam(parameters)
     odometry = BiasedOdometry()
-    estimates, odoms, truths, rays = [], [], [], []
+    estimates, odoms, truths, rays, keyframe_scans = [], [], [], [], []
     known = LogOddsGrid(slam.parameters.resolution, hit_probability=slam.parameters.hit_probability,
                         miss_probability=slam.parameters.miss_probability)
     known_last: np.ndarray | None = None
@@ -226,6 +231,8 @@ def run(world_name: str, *, seed: int = 1, save_map: str | None = None, overlay_
         slam_cpu += time.thread_time() - cpu0
         scans += 1
         estimates.append(update.pose)
+        if update.keyframe:
+            keyframe_scans.append(scans - 1)
         odoms.append(odom)
         truths.append((truth.x, truth.y, truth.yaw))
         known_last = _add_known_pose_scan(known, known_last, in_map_frame(np.array(truths[-1]), spawn_pose), points)
@@ -237,6 +244,9 @@ def run(world_name: str, *, seed: int = 1, save_map: str | None = None, overlay_
     truth_map = in_map_frame(np.array(truths), spawn_pose)
     ate = trajectory_error(np.array(estimates), truth_map)
     ate_odom = trajectory_error(np.array(odoms), truth_map)
+    keyframe_truth = truth_map[keyframe_scans]
+    keyframe_ate = trajectory_error(slam.trajectory(), keyframe_truth)
+    closures = _closure_errors(slam, keyframe_truth)
     truth_raster = rasterize(world, grid.resolution)
     walls = seen_walls(truth_raster, np.vstack(rays))
     quality = map_quality(grid, spawn_pose, truth_raster, walls)
@@ -253,6 +263,7 @@ def run(world_name: str, *, seed: int = 1, save_map: str | None = None, overlay_
         'world': world_name, 'sim_time_s': round(sim.time, 1), 'distance_m': round(float(np.sum(
             np.hypot(*np.diff(np.array(truths)[:, :2], axis=0).T))), 1),
         'scans': scans, 'keyframes': len(slam.keyframes), 'loop_closures': slam.loop_closures,
+        'keyframe_rmse_m': keyframe_ate.rmse, 'keyframe_max_m': keyframe_ate.maximum, **closures,
         'ate_rmse_m': ate.rmse, 'ate_max_m': ate.maximum, 'final_error_m': ate.final,
         'final_heading_deg': math.degrees(ate.final_heading),
         'odom_ate_rmse_m': ate_odom.rmse, 'odom_final_error_m': ate_odom.final,
@@ -266,12 +277,29 @@ def run(world_name: str, *, seed: int = 1, save_map: str | None = None, overlay_
     }
 
 
+def _closure_errors(slam: Slam, keyframe_truth: np.ndarray) -> dict:
+    """How far the loop closures' measurements are from the true relative poses: many
+    decimetre errors mean false matches, centimetre errors that still bend the map mean weights."""
+    loops = [e for e in slam.graph.edges if e.robust]
+    if not loops:
+        return {'closure_error_median_m': math.nan, 'closure_error_max_m': math.nan, 'closures_off_10cm': 0}
+    error = edge_errors(np.array([e.i for e in loops]), np.array([e.j for e in loops]),
+                        np.array([e.measurement for e in loops]), keyframe_truth)
+    return {'closure_error_median_m': float(np.median(error[:, 0])), 'closure_error_max_m': float(error[:, 0].max()),
+            'closures_off_10cm': int((error[:, 0] > 0.1).sum())}
+
+
 def print_table(results: list[dict]) -> None:
     rows = [
         ('ATE RMSE, SLAM [m]', 'ate_rmse_m', '{:.3f}', 'world <= 0.05, house <= 0.10'),
         ('ATE RMSE, odometry [m]', 'odom_ate_rmse_m', '{:.3f}', ''),
         ('odometry / SLAM', None, '{:.1f}x', '>= 5x'),
         ('ATE max, SLAM [m]', 'ate_max_m', '{:.3f}', ''),
+        ('keyframes optimised, RMS [m]', 'keyframe_rmse_m', '{:.3f}', 'what the map is drawn from'),
+        ('keyframes optimised, max [m]', 'keyframe_max_m', '{:.3f}', ''),
+        ('loop closure error, median [m]', 'closure_error_median_m', '{:.3f}', 'against the true relative pose'),
+        ('loop closure error, max [m]', 'closure_error_max_m', '{:.3f}', ''),
+        ('closures off by > 10 cm', 'closures_off_10cm', '{}', ''),
         ('final heading error [deg]', 'final_heading_deg', '{:.2f}', '<= 2'),
         ('walls found within 1 cell', 'wall_recall', '{:.1%}', '>= 95%'),
         ('occupied cells free in truth', 'false_occupied', '{:.1%}', '<= 2%'),
@@ -303,6 +331,19 @@ def print_table(results: list[dict]) -> None:
         print(f'| {label:<34} | ' + ' | '.join(f'{c:<17}' for c in cells) + f' | {goal} |')
 
 
+def _parameter(text: str) -> tuple[str, object]:
+    """'name=value' as a SlamParameters keyword: value read as JSON (numbers, true/false)."""
+    name, sep, value = text.partition('=')
+    if not sep:
+        raise ValueError(f'--set takes NAME=VALUE, got {text!r}')
+    if name not in {f.name for f in fields(SlamParameters)}:
+        raise ValueError(f'--set {name}: not a SLAM parameter (zros.slam.SlamParameters)')
+    try:
+        return name, json.loads(value.lower() if value.lower() in ('true', 'false') else value)
+    except json.JSONDecodeError:
+        raise ValueError(f'--set {name}: {value!r} is not a number or true/false') from None
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--world', action='append', choices=sorted(ROUTES), help='default: both')
@@ -311,8 +352,15 @@ def main() -> None:
     parser.add_argument('--overlay', metavar='PNG', help='draw the (last) map over the truth raster here '
                         '(zros.sim.evaluation.overlay: black walls found, blue missed, red false occupied)')
     parser.add_argument('--json', help='write the results here')
+    parser.add_argument('--set', action='append', default=[], metavar='NAME=VALUE',
+                        help='a SLAM parameter for this run (e.g. do_loop_closing=false), to compare')
     args = parser.parse_args()
-    results = [run(name, seed=args.seed, save_map=args.map, overlay_png=args.overlay) for name in (args.world or sorted(ROUTES))]
+    try:
+        parameters = SlamParameters(**dict(_parameter(text) for text in args.set))
+    except ValueError as error:
+        parser.error(str(error))
+    results = [run(name, seed=args.seed, save_map=args.map, overlay_png=args.overlay, parameters=parameters)
+               for name in (args.world or sorted(ROUTES))]
     print(f'# {platform.processor() or platform.machine()}, Python {platform.python_version()}, '
           f'numpy {np.__version__}')
     print_table(results)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from zros.map_io import OccupancyMap
-from zros.sim.evaluation import OVERLAY_COLOURS, ground_truth_map, map_quality, overlay
+from zros.sim.evaluation import OVERLAY_COLOURS, edge_errors, ground_truth_map, map_quality, overlay
 from zros.sim.raster import rasterize
 from zros.sim.world import Pose2D, World, box_loop
 
@@ -82,3 +82,11 @@ def test_a_wall_one_cell_thick_in_front_of_its_face_is_false_only_to_the_strict_
     one_off = OccupancyMap(perfect.data, perfect.resolution, (ox + 0.05, oy, 0.0))
     quality = map_quality(one_off, np.zeros(3), truth, walls)
     assert quality.false_occupied > 0.02 and quality.false_occupied_beyond_one_cell == 0.0
+
+
+def test_edge_errors_measure_each_edge_against_the_true_relative_pose():
+    truth = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, np.pi / 2], [1.0, 1.0, np.pi]])
+    # 0 -> 1 right; 1 -> 2 says 2 is 0.9 m ahead of 1 (truly 1 m) and turned 0.1 rad too far.
+    error = edge_errors(np.array([0, 1]), np.array([1, 2]),
+                        np.array([[1.0, 0.0, np.pi / 2], [0.9, 0.0, np.pi / 2 + 0.1]]), truth)
+    assert np.allclose(error, [[0.0, 0.0], [0.1, 0.1]])

@@ -8,8 +8,9 @@ x_j is at z" with information matrix Ω (inverse covariance). The solution minim
 by Gauss-Newton with Levenberg-Marquardt damping: each iteration stacks every edge's Jacobian
 blocks (analytic, 3x3 per node) into one sparse matrix, forms the normal equations JᵀWJ Δ =
 -JᵀWe, and solves them with scipy.sparse.linalg.spsolve (SuperLU), the first node held fixed.
-Loop closures are `robust` edges: their weight follows a Cauchy kernel of the Mahalanobis error
-(iteratively reweighted), so one wrong closure bends the graph a little instead of tearing it.
+`robust` edges (zros.slam.Slam makes every edge robust) are weighted by a Cauchy kernel of the
+Mahalanobis error (iteratively reweighted), so one wrong edge among many that agree is outvoted
+instead of tearing the graph; its error stays in it rather than spreading along the chain.
 No loop over edges or nodes in Python: everything is vectorised over edge arrays.
 """
 from __future__ import annotations
@@ -28,7 +29,7 @@ __all__ = ['PoseGraph', 'Edge', 'OptimizationResult']
 
 class Edge(NamedTuple):
     """i, j: node ids; measurement: (3,) pose of j seen from i; information: (3, 3);
-    robust: whether a Cauchy kernel down-weights it when it disagrees (loop closures)."""
+    robust: whether a Cauchy kernel down-weights it when it disagrees with the rest of the graph."""
     i: int
     j: int
     measurement: np.ndarray
