@@ -39,7 +39,7 @@ import warnings
 from concurrent.futures import ThreadPoolExecutor
 from typing import TYPE_CHECKING, Any, Callable, Iterator
 
-from zros.subscription import Subscription
+from zros.subscription import _LEAD_QUICK_S, Subscription
 from zros.task import Future, Task
 from zros.timer import timer_lists_version
 from zros.waitable import POLL_PERIOD, WaitSet, waitable_lists_version
@@ -216,13 +216,15 @@ class Executor:
             entity._scheduled = True   # (its `_execute` re-arms it)
             start = time.perf_counter()
             try:
-                self._run_item(entity, self._batch)
+                self._run_item(entity)   # (one sample: the queue was empty before it came)
             except BaseException as exc:
                 self._errors.put(exc)
                 self.wake()
             finally:
                 self._leader = None
-                entity._note_led(time.perf_counter() - start)
+                took = time.perf_counter() - start
+                if took > _LEAD_QUICK_S or entity._lead_slow:
+                    entity._note_led(took)
             return True
         finally:
             self._token.release()

@@ -32,6 +32,7 @@ class _Work:
 
     _node = None
     _scheduled = False
+    _lead_slow = True   # (so that every led run is noted)
 
     def __init__(self, callback=None, group=None) -> None:
         self.callback_group = group
