@@ -3,6 +3,7 @@
     python benchmarks/pubsub.py            # full run, about a minute
     python benchmarks/pubsub.py --quick    # smaller counts, one run each, no 8 MB case
     python benchmarks/pubsub.py --only latency:twist,throughput:twist --rounds 4 --json out.json
+    python benchmarks/pubsub.py --node     # also the user's path, and latency:busy
 
 What is measured, for both libraries, in alternating runs (raw, zros, zros, raw, ...) so that
 drifting machine load hits both alike:
@@ -15,7 +16,11 @@ drifting machine load hits both alike:
   (Twist at depth 10 and KEEP_ALL; 64 KiB, 1 MB, 8 MB and 32 MB images, the large ones with
   and without shared memory);
 - the copies of a large payload between publish() and the callback, stage by stage, in one
-  process: zros's path against the old protocol v1 path (msgpack map with the pixels inline).
+  process: zros's path against the old protocol v1 path (msgpack map with the pixels inline);
+- with --node, the user's path (issue 35): each case also through Node subclasses spun by
+  `zros.spin(node)`, on the main thread (echo, flood) or a thread of their own (ping, count),
+  as the ROS 2 tutorials write them; and `latency:busy`, that round trip while a second node
+  of the pinging process, on an executor of its own, runs a 50 ms callback 15 times a second.
 
 "Raw" is what a careful user of zenoh-python writes: the message's fields by hand in a msgpack
 array (the pixels inline as `bin`), `declare_publisher` with the options zros uses for a
@@ -501,7 +506,7 @@ class NodeSide:
         return self
 
     def __exit__(self, *exc: object) -> None:
-        self._zros.shutdown()
+        self._zros.try_shutdown()   # (the echoing side's stop already shut it down)
 
 
 def node_qos(args: argparse.Namespace) -> Any:
