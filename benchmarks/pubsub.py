@@ -70,6 +70,8 @@ if str(REPO) not in sys.path:
 DOMAIN_BASE = 201
 #: A worker that lives longer than this kills itself (the orchestrator is gone or stuck).
 WORKER_WATCHDOG_S = 90.0
+#: How long a worker may take to start (a loaded machine: load 20 on 2 CPUs took over 15 s).
+READY_S = 45.0
 
 PING_TOPIC, PONG_TOPIC, FLOOD_TOPIC = '/zros_bench/ping', '/zros_bench/pong', '/zros_bench/flood'
 
@@ -876,11 +878,11 @@ def _run_pair_in(domain: int, measurer_argv: list[str], peer_argv: list[str], la
     try:
         measurer = Child(measurer_argv, env, f'{label} measurer')
         children.append(measurer)
-        if not measurer.expect('ready', 15)['is_hub']:
+        if not measurer.expect('ready', READY_S)['is_hub']:
             return None
         peer = Child(peer_argv, env, f'{label} peer')
         children.append(peer)
-        peer.expect('ready', 15)
+        peer.expect('ready', READY_S)
         result = measurer.expect('result', timeout)
         if result.get('error'):
             raise BenchError(f"{label}: {result['error']}")
@@ -907,7 +909,7 @@ class Plan:
 
 def latency_round(impl: str, case: str, count: int, warmup: int) -> 'Rtts':
     """One ping-pong run in fresh processes; the round-trip times in ns."""
-    timeout = 10 + count * (0.01 if message_case(case) == 'twist' else 0.2)
+    timeout = 20 + count * (0.02 if message_case(case) == 'twist' else 0.2)
     result = run_pair(['--worker', 'ping', impl, case, '--count', str(count), '--warmup', str(warmup),
                        '--timeout', str(timeout)],
                       ['--worker', 'echo', impl, case], f'latency {case} {impl}', timeout + 5)

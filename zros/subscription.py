@@ -98,6 +98,9 @@ _HAND_OFF_S = 0.002
 # the next _LEAD_PAUSE samples (doubling up to _LEAD_PAUSE_MAX) take the hand-off instead.
 _LEAD_QUICK_S = 0.001
 _LEAD_PAUSE, _LEAD_PAUSE_MAX = 64, 65536
+# A deep queue with this many samples waiting makes Zenoh's thread wait for the executor to
+# empty it, at most _CATCH_UP_S (_let_catch_up).
+_CATCH_UP, _CATCH_UP_S = 256, 0.005
 
 
 class Subscription(QueuedEntity, Generic[MsgT]):
@@ -134,6 +137,8 @@ class Subscription(QueuedEntity, Generic[MsgT]):
         self._handing_off = False
         self._lead_skip = self._lead_pause = 0   # _note_led
         self._lead_slow = False
+        self._drained = threading.Event()    # _let_catch_up: the executor emptied the queue
+        self._catching_up = False
         self._drops_noted = 0
         self._tail = type_tail(msg_type)
         self._decode = decoder(msg_type)
@@ -174,6 +179,8 @@ class Subscription(QueuedEntity, Generic[MsgT]):
                 self._hand_off()
             if len(queue) == queue.maxlen:
                 self._push_out()
+        elif len(queue) >= _CATCH_UP and self._scheduled and not self._catching_up:
+            self._let_catch_up()
         queue.append(sample)
         if self._events is not None:
             self._events.on_sample()
@@ -222,6 +229,23 @@ class Subscription(QueuedEntity, Generic[MsgT]):
             self._taken.wait(_HAND_OFF_S)
         self._handing_off = False
 
+    def _let_catch_up(self) -> None:
+        """A backlog of _CATCH_UP samples or more in a deep queue (KEEP_ALL) of an executor that
+        may be led: wait until the executor has taken them all, as raw Zenoh's callback thread
+        makes a reliable publisher wait for a slow callback. At most _CATCH_UP_S, and not again
+        before the queue has been empty once, so an executor busy elsewhere holds Zenoh's thread
+        up once. Without this a flood outruns the executor for good (appending costs less than
+        delivering), the queue grows and no sample is led again; with it, the next sample finds
+        the queue empty and leads."""
+        executor = self._node._executor
+        if executor is None or not executor._leading:
+            return
+        self._drained.clear()
+        self._catching_up = True
+        if self._queue and self._scheduled and not self._drained.wait(_CATCH_UP_S):
+            return   # busy elsewhere: no more waits until the queue has been emptied once
+        self._catching_up = False
+
     def _push_out(self) -> None:
         """KEEP_LAST: drop the oldest waiting sample, counted in `dropped`; its attachment is
         kept, unread, so that the executor can still count a gap before it in `lost`."""
@@ -241,6 +265,9 @@ class Subscription(QueuedEntity, Generic[MsgT]):
             for _ in range(budget):
                 with take_lock:   # pushed-out samples are older than the one taken here
                     if not queue:
+                        if self._catching_up:
+                            self._catching_up = False
+                            self._drained.set()
                         return None
                     item = queue.popleft()
                     notes = self._take_notes() if self._evicted else None
