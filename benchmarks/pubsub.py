@@ -562,8 +562,10 @@ def ping_node(side: NodeSide, case: str, args: argparse.Namespace) -> dict:
     side.spin_in_thread(node)
     emit('ready', is_hub=side.is_hub)
     chain, deadline = node.chain, time.monotonic() + args.timeout
+    kick = zros_msg(size)   # a message of its own: the chain may start on the spinning thread meanwhile
+    zros_set_seq(size, kick, 0)
     while chain.expected == 0 and time.monotonic() < deadline:
-        node.send(0)
+        node.pub.publish(kick)
         time.sleep(0.05)
     chain.done.wait(max(0.0, deadline - time.monotonic()))
     extra = {} if busy is None else {'busy_received': busy.received, 'busy_lost': busy.sub.lost,
