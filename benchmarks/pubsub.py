@@ -3,6 +3,7 @@
     python benchmarks/pubsub.py            # full run, about a minute
     python benchmarks/pubsub.py --quick    # smaller counts, one run each, no 8 MB case
     python benchmarks/pubsub.py --only latency:twist,throughput:twist --rounds 4 --json out.json
+    python benchmarks/pubsub.py --node     # also the user's path, and latency:busy
 
 What is measured, for both libraries, in alternating runs (raw, zros, zros, raw, ...) so that
 drifting machine load hits both alike:
@@ -15,7 +16,11 @@ drifting machine load hits both alike:
   (Twist at depth 10 and KEEP_ALL; 64 KiB, 1 MB, 8 MB and 32 MB images, the large ones with
   and without shared memory);
 - the copies of a large payload between publish() and the callback, stage by stage, in one
-  process: zros's path against the old protocol v1 path (msgpack map with the pixels inline).
+  process: zros's path against the old protocol v1 path (msgpack map with the pixels inline);
+- with --node, the user's path (issue 35): each case also through Node subclasses spun by
+  `zros.spin(node)`, on the main thread (echo, flood) or a thread of their own (ping, count),
+  as the ROS 2 tutorials write them; and `latency:busy`, that round trip while a second node
+  of the pinging process, on an executor of its own, runs a 50 ms callback 15 times a second.
 
 "Raw" is what a careful user of zenoh-python writes: the message's fields by hand in a msgpack
 array (the pixels inline as `bin`), `declare_publisher` with the options zros uses for a
@@ -65,6 +70,8 @@ if str(REPO) not in sys.path:
 DOMAIN_BASE = 201
 #: A worker that lives longer than this kills itself (the orchestrator is gone or stuck).
 WORKER_WATCHDOG_S = 90.0
+#: How long a worker may take to start (a loaded machine: load 20 on 2 CPUs took over 15 s).
+READY_S = 45.0
 
 PING_TOPIC, PONG_TOPIC, FLOOD_TOPIC = '/zros_bench/ping', '/zros_bench/pong', '/zros_bench/flood'
 
@@ -144,6 +151,11 @@ def zros_set_seq(case: str, msg: Any, seq: int) -> None:
 
 def zros_get_seq(case: str, msg: Any) -> int:
     return int(msg.linear.x) if case == 'twist' else msg.header.stamp.sec
+
+
+def message_case(case: str) -> str:
+    """The message a case sends: `busy` is the Twist round trip beside a slow neighbour."""
+    return 'twist' if case == 'busy' else case
 
 
 def zros_type(case: str) -> type:
@@ -417,7 +429,7 @@ def count_zros(side: ZrosSide, case: str, args: argparse.Namespace) -> dict:
             counter.first.set()
 
     qos: Any = 10
-    if args.worker[1] == 'zros-keepall':
+    if args.worker[1].endswith('-keepall'):
         from zros.qos import HistoryPolicy, QoSProfile
         qos = QoSProfile(history=HistoryPolicy.KEEP_ALL)
     sub = side.node.create_subscription(zros_type(case), FLOOD_TOPIC, on_msg, qos)
@@ -460,6 +472,170 @@ def flood_zros(side: ZrosSide, case: str, args: argparse.Namespace, stop: thread
     publish, stopped = pub.publish, stop.is_set
     while not stopped():
         publish(msg)
+
+
+# -- the user's path: Node subclasses spun as the ROS 2 tutorials spin them ----------------------
+BUSY_TOPIC = '/zros_bench/busy'
+#: The neighbour of `latency:busy`: its callback takes this long, and it gets this many messages a second.
+BUSY_CALLBACK_S, BUSY_RATE_HZ = 0.05, 15.0
+
+
+class NodeSide:
+    """What a user's program has: `zros.init()`, its Node subclasses, `zros.spin(node)` (the
+    global SingleThreadedExecutor) on the main thread or on a thread of its own; a context
+    manager that shuts zros down on the way out."""
+
+    def __init__(self) -> None:
+        import zros
+        self._zros = zros
+        self.context = zros.init(args=['pubsub_bench'])
+        self.is_hub = self.context.is_hub
+
+    def spin_in_thread(self, node: Any, executor: Any = None) -> threading.Thread:
+        """`threading.Thread(target=rclpy.spin, args=(node,))`, as a user's script starts it."""
+        from zros.executors import ExternalShutdownException
+
+        def spin() -> None:
+            try:
+                self._zros.spin(node, executor)
+            except ExternalShutdownException:
+                pass
+        thread = threading.Thread(target=spin, daemon=True, name=f'spin-{node.get_name()}')
+        thread.start()
+        return thread
+
+    def __enter__(self) -> 'NodeSide':
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._zros.try_shutdown()   # (the echoing side's stop already shut it down)
+
+
+def node_qos(args: argparse.Namespace) -> Any:
+    """Depth 10, or KEEP_ALL for the `node-keepall` column."""
+    if not args.worker[1].endswith('-keepall'):
+        return 10
+    from zros.qos import HistoryPolicy, QoSProfile
+    return QoSProfile(history=HistoryPolicy.KEEP_ALL)
+
+
+def ping_node(side: NodeSide, case: str, args: argparse.Namespace) -> dict:
+    from zros.executors import SingleThreadedExecutor
+    from zros.node import Node
+    size = message_case(case)
+    msg_type = zros_type(size)
+
+    class Pinger(Node):
+        def __init__(self) -> None:
+            super().__init__('pinger')
+            self.msg = zros_msg(size)
+            self.pub = self.create_publisher(msg_type, PING_TOPIC, 10)
+            self.chain = PingChain(args.warmup, args.count, self.send)
+            self.create_subscription(msg_type, PONG_TOPIC, self.on_pong, 10)
+
+        def send(self, seq: int) -> None:
+            zros_set_seq(size, self.msg, seq)
+            self.pub.publish(self.msg)
+
+        def on_pong(self, msg: Any) -> None:
+            self.chain.on_pong(zros_get_seq(size, msg), time.perf_counter_ns())
+
+    class Busy(Node):
+        """The slow neighbour of `latency:busy`: a KEEP_ALL subscription whose callback takes
+        BUSY_CALLBACK_S, on an executor of its own (as a user keeps a slow callback apart)."""
+
+        def __init__(self) -> None:
+            from zros.qos import HistoryPolicy, QoSProfile
+            super().__init__('busy')
+            self.received = 0
+            self.sub = self.create_subscription(msg_type, BUSY_TOPIC, self.on_msg,
+                                                QoSProfile(history=HistoryPolicy.KEEP_ALL))
+
+        def on_msg(self, msg: Any) -> None:
+            self.received += 1
+            time.sleep(BUSY_CALLBACK_S)
+
+    node = Pinger()
+    busy = Busy() if case == 'busy' else None
+    if busy is not None:
+        side.spin_in_thread(busy, SingleThreadedExecutor())
+    side.spin_in_thread(node)
+    emit('ready', is_hub=side.is_hub)
+    chain, deadline = node.chain, time.monotonic() + args.timeout
+    kick = zros_msg(size)   # a message of its own: the chain may start on the spinning thread meanwhile
+    zros_set_seq(size, kick, 0)
+    while chain.expected == 0 and time.monotonic() < deadline:
+        node.pub.publish(kick)
+        time.sleep(0.05)
+    chain.done.wait(max(0.0, deadline - time.monotonic()))
+    extra = {} if busy is None else {'busy_received': busy.received, 'busy_lost': busy.sub.lost,
+                                     'busy_dropped': busy.sub.dropped}
+    return {'rtts_ns': chain.rtts, 'complete': chain.done.is_set(), **extra}
+
+
+def echo_node(side: NodeSide, case: str, args: argparse.Namespace, stop: threading.Event) -> None:
+    from zros.executors import ExternalShutdownException
+    from zros.node import Node
+    msg_type = zros_type(message_case(case))
+
+    class Echo(Node):
+        def __init__(self) -> None:
+            super().__init__('echo')
+            self.pub = self.create_publisher(msg_type, PONG_TOPIC, 10)
+            self.create_subscription(msg_type, PING_TOPIC, self.on_ping, 10)
+
+        def on_ping(self, msg: Any) -> None:
+            self.pub.publish(msg)
+
+    node = Echo()
+    if case == 'busy':
+        threading.Thread(target=feed_busy, args=(node, stop), daemon=True, name='bench-busy').start()
+    emit('ready', is_hub=side.is_hub)
+    threading.Thread(target=lambda: (stop.wait(), side._zros.shutdown()), daemon=True).start()
+    try:
+        side._zros.spin(node)   # on the main thread, as a tutorial's main() does
+    except ExternalShutdownException:
+        pass
+
+
+def feed_busy(node: Any, stop: threading.Event) -> None:
+    """Publish to the pinging side's slow neighbour at BUSY_RATE_HZ until the run ends."""
+    pub = node.create_publisher(zros_type('twist'), BUSY_TOPIC, 10)
+    msg = zros_msg('twist')
+    while not stop.wait(1 / BUSY_RATE_HZ):
+        pub.publish(msg)
+
+
+def count_node(side: NodeSide, case: str, args: argparse.Namespace) -> dict:
+    from zros.message import serialize
+    from zros.node import Node
+    counter = Counter()
+
+    class Listener(Node):
+        def __init__(self) -> None:
+            super().__init__('listener')
+            self.sub = self.create_subscription(zros_type(case), FLOOD_TOPIC, self.on_msg, node_qos(args))
+
+        def on_msg(self, msg: Any) -> None:
+            counter.received += 1
+            if not counter.first.is_set():
+                counter.first.set()
+
+    node = Listener()
+    side.spin_in_thread(node)
+    emit('ready', is_hub=side.is_hub)
+    return measure_window(counter, args, len(serialize(zros_msg(case))),
+                          lambda: {'lost': node.sub.lost, 'dropped': node.sub.dropped})
+
+
+def flood_node(side: NodeSide, case: str, args: argparse.Namespace, stop: threading.Event) -> None:
+    from zros.node import Node
+    node = Node('talker')
+    pub = node.create_publisher(zros_type(case), FLOOD_TOPIC, 10)
+    msg = zros_msg(case)
+    emit('ready', is_hub=side.is_hub)
+    while not stop.is_set():
+        pub.publish(msg)
 
 
 class DdsSide:
@@ -569,12 +745,12 @@ def flood_dds(side: DdsSide, case: str, args: argparse.Namespace, stop: threadin
 #: role -> (measuring?, {impl: function}). Measuring roles return a result and are the hub;
 #: peers run until their stdin closes.
 ROLES = {
-    'ping': (True, {'raw': ping_raw, 'zros': ping_zros, 'dds': ping_dds}),
-    'echo': (False, {'raw': echo_raw, 'zros': echo_zros, 'dds': echo_dds}),
-    'count': (True, {'raw': count_raw, 'zros': count_zros, 'dds': count_dds}),
-    'flood': (False, {'raw': flood_raw, 'zros': flood_zros, 'dds': flood_dds}),
+    'ping': (True, {'raw': ping_raw, 'zros': ping_zros, 'node': ping_node, 'dds': ping_dds}),
+    'echo': (False, {'raw': echo_raw, 'zros': echo_zros, 'node': echo_node, 'dds': echo_dds}),
+    'count': (True, {'raw': count_raw, 'zros': count_zros, 'node': count_node, 'dds': count_dds}),
+    'flood': (False, {'raw': flood_raw, 'zros': flood_zros, 'node': flood_node, 'dds': flood_dds}),
 }
-SIDES = {'raw': RawSide, 'dds': DdsSide}
+SIDES = {'raw': RawSide, 'dds': DdsSide, 'node': NodeSide}
 
 
 def dds_available() -> bool:
@@ -704,11 +880,11 @@ def _run_pair_in(domain: int, measurer_argv: list[str], peer_argv: list[str], la
     try:
         measurer = Child(measurer_argv, env, f'{label} measurer')
         children.append(measurer)
-        if not measurer.expect('ready', 15)['is_hub']:
+        if not measurer.expect('ready', READY_S)['is_hub']:
             return None
         peer = Child(peer_argv, env, f'{label} peer')
         children.append(peer)
-        peer.expect('ready', 15)
+        peer.expect('ready', READY_S)
         result = measurer.expect('result', timeout)
         if result.get('error'):
             raise BenchError(f"{label}: {result['error']}")
@@ -733,16 +909,23 @@ class Plan:
     tput_rounds: int
 
 
-def latency_round(impl: str, case: str, count: int, warmup: int) -> list[int]:
+def latency_round(impl: str, case: str, count: int, warmup: int) -> 'Rtts':
     """One ping-pong run in fresh processes; the round-trip times in ns."""
-    timeout = 10 + count * (0.01 if case == 'twist' else 0.2)
+    timeout = 20 + count * (0.02 if message_case(case) == 'twist' else 0.2)
     result = run_pair(['--worker', 'ping', impl, case, '--count', str(count), '--warmup', str(warmup),
                        '--timeout', str(timeout)],
                       ['--worker', 'echo', impl, case], f'latency {case} {impl}', timeout + 5)
-    rtts = result['rtts_ns']
+    rtts = Rtts(result['rtts_ns'])
+    rtts.busy = {k: v for k, v in result.items() if k.startswith('busy_')}
     if not result['complete'] or len(rtts) < count:
         raise BenchError(f'latency {case} {impl}: only {len(rtts)} of {count} round trips in {timeout:.0f} s')
     return rtts
+
+
+class Rtts(list):
+    """Round-trip times in ns, with what the slow neighbour of `latency:busy` counted."""
+
+    busy: dict[str, int]
 
 
 def latency_stats(rtts: list[int]) -> dict:
@@ -829,11 +1012,14 @@ def run_orchestrator(args: argparse.Namespace) -> int:
     started = time.monotonic()
 
     latency: dict[str, dict[str, dict]] = {}
+    busy_counts: dict[str, dict[str, int]] = {}
+    node = ('node',) if args.node else ()
+    busy = (('busy', plan.lat_small, plan.warmup_small),) if args.node else ()
     for case, count, warmup in (('twist', plan.lat_small, plan.warmup_small),
-                                ('1MB', plan.lat_large, plan.warmup_large)):
+                                ('1MB', plan.lat_large, plan.warmup_large), *busy):
         if wanted is not None and f'latency:{case}' not in wanted:
             continue
-        impls = ('raw', 'zros', *dds) if case == 'twist' else ('raw', 'zros')
+        impls = {'twist': ('raw', 'zros', *node, *dds), 'busy': node}.get(case, ('raw', 'zros', *node))
         samples: dict[str, list[int]] = {impl: [] for impl in impls}
         for i, order in enumerate(round_orders(plan.lat_rounds, impls)):
             for impl in order:
@@ -841,15 +1027,19 @@ def run_orchestrator(args: argparse.Namespace) -> int:
                 rtts = latency_round(impl, case, count // plan.lat_rounds, warmup)
                 samples[impl] += rtts
                 res = latency_stats(rtts)
-                print(f"median {res['median']:.0f} us, p99 {res['p99']:.0f} us ({res['n']} round trips)")
-        latency[case] = {impl: latency_stats(rtts) for impl, rtts in samples.items()}
+                print(f"median {res['median']:.0f} us, p99 {res['p99']:.0f} us ({res['n']} round trips)"
+                      + (f", busy neighbour got {rtts.busy['busy_received']}, lost {rtts.busy['busy_lost']}"
+                         if rtts.busy else ''))
+                busy_counts[impl] = {k: busy_counts.get(impl, {}).get(k, 0) + v for k, v in rtts.busy.items()}
+        latency[case] = {impl: {**latency_stats(rtts), **busy_counts.get(impl, {})} for impl, rtts in samples.items()}
 
     throughput: dict[str, dict[str, dict]] = {}
     for case in plan.throughput_cases:
         if wanted is not None and f'throughput:{case}' not in wanted:
             continue
         # The small message also with a KEEP_ALL subscription: depth 10 should deliver as much.
-        impls = ('raw', 'zros', 'zros-keepall', *dds) if case == 'twist' else ('raw', 'zros')
+        impls = (('raw', 'zros', 'zros-keepall', *node, *(f'{n}-keepall' for n in node), *dds) if case == 'twist'
+                 else ('raw', 'zros', *node))
         rounds: dict[str, list[dict]] = {impl: [] for impl in impls}
         for i, order in enumerate(round_orders(plan.tput_rounds, impls)):
             for impl in order:
@@ -919,6 +1109,8 @@ def report(latency: dict, throughput: dict, plan: Plan, stages: dict | None, dds
     out = []
     rows = []
     for case, res in latency.items():
+        if 'raw' not in res:
+            continue   # latency:busy has the node column only (user_path_rows)
         raw, zr, dd = res['raw'], res['zros'], res.get('dds')
         target = LATENCY_TARGET if case == 'twist' else LARGE_LATENCY_TARGET
         for stat in ('median', 'p90', 'p99'):
@@ -928,7 +1120,7 @@ def report(latency: dict, throughput: dict, plan: Plan, stages: dict | None, dds
                          target_text(target) if judged else '(info)', verdict(target, ratio) if judged else '',
                          f'{dd[stat]:.0f}' if dd else '-'])
     if rows:
-        n = ', '.join(f"{case_name(c)} {r['raw']['n']}" for c, r in latency.items())
+        n = ', '.join(f"{case_name(c)} {r['raw']['n']}" for c, r in latency.items() if 'raw' in r)
         out += [f'Round-trip latency in us, ping-pong between two processes '
                 f'({plan.lat_rounds} alternating runs each; round trips: {n})',
                 table(['case', 'raw zenoh', 'zros', 'zros/raw', 'target', 'result', 'cyclonedds'], rows), '']
@@ -973,6 +1165,11 @@ def report(latency: dict, throughput: dict, plan: Plan, stages: dict | None, dds
                 'arrived: what reached the zros subscription (received + dropped).']
         if not dds:
             out.append('cyclonedds: not installed here (pip install cyclonedds) - its columns are empty.')
+    node_rows = user_path_rows(latency, throughput)
+    if node_rows:
+        out += ['', "The user's path (--node): Node subclasses, zros.spin(node) on a thread of their own or the "
+                    'main thread; ratios to raw zenoh-python in the same run',
+                table(['case', 'raw', 'zros (micro)', 'node', 'node/raw', 'target', 'result', 'cyclonedds'], node_rows)]
     if stages:
         out += ['', f"Copies of an {stages['size'] / 1e6:.1f} MB payload between publish() and the callback, "
                     f'ms each (one process)',
@@ -981,10 +1178,64 @@ def report(latency: dict, throughput: dict, plan: Plan, stages: dict | None, dds
     return '\n'.join(out)
 
 
+def user_path_rows(latency: dict, throughput: dict) -> list[list[str]]:
+    """The `node` column against raw and the micro path, judged by the same targets; the busy
+    row's p99 against the plain round trip's, with what the slow neighbour lost."""
+    rows = []
+    for case, res in latency.items():
+        if 'node' not in res or 'raw' not in res:
+            continue
+        target = LATENCY_TARGET if case == 'twist' else LARGE_LATENCY_TARGET
+        raw, zr, nd, dd = res['raw'], res['zros'], res['node'], res.get('dds')
+        for stat in ('median', 'p99'):
+            ratio = nd[stat] / raw[stat]
+            judged = stat == 'median'
+            rows.append([f'{case_name(case)} RTT {stat}, us', f'{raw[stat]:.0f}', f'{zr[stat]:.0f}', f'{nd[stat]:.0f}',
+                         f'{ratio:.2f}x', target_text(target) if judged else '(info)',
+                         verdict(target, ratio) if judged else '', f'{dd[stat]:.0f}' if dd else '-'])
+        if dd and case == 'twist':
+            rows.append(['Twist RTT median against cyclonedds', '', '', '', f"{nd['median'] / dd['median']:.2f}x",
+                         '<= 1.00x', verdict(('max', 1.0), nd['median'] / dd['median']), ''])
+    busy = latency.get('busy', {}).get('node')
+    plain = latency.get('twist', {}).get('node')
+    if busy:
+        ratio = f"{busy['p99'] / plain['p99']:.2f}x of plain" if plain else ''
+        rows.append(['Twist RTT p99 beside a 50 ms callback, us', '', '', f"{busy['p99']:.0f}", ratio, '(against main)',
+                     f"lost {busy.get('busy_lost', 0)}, got {busy.get('busy_received', 0)}", ''])
+    twist = throughput.get('twist', {})
+    if 'node' in twist:
+        raw, keepall = twist['raw'], twist.get('node-keepall')
+        if keepall:
+            ratio = keepall['msgs'] / raw['msgs']
+            rows.append(['Twist msg/s, KEEP_ALL', f"{raw['msgs']:.0f}", f"{twist['zros-keepall']['msgs']:.0f}",
+                         f"{keepall['msgs']:.0f}", f'{ratio:.2f}x', target_text(SMALL_RATE_TARGET),
+                         verdict(SMALL_RATE_TARGET, ratio), '-'])
+        nd, dd = twist['node'], twist.get('dds')
+        share = nd['msgs'] / keepall['msgs'] if keepall else None
+        rows.append(['Twist msg/s, depth 10', f"{raw['msgs']:.0f}", f"{twist['zros']['msgs']:.0f}", f"{nd['msgs']:.0f}",
+                     f'{share:.2f}x of KEEP_ALL' if share else '', f'{target_text(DEPTH10_TARGET)} of KEEP_ALL',
+                     verdict(DEPTH10_TARGET, share) if share else '', f"{dd['msgs']:.0f}" if dd else '-'])
+    for case, res in throughput.items():
+        size = case.split(':')[0]
+        if size == 'twist' or 'node' not in res:
+            continue
+        target = RATE_TARGETS.get(size) if not case.endswith(':noshm') or size == '1MB' else None
+        raw, zr, nd = res['raw'], res['zros'], res['node']
+        ratio = nd['msgs'] / raw['msgs']
+        judged = nd['msgs'] if target and target[0] == 'abs' else ratio
+        shown = (f'>= {target[1]:.0f} msg/s' if target[0] == 'abs' else target_text(target)) if target else '(info)'
+        rows.append([f'{case_name(case)} msg/s', f"{raw['msgs']:.0f}", f"{zr['msgs']:.0f}", f"{nd['msgs']:.0f}",
+                     f'{ratio:.2f}x', shown, verdict(target, judged) if target else '', '-'])
+    return rows
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     parser.add_argument('--quick', action='store_true', help='smaller counts, 1 s windows, fewer cases')
     parser.add_argument('--json', metavar='PATH', help='also write the raw numbers as JSON')
+    parser.add_argument('--node', action='store_true',
+                        help="also the user's path: Node subclasses spun by zros.spin (column 'node'), and the "
+                             'Twist round trip beside a node whose callback takes 50 ms (latency:busy)')
     parser.add_argument('--rounds', type=int, help='runs per case and library, alternating raw/zros '
                                                     '(default 2, 1 with --quick)')
     parser.add_argument('--only', metavar='CASES',

@@ -14,10 +14,22 @@ the group until the coroutine ends (zros.task).
 Where work comes from, in the order it is taken: tasks made by `create_task` that have not run
 yet (newest first, as rclpy yields its tasks), due timers, the user waitables of the nodes
 (zros.waitable, asked in turn whenever the executor looks for work), then the queue.
+
+Leader/follower (docs/architecture.md §3): a thread hop costs more than the rest of zros's work
+per message, so while a SingleThreadedExecutor's `spin()` or `spin_until_future_complete()` is
+parked on its queue, a subscription's sample is run at once by the thread it arrived on
+(zenoh-python's callback thread), which takes the executor's token (`_token`) for it: the
+spinning thread takes the same token before it runs anything, so callbacks still run one at a
+time, inside their groups, with the executor's accounting. Anything else, and any sample that
+arrives while the executor is busy, takes the hand-off through the queue. `spin_once` never
+lets a sample be led (it returns after one callback of its own); neither does a
+MultiThreadedExecutor, nor a subclass with its own `spin_once`. ZROS_CALLBACK_THREAD=spin turns
+leading off, for callbacks that must run on the spinning thread (a GUI toolkit's main thread).
 """
 from __future__ import annotations
 
 import collections
+import contextlib
 import inspect
 import os
 import queue
@@ -27,7 +39,7 @@ import warnings
 from concurrent.futures import ThreadPoolExecutor
 from typing import TYPE_CHECKING, Any, Callable, Iterator
 
-from zros.subscription import Subscription
+from zros.subscription import _LEAD_QUICK_S, Subscription
 from zros.task import Future, Task
 from zros.timer import timer_lists_version
 from zros.waitable import POLL_PERIOD, WaitSet, waitable_lists_version
@@ -60,6 +72,8 @@ _MAX_WAIT = 0.5
 # How many waiting samples spin() lets one subscription deliver per turn: a burst then costs
 # one trip through the executor's queue per batch, not per message.
 _SPIN_BATCH = 64
+# ZROS_CALLBACK_THREAD=spin: every callback on the spinning thread (no leader/follower).
+_LEADING_ALLOWED = os.environ.get('ZROS_CALLBACK_THREAD', '') != 'spin'
 
 
 class _Completion:
@@ -124,6 +138,12 @@ class Executor:
         # Tasks made by create_task that have not run yet: taken newest first, before other work,
         # as rclpy's executor yields its tasks (a task made to await an earlier one runs first).
         self._new_tasks: collections.deque[Task[Any]] = collections.deque()
+        # Leader/follower (module docstring): whoever runs a callback holds the token; `_leading`
+        # while a spin may be led, `_leader` the thread that leads now.
+        self._token = threading.RLock()
+        self._leading = False
+        self._leader: int | None = None
+        self._errors: queue.SimpleQueue = queue.SimpleQueue()   # raised again on the spinning thread
         self._context._register_executor(self)
 
     @property
@@ -181,6 +201,45 @@ class Executor:
 
     def _note_completion(self) -> None:
         self._queue.put(_COMPLETION)
+
+    def _lead(self, entity: Any) -> bool:
+        """Zenoh's thread, with a sample just queued on `entity` (a Subscription): run it here
+        and now if the executor is parked in a spin that may be led (module docstring), and say
+        whether it did; False leaves the hand-off to the caller. An exception from the callback
+        is raised again on the spinning thread, as one from the spinning thread would be."""
+        if not self._idle or not self._token.acquire(blocking=False):
+            return False
+        try:
+            if not (self._idle and self._leading) or self._is_shutdown:
+                return False   # (it woke meanwhile: the hand-off keeps the order of its work)
+            self._leader = threading.get_ident()
+            entity._scheduled = True   # (its `_execute` re-arms it)
+            start = time.perf_counter()
+            try:
+                self._run_item(entity)   # (one sample: the queue was empty before it came)
+            except BaseException as exc:
+                self._errors.put(exc)
+                self.wake()
+            finally:
+                self._leader = None
+                took = time.perf_counter() - start
+                if took > _LEAD_QUICK_S or entity._lead_slow:
+                    entity._note_led(took)
+            return True
+        finally:
+            self._token.release()
+
+    def _wait_for_leader(self) -> None:
+        """Block until no leader runs a callback (the token is free)."""
+        with self._token:
+            pass
+
+    def _raise_pending_error(self) -> None:
+        try:
+            exc = self._errors.get_nowait()
+        except queue.Empty:
+            return
+        raise exc
 
     def create_task(self, callback: Callable | Any, *args: Any, **kwargs: Any) -> Task:
         """Run `callback(*args, **kwargs)` on this executor, outside any callback group.
@@ -273,6 +332,13 @@ class Executor:
                 if deadline is not None and time.monotonic() >= deadline:
                     return None
                 continue
+            leader = self._leader
+            if leader is not None and leader != threading.get_ident():
+                # A leader runs a callback: leave the item to it (a spin nested in that callback
+                # waits for it) and wait until it is done.
+                self._queue.put(item)
+                self._wait_for_leader()
+                continue
             if item is None:
                 self._check_context()
                 if self._stop_waiting() or (until is not None and until()):
@@ -281,8 +347,8 @@ class Executor:
             return item
 
     def _stop_waiting(self) -> bool:
-        """Whether a wake-up should end the current wait (subclasses add reasons)."""
-        return self._is_shutdown
+        """Whether a wake-up should end the current wait: shutdown, or an error to raise."""
+        return self._is_shutdown or not self._errors.empty()
 
     def _check_context(self) -> None:
         # An executor shut down before its context stops quietly, whichever its spin sees first.
@@ -375,6 +441,7 @@ class Executor:
             self._spin_once(timeout_sec)
 
     def _spin_once(self, timeout_sec: float | None, until: Callable[[], bool] | None = None) -> bool:
+        self._raise_pending_error()
         if timeout_sec is None:
             item = None
             while item is None:
@@ -407,11 +474,12 @@ class Executor:
                 self._check_context()
                 return
             self._batch = _SPIN_BATCH
-            try:
-                while not self._is_shutdown:
-                    self._spin_once(_MAX_WAIT)
-            finally:
-                self._batch = 1
+            with self._led():
+                try:
+                    while not self._is_shutdown:
+                        self._spin_once(_MAX_WAIT)
+                finally:
+                    self._batch = 1
 
     def spin_until_future_complete(self, future: Future, timeout_sec: float | None = None) -> None:
         """Run callbacks until `future` completes, the timeout passes or the context shuts down.
@@ -423,7 +491,7 @@ class Executor:
         :param timeout_sec: Seconds to wait at most; ``None`` waits forever.
         """
         self._adopt(future)
-        with self._spinning():
+        with self._spinning(), self._led():
             deadline = None if timeout_sec is None else time.monotonic() + timeout_sec
             while not future.done() and not self._is_shutdown:
                 remaining = _MAX_WAIT if deadline is None else min(_MAX_WAIT, deadline - time.monotonic())
@@ -453,10 +521,24 @@ class Executor:
     def _spinning(self) -> '_SpinGuard':
         return _SpinGuard(self)
 
+    @contextlib.contextmanager
+    def _led(self) -> Iterator[None]:
+        """Let samples be led while the body spins (if this executor may be led at all), and
+        leave only once no leader runs a callback: a shutdown waiting for the spin to end then
+        waits for that callback too."""
+        previous = self._leading
+        self._leading = _LEADING_ALLOWED and self._runs_on_waiting_thread and self._builtin_spin_once()
+        try:
+            yield
+        finally:
+            self._leading = previous
+            if self._leader != threading.get_ident():
+                self._wait_for_leader()
+
     def _wait_until_idle(self, timeout_sec: float) -> bool:
         """Wait (from another thread) until no callback of this executor is running, so that a
         context shutdown does not pull the nodes from under it; False on timeout."""
-        if self._spin_thread == threading.get_ident():
+        if threading.get_ident() in (self._spin_thread, self._leader):
             return False  # shut down from inside one of our own callbacks
         if not self._spin_lock.acquire(timeout=timeout_sec):
             return False
@@ -490,22 +572,31 @@ class _SpinGuard:
 
     def __enter__(self) -> None:
         executor = self._executor
+        self._in_leader = executor._leader == threading.get_ident()
+        if self._in_leader:   # a callback run by a leader spins: nested in the parked spin
+            self._outer = False
+            return
         if not executor._spin_lock.acquire(blocking=False):
             raise RuntimeError('Executor is already spinning')
         self._outer = executor._spin_thread is None
         executor._spin_thread = threading.get_ident()
 
     def __exit__(self, *exc: object) -> None:
+        if self._in_leader:
+            return
         if self._outer:
             self._executor._spin_thread = None
         self._executor._spin_lock.release()
 
 
 class SingleThreadedExecutor(Executor):
-    """Runs every callback on the thread that spins, one at a time, in arrival order."""
+    """Runs callbacks one at a time, in arrival order: on the thread that spins, or, for a
+    sample that arrives while `spin()` waits for work, on the thread it arrived on (the module
+    docstring's leader/follower)."""
 
     def _dispatch(self, item: Any) -> None:
-        self._run_item(item, self._batch)
+        with self._token:
+            self._run_item(item, self._batch)
 
 
 class MultiThreadedExecutor(Executor):
@@ -531,7 +622,6 @@ class MultiThreadedExecutor(Executor):
                           'use a SingleThreadedExecutor instead', UserWarning, stacklevel=2)
         # Named as rclpy names it (code written for rclpy reads `_executor._max_workers`).
         self._executor = ThreadPoolExecutor(max_workers=self._num_threads, thread_name_prefix='zros-exec')
-        self._errors: queue.SimpleQueue = queue.SimpleQueue()
 
     @property
     def num_threads(self) -> int:
@@ -554,20 +644,6 @@ class MultiThreadedExecutor(Executor):
         except BaseException as exc:  # surfaced on the spinning thread, as rclpy does
             self._errors.put(exc)
             self.wake()
-
-    def _raise_pending_error(self) -> None:
-        try:
-            exc = self._errors.get_nowait()
-        except queue.Empty:
-            return
-        raise exc
-
-    def _stop_waiting(self) -> bool:
-        return super()._stop_waiting() or not self._errors.empty()
-
-    def _spin_once(self, timeout_sec: float | None, until: Callable[[], bool] | None = None) -> bool:
-        self._raise_pending_error()
-        return super()._spin_once(timeout_sec, until)
 
     def shutdown(self, timeout_sec: float | None = None) -> bool:
         """Stop spinning and shut the worker pool down.

@@ -1,9 +1,11 @@
 """Subscriptions: samples arrive on Zenoh's thread, wait undecoded in a bounded queue, and are
 read, decoded and handed to the callback on the executor.
 
-One hand-off: on zenoh-python's callback thread, all the subscription does is append the
-sample, untouched, to its queue and put itself in the executor's queue if it is not there yet:
-no copy, no parsing, never user code, so that thread holds the GIL as little as possible. The
+One hand-off: on zenoh-python's callback thread, the subscription appends the sample,
+untouched, to its queue and puts itself in the executor's queue if it is not there yet: no
+copy, no parsing, so that thread holds the GIL as little as possible. The exception is an
+executor parked in `spin()` with nothing to do: then that thread leads, running the sample
+through the executor at once (zros.executors, leader/follower), which saves the thread hop. The
 queue is the QoS depth (KEEP_LAST): when full, the oldest sample is pushed out and counted in
 `dropped`, so a sample the depth rule drops is never copied or decoded. The executor reads each
 sample's attachment once. Gaps in a publisher's sequence numbers over every sample that reached
@@ -92,6 +94,13 @@ def _callback_type(callback: Callable) -> CallbackType:
 
 # How long Zenoh's thread waits for an idle executor to take a full KEEP_LAST queue.
 _HAND_OFF_S = 0.002
+# Two callbacks in a row led on Zenoh's thread (zros.executors) that take longer than this make
+# the next _LEAD_PAUSE samples (doubling up to _LEAD_PAUSE_MAX) take the hand-off instead.
+_LEAD_QUICK_S = 0.001
+_LEAD_PAUSE, _LEAD_PAUSE_MAX = 64, 65536
+# A deep queue with this many samples waiting makes Zenoh's thread wait for the executor to
+# empty it, at most _CATCH_UP_S (_let_catch_up).
+_CATCH_UP, _CATCH_UP_S = 256, 0.005
 
 
 class Subscription(QueuedEntity, Generic[MsgT]):
@@ -126,6 +135,10 @@ class Subscription(QueuedEntity, Generic[MsgT]):
         self._take_lock = threading.Lock()   # the executor's take vs. a push-out
         self._taken = threading.Event()       # _hand_off: the executor took from the queue
         self._handing_off = False
+        self._lead_skip = self._lead_pause = 0   # _note_led
+        self._lead_slow = False
+        self._drained = threading.Event()    # _let_catch_up: the executor emptied the queue
+        self._catching_up = False
         self._drops_noted = 0
         self._tail = type_tail(msg_type)
         self._decode = decoder(msg_type)
@@ -156,8 +169,9 @@ class Subscription(QueuedEntity, Generic[MsgT]):
         """
         return self._node.count_publishers(self.topic_name)
 
-    # Zenoh thread: queue the sample untouched (no copy, no parsing) and make sure the executor
-    # will run us. Never user code.
+    # Zenoh thread: queue the sample untouched (no copy, no parsing), then either run it here at
+    # once, if the executor is parked and lets this thread lead (zros.executors), or make sure
+    # the executor will run us.
     def _on_sample(self, sample: Any) -> None:
         queue = self._queue
         if len(queue) == queue.maxlen:
@@ -165,11 +179,33 @@ class Subscription(QueuedEntity, Generic[MsgT]):
                 self._hand_off()
             if len(queue) == queue.maxlen:
                 self._push_out()
+        elif len(queue) >= _CATCH_UP and self._scheduled and not self._catching_up:
+            self._let_catch_up()
         queue.append(sample)
-        if not self._scheduled:
-            self._schedule()
         if self._events is not None:
             self._events.on_sample()
+        if not self._scheduled:
+            executor = self._node._executor
+            if self._lead_skip:
+                self._lead_skip -= 1
+                self._schedule()
+            elif executor is None or not executor._leading or not executor._lead(self):
+                self._schedule()
+
+    def _note_led(self, seconds: float) -> None:
+        """After a callback this thread led: slow ones hold Zenoh's thread (its channel fills,
+        and then reliable publishers wait for this callback, where a KEEP_LAST queue would
+        drop instead), so after two slow ones in a row the next samples take the hand-off;
+        each pause doubles the last. (One slow one alone is most often this thread waiting for
+        the interpreter lock while another thread had it.)"""
+        if seconds <= _LEAD_QUICK_S:
+            self._lead_slow = False
+            self._lead_pause = 0
+        elif not self._lead_slow:
+            self._lead_slow = True
+        else:
+            self._lead_pause = min(2 * self._lead_pause or _LEAD_PAUSE, _LEAD_PAUSE_MAX)
+            self._lead_skip = self._lead_pause
 
     def _on_sample_timed(self, sample: Any) -> None:
         """`_on_sample` for a callback that takes MessageInfo: the arrival time goes along."""
@@ -193,6 +229,23 @@ class Subscription(QueuedEntity, Generic[MsgT]):
             self._taken.wait(_HAND_OFF_S)
         self._handing_off = False
 
+    def _let_catch_up(self) -> None:
+        """A backlog of _CATCH_UP samples or more in a deep queue (KEEP_ALL) of an executor that
+        may be led: wait until the executor has taken them all, as raw Zenoh's callback thread
+        makes a reliable publisher wait for a slow callback. At most _CATCH_UP_S, and not again
+        before the queue has been empty once, so an executor busy elsewhere holds Zenoh's thread
+        up once. Without this a flood outruns the executor for good (appending costs less than
+        delivering), the queue grows and no sample is led again; with it, the next sample finds
+        the queue empty and leads."""
+        executor = self._node._executor
+        if executor is None or not executor._leading:
+            return
+        self._drained.clear()
+        self._catching_up = True
+        if self._queue and self._scheduled and not self._drained.wait(_CATCH_UP_S):
+            return   # busy elsewhere: no more waits until the queue has been emptied once
+        self._catching_up = False
+
     def _push_out(self) -> None:
         """KEEP_LAST: drop the oldest waiting sample, counted in `dropped`; its attachment is
         kept, unread, so that the executor can still count a gap before it in `lost`."""
@@ -212,6 +265,9 @@ class Subscription(QueuedEntity, Generic[MsgT]):
             for _ in range(budget):
                 with take_lock:   # pushed-out samples are older than the one taken here
                     if not queue:
+                        if self._catching_up:
+                            self._catching_up = False
+                            self._drained.set()
                         return None
                     item = queue.popleft()
                     notes = self._take_notes() if self._evicted else None

@@ -346,7 +346,8 @@ def test_samples_waiting_behind_a_running_callback_keep_only_the_newest(make_con
         if msg.data == 0:
             for i in (3, 4, 5):
                 publisher.publish(Int32(data=i))
-            wait_for(lambda: len(sub._queue) == 3, timeout=5, message='three newer samples waiting')
+            # (3 alone fills the queue behind 1 and 2: the newer three wait once both are pushed out)
+            wait_for(lambda: sub.dropped == 2, timeout=5, message='three newer samples waiting')
     sub = node.create_subscription(Int32, '/overtaken', on_message, 3)
     assert publisher.wait_for_subscribers(1, 5.0)
     for i in (0, 1, 2):
