@@ -261,6 +261,9 @@ def settings_from_env(env: os._Environ | dict | None = None, *, domain_id: int |
         raise RCLError(f'domain id must be within 0-232, got {domain_id}')
     # per-topic priorities (zros.priority): a bad rule stops the process here, before any node
     parse_topic_priorities(env.get(PRIORITY_ENV, ''))
+    thread = (env.get('ZROS_CALLBACK_THREAD') or '').strip()
+    if thread and thread not in ('spin', 'zenoh'):
+        raise ZrosError(f"ZROS_CALLBACK_THREAD must be 'spin' (the default) or 'zenoh', got '{thread}'")
 
     config_file = (env.get('ZROS_CONFIG') or '').strip() or None
     secure = False

@@ -21,6 +21,12 @@ from interfaces.std_msgs.msg import Int32
 KEEP_ALL = QoSProfile(history=HistoryPolicy.KEEP_ALL)
 
 
+@pytest.fixture(autouse=True)
+def _leading(monkeypatch):
+    """Leader/follower is opt-in (ZROS_CALLBACK_THREAD=zenoh): these tests turn it on."""
+    monkeypatch.setattr(executors, '_LEADING_ALLOWED', True)
+
+
 def _pair(make_context, topic, callback, qos=10, group=None):
     """(publisher, subscription, its node, a SingleThreadedExecutor with the node), matched."""
     pub_ctx, sub_ctx = make_context(), make_context()
@@ -39,7 +45,7 @@ def _spinning(executor, target=None):
     return thread
 
 
-@pytest.mark.parametrize('allowed', [True, False], ids=['leading', 'ZROS_CALLBACK_THREAD=spin'])
+@pytest.mark.parametrize('allowed', [True, False], ids=['ZROS_CALLBACK_THREAD=zenoh', 'ZROS_CALLBACK_THREAD=spin'])
 def test_which_thread_runs_a_callback_while_spin_waits(make_context, wait_for, monkeypatch, allowed):
     monkeypatch.setattr(executors, '_LEADING_ALLOWED', allowed)
     threads = []

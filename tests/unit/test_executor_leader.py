@@ -14,6 +14,12 @@ from zros.executors import MultiThreadedExecutor, SingleThreadedExecutor
 from zros.subscription import _LEAD_PAUSE, _LEAD_QUICK_S, Subscription
 
 
+@pytest.fixture(autouse=True)
+def _leading(monkeypatch):
+    """Leader/follower is opt-in (ZROS_CALLBACK_THREAD=zenoh): these tests turn it on."""
+    monkeypatch.setattr(executors, '_LEADING_ALLOWED', True)
+
+
 class _Context:
     """What an executor asks of its context, without a session."""
 
@@ -203,3 +209,12 @@ def test_two_slow_led_callbacks_in_a_row_pause_leading_and_each_pause_doubles():
     sub._note_led(quick)
     sub._note_led(slow)
     assert (sub._lead_skip, sub._lead_pause) == (0, 0)   # a quick one starts afresh
+
+
+def test_leading_is_off_unless_asked_for_and_a_bad_setting_is_one_line():
+    from zros.config import settings_from_env
+    from zros.errors import ZrosError
+    assert [executors._leading_allowed(v) for v in (None, '', 'spin', 'zenoh', ' zenoh ')] == [
+        False, False, False, True, True]
+    with pytest.raises(ZrosError, match="ZROS_CALLBACK_THREAD must be 'spin'"):
+        settings_from_env({'ZROS_CALLBACK_THREAD': 'main'})

@@ -22,7 +22,7 @@ NETWORK_SETTINGS = ('ZROS_CONNECT', 'ZROS_LISTEN', 'ZROS_DISCOVERY', 'ZROS_CONFI
 #: zros's own suite also starts without a developer's search paths and log format.
 ALL_SETTINGS = NETWORK_SETTINGS + ('ZROS_INTERFACE_PATH', 'ZROS_NODE_PATH', 'RCUTILS_CONSOLE_OUTPUT_FORMAT',
                                    'RCUTILS_LOGGING_USE_STDOUT', 'ZROS_MAX_MESSAGE_SIZE', 'ZROS_MAX_REQUEST_SIZE', 'ZROS_SHM_POOL_SIZE',
-                                   'ZROS_TOPIC_PRIORITY',
+                                   'ZROS_TOPIC_PRIORITY', 'ZROS_CALLBACK_THREAD',
                                    'ROS_SECURITY_ENABLE', 'ROS_SECURITY_KEYSTORE', 'ROS_SECURITY_STRATEGY',
                                    'ROS_SECURITY_ENCLAVE_OVERRIDE')
 
