@@ -9,7 +9,7 @@ import pytest
 
 from zros.navigation.controller import (FAILED_TO_MAKE_PROGRESS, NO_VALID_CONTROL, FollowError, GoalChecker,
                                         PathFollower, ProgressChecker, RegulatedPurePursuit, RPPParams,
-                                        curvature_constraint)
+                                        curvature_constraint, late_loop_scale)
 from zros.navigation.costmap import (FREE_SPACE, INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION,
                                      CostmapParams, LayeredCostmap, inflate, static_costs, to_occupancy)
 from zros.navigation.planner import (GOAL_OCCUPIED, GOAL_OUTSIDE_MAP, NO_VALID_PATH, START_OCCUPIED, GridPlanner,
@@ -131,6 +131,41 @@ def test_checkers_and_collision_ahead():
     with pytest.raises(FollowError) as err:
         follower.step((0.0, 0.0, 0.0), 0.0, 0.0, wall)
     assert err.value.code == NO_VALID_CONTROL
+
+
+def test_failure_tolerance_stops_the_robot_and_retries_before_failing():
+    """controller_server's failure_tolerance: a collision ahead stops the robot for as long as
+    the tolerance allows; the goal fails only when the controller has failed for longer."""
+    wall = lambda pts: np.where(np.asarray(pts)[:, 0] > 0.3, LETHAL_OBSTACLE, FREE_SPACE).astype(np.uint8)  # noqa: E731
+    free = lambda pts: np.zeros(len(pts), np.uint8)  # noqa: E731
+    follower = PathFollower(RegulatedPurePursuit(RPPParams()), GoalChecker(), ProgressChecker(),
+                            failure_tolerance=0.3)
+    follower.set_path(np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]), 0.0)
+    assert follower.step((0.0, 0.0, 0.0), 0.0, 0.0, wall) == (0.0, 0.0)
+    assert follower.step((0.0, 0.0, 0.0), 0.0, 0.2, wall) == (0.0, 0.0)
+    assert follower.step((0.0, 0.0, 0.0), 0.0, 0.3, free)[0] > 0.0      # the way cleared: driving again
+    assert follower.step((0.0, 0.0, 0.0), 0.0, 0.4, wall) == (0.0, 0.0)   # the patience starts over
+    with pytest.raises(FollowError) as err:
+        follower.step((0.0, 0.0, 0.0), 0.0, 0.8, wall)
+    assert err.value.code == NO_VALID_CONTROL and 'patience' in str(err.value)
+    never = PathFollower(RegulatedPurePursuit(RPPParams()), GoalChecker(), ProgressChecker(0.5, 100.0),
+                         failure_tolerance=-1.0)
+    never.set_path(np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]), 0.0)
+    assert never.step((0.0, 0.0, 0.0), 0.0, 0.0, wall) == never.step((0.0, 0.0, 0.0), 0.0, 50.0, wall) == (0.0, 0.0)
+
+
+def test_a_late_control_step_slows_the_command():
+    """A loop that runs late holds each command longer: the speed is cut so that the distance per
+    command stays what it was meant to be, down to a floor that still makes progress."""
+    assert late_loop_scale(0.1, 0.1) == 1.0 and late_loop_scale(0.05, 0.1) == 1.0
+    assert late_loop_scale(0.2, 0.1) == pytest.approx(0.5)
+    assert late_loop_scale(10.0, 0.1) == 0.25
+    follower = PathFollower(RegulatedPurePursuit(RPPParams(desired_linear_vel=0.2)), GoalChecker(),
+                            ProgressChecker())
+    follower.set_path(np.array([[0.0, 0.0], [2.0, 0.0], [4.0, 0.0]]), 0.0)
+    on_time = follower.step((0.0, 0.0, 0.0), 0.2, 0.0)[0]
+    assert follower.step((0.0, 0.0, 0.0), 0.2, 0.1)[0] == pytest.approx(on_time)   # on time: unchanged
+    assert follower.step((0.0, 0.0, 0.0), 0.2, 0.4)[0] == pytest.approx(on_time / 3)   # 0.3 s late: a third
 
 
 def test_once_at_the_goal_position_only_the_heading_is_turned_to():
