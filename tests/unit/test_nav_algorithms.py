@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from zros.navigation.controller import (FAILED_TO_MAKE_PROGRESS, NO_VALID_CONTROL, FollowError, GoalChecker,
-                                        PathFollower, ProgressChecker, RegulatedPurePursuit, RPPParams,
+from zros.navigation.controller import (FAILED_TO_MAKE_PROGRESS, NO_VALID_CONTROL, CollisionAhead, FollowError,
+                                        GoalChecker, PathFollower, ProgressChecker, RegulatedPurePursuit, RPPParams,
                                         curvature_constraint, late_loop_scale)
 from zros.navigation.costmap import (FREE_SPACE, INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION,
                                      CostmapParams, LayeredCostmap, inflate, static_costs, to_occupancy)
@@ -166,6 +166,35 @@ def test_a_late_control_step_slows_the_command():
     on_time = follower.step((0.0, 0.0, 0.0), 0.2, 0.0)[0]
     assert follower.step((0.0, 0.0, 0.0), 0.2, 0.1)[0] == pytest.approx(on_time)   # on time: unchanged
     assert follower.step((0.0, 0.0, 0.0), 0.2, 0.4)[0] == pytest.approx(on_time / 3)   # 0.3 s late: a third
+
+
+def _block(x0: float, x1: float, y0: float, y1: float):
+    """cost_at for a lethal rectangle in free space."""
+    def cost_at(points):
+        pts = np.asarray(points)
+        inside = (pts[:, 0] >= x0) & (pts[:, 0] <= x1) & (pts[:, 1] >= y0) & (pts[:, 1] <= y1)
+        return np.where(inside, LETHAL_OBSTACLE, FREE_SPACE).astype(np.uint8)
+    return cost_at
+
+
+def test_a_blocked_arc_falls_back_to_the_near_carrot_then_to_turning_in_place():
+    """In a doorway the arc to a far carrot cuts the jamb where the path itself is clear: the
+    controller follows the carrot at min_lookahead_dist instead; when that arc is blocked too it
+    turns in place towards it; facing it and still blocked is a real collision ahead."""
+    controller = RegulatedPurePursuit(RPPParams(lookahead_dist=0.5, min_lookahead_dist=0.3))
+    bend = np.array([[0.0, 0.0], [0.1, 0.0], [0.2, 0.0], [0.3, 0.0], [0.38, 0.13], [0.45, 0.26], [0.6, 0.5]])
+    jamb = _block(0.2, 0.32, 0.06, 0.3)            # the far carrot's arc bulges into it, the path does not
+    v, w = controller.compute((0.0, 0.0, 0.0), 0.0, bend, 0.0, xy_goal_tolerance=0.25, cost_at=jamb)
+    assert v > 0.0 and abs(w) < 1e-6                # the near carrot (0.3, 0) is straight ahead
+    line = np.column_stack([np.linspace(0.0, 2.0, 41), np.zeros(41)])
+    ahead = _block(0.1, 0.3, 0.03, 0.3)            # in front of a robot turned 0.4 rad off the path
+    v, w = controller.compute((0.0, 0.0, 0.4), 0.0, line, 0.0, xy_goal_tolerance=0.25, cost_at=ahead)
+    assert v == 0.0 and w < 0.0                      # turning back towards the path
+    with pytest.raises(CollisionAhead):
+        controller.compute((0.0, 0.0, 0.0), 0.0, line, 0.0, xy_goal_tolerance=0.25, cost_at=_block(0.1, 0.3, -0.3, 0.3))
+    no_turning = RegulatedPurePursuit(RPPParams(lookahead_dist=0.5, min_lookahead_dist=0.3, use_rotate_to_heading=False))
+    with pytest.raises(CollisionAhead):
+        no_turning.compute((0.0, 0.0, 0.4), 0.0, line, 0.0, xy_goal_tolerance=0.25, cost_at=ahead)
 
 
 def test_once_at_the_goal_position_only_the_heading_is_turned_to():

@@ -60,6 +60,10 @@ class RPPParams:
         return [f.name for f in fields(cls)]
 
 
+# A blocked arc with the carrot within this angle of straight ahead [rad] is a real obstacle.
+_ALIGNED_RAD = 0.1
+
+
 class CollisionAhead(Exception):
     """The commanded arc runs into an obstacle within the collision horizon."""
 
@@ -122,16 +126,49 @@ class RegulatedPurePursuit:
                 xy_goal_tolerance: float, cost_at: Callable[[np.ndarray], np.ndarray] | None = None,
                 ) -> tuple[float, float]:
         """Velocity command for `pose` following `path` ((N, 2), already pruned to start near the
-        robot); `cost_at` maps (M, 2) points in the path frame to costmap costs."""
-        p = self.params
+        robot); `cost_at` maps (M, 2) points in the path frame to costmap costs.
+
+        When the arc to the carrot runs into an obstacle, a carrot at `min_lookahead_dist` is
+        tried before giving up (zros's addition to Nav2's controller): in a doorway the long arc
+        cuts the jamb's corner where the path itself is clear, and the short one follows the
+        path. If that arc is blocked too, the robot turns in place towards the near carrot (a
+        round robot can always turn where it stands), after which the way along the path is
+        straight ahead; only a robot already facing it raises CollisionAhead."""
+        lookahead = self.lookahead(speed)
+        near = self.params.min_lookahead_dist
+        try:
+            return self._command(pose, path, goal_yaw, lookahead, xy_goal_tolerance, cost_at)
+        except CollisionAhead as exc:
+            blocked = exc
+        if near < lookahead:
+            try:
+                return self._command(pose, path, goal_yaw, near, xy_goal_tolerance, cost_at)
+            except CollisionAhead as exc:
+                blocked = exc
+        carrot = self._carrot(pose, path, min(near, lookahead))[0]
+        heading = math.atan2(carrot[1], carrot[0])
+        if not self.params.use_rotate_to_heading or abs(heading) < _ALIGNED_RAD:
+            raise blocked
+        return 0.0, self._rotate(heading)
+
+    @staticmethod
+    def _carrot(pose: tuple[float, float, float], path: np.ndarray, lookahead: float) -> tuple[np.ndarray, np.ndarray]:
+        """The carrot in the robot frame (the first path point `lookahead` [m] away, else the
+        last), and every path point's distance from the robot."""
         x, y, yaw = pose
         c, s = math.cos(yaw), math.sin(yaw)
         rel = path - (x, y)
         local = np.stack([c * rel[:, 0] + s * rel[:, 1], -s * rel[:, 0] + c * rel[:, 1]], axis=1)
         dist = np.hypot(local[:, 0], local[:, 1])
-        lookahead = self.lookahead(speed)
         beyond = np.nonzero(dist >= lookahead)[0]
-        carrot = local[beyond[0]] if len(beyond) else local[-1]
+        return (local[beyond[0]] if len(beyond) else local[-1]), dist
+
+    def _command(self, pose: tuple[float, float, float], path: np.ndarray, goal_yaw: float, lookahead: float,
+                 xy_goal_tolerance: float, cost_at: Callable[[np.ndarray], np.ndarray] | None) -> tuple[float, float]:
+        """compute() with a given lookahead [m]."""
+        p = self.params
+        x, y, yaw = pose
+        carrot, dist = self._carrot(pose, path, lookahead)
         seg = np.linalg.norm(np.diff(path, axis=0), axis=1)
         remaining = float(dist[0] + seg.sum())
         goal_dist = float(dist[-1])
