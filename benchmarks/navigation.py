@@ -2,12 +2,14 @@
 
     python benchmarks/navigation.py                    # all three parts, about 15 min
     python benchmarks/navigation.py --part goals --goals 5
+    python benchmarks/navigation.py --part goals --world turtlebot3_house --per-goal   # and why each miss
+    python benchmarks/navigation.py --part goals --exact-map --truth-pose   # navigation alone
     python benchmarks/navigation.py --part explore     # processes over Zenoh, about 3 min
     python benchmarks/navigation.py --part cpu         # processes over Zenoh at real time, 1 min
     python benchmarks/navigation.py --part load --load 4 --goals 20   # the same beside 4 busy processes
 
 Part `goals` (in one process, no Zenoh, as fast as the simulation allows), per world
-(turtlebot3_world, turtlebot3_house):
+(turtlebot3_world, turtlebot3_house, turtlebot3_bighouse):
 - the map is SLAM-made: benchmarks/slam.py's run (zros.slam on a scripted drive with slipping,
   miscalibrated odometry) saves it in the world frame; it is cached in --map-dir;
 - the robot is localised by zros.amcl on that map with burger.yaml's amcl parameters (every
@@ -15,7 +17,7 @@ Part `goals` (in one process, no Zenoh, as fast as the simulation allows), per w
   click it), and the controller and
   planner see the pose AMCL gives, never the truth;
 - the global costmap is turtlebot3_navigation2's: static layer from the SLAM map, obstacle
-  layer from the scans (at the AMCL pose), inflation (0.55 m, 3.0); updated every second, when
+  layer from the scans (at the AMCL pose), inflation (0.5 m, 5.0); updated every second, when
   the path is also replanned (bt_navigator's replan_frequency 1 Hz), and the controller is
   Regulated Pure Pursuit with param/burger.yaml's FollowPath parameters;
 - `--goals` seeded random goals, each a free cell >= 0.2 m from any obstacle in the true world,
@@ -30,6 +32,12 @@ contact count. Time ratio: simulated time taken over (first planned path length 
 over goals with an ideal time above 1 s. Planning time: CPU time of each request (the first
 and each replan; this thread's time, so that other programs on a shared machine do not count),
 including rebuilding the search graph after a costmap update, as the planner_server does.
+
+To tell navigation's misses from localisation's and the map's: `--truth-pose` gives the stack
+the simulator's true pose instead of AMCL's, `--exact-map` the world's raster instead of the
+SLAM map; `--per-goal` lists each goal not reached cleanly with the localisation error at its
+end (and the worst during it), the controller's failures (and where) and each collision (where,
+the command, what was running).
 
 Goals (issue 18): success >= 95 %, 0 collisions, time ratio <= 1.5, planning < 50 ms per
 request; exploration: >= 95 % of the reachable free area mapped within 300 s of sim time; the
@@ -68,7 +76,7 @@ from zros.navigation.costmap import CostmapParams, LayeredCostmap  # noqa: E402
 from zros.navigation.planner import GridPlanner, PlanningError  # noqa: E402
 from zros.sim import BURGER, LDS_01, Simulation, load_world, rasterize  # noqa: E402
 
-WORLDS = ('turtlebot3_world', 'turtlebot3_house')
+WORLDS = ('turtlebot3_world', 'turtlebot3_house', 'turtlebot3_bighouse')
 PARAMS = REPO / 'nodes' / 'turtlebot3_navigation2' / 'param' / 'burger.yaml'
 MAX_SPEED = 0.22          # [m/s] burger
 CONTROL_PERIOD = 0.1      # [s] controller_frequency 10 Hz
@@ -92,13 +100,15 @@ def slam_map(world: str, map_dir: Path):
     return load_map(path)
 
 
-def stack_parameters() -> tuple[RPPParams, CostmapParams, AmclParameters]:
-    """RPP, global-costmap and AMCL parameters from turtlebot3_navigation2's burger.yaml."""
+def stack_parameters() -> tuple[RPPParams, CostmapParams, AmclParameters, float]:
+    """RPP, global-costmap and AMCL parameters and the controller's failure_tolerance [s] from
+    turtlebot3_navigation2's burger.yaml."""
     params = yaml.safe_load(PARAMS.read_text())
     given = params['amcl']['ros__parameters']
     amcl = AmclParameters(**{f.name: type(getattr(AmclParameters, f.name))(given[f.name])
                              for f in dataclasses.fields(AmclParameters) if f.name in given})
-    follow = params['controller_server']['ros__parameters']['FollowPath']
+    controller = params['controller_server']['ros__parameters']
+    follow = controller['FollowPath']
     rpp = RPPParams()
     for name in RPPParams.names():
         if name in follow:
@@ -106,15 +116,17 @@ def stack_parameters() -> tuple[RPPParams, CostmapParams, AmclParameters]:
     costmap = params['global_costmap']['global_costmap']['ros__parameters']
     return rpp, CostmapParams(robot_radius=costmap['robot_radius'],
                               inflation_radius=costmap['inflation_layer']['inflation_radius'],
-                              cost_scaling_factor=costmap['inflation_layer']['cost_scaling_factor']), amcl
+                              cost_scaling_factor=costmap['inflation_layer']['cost_scaling_factor']), amcl, \
+        float(controller.get('failure_tolerance', 0.0))
 
 
 # -- one world ------------------------------------------------------------------------------------
 class Localised:
     """AMCL on the SLAM map fed by the simulated robot: `pose()` is what the stack believes."""
 
-    def __init__(self, robot, grid: MapGrid, parameters: AmclParameters, seed: int) -> None:
+    def __init__(self, robot, grid: MapGrid, parameters: AmclParameters, seed: int, *, truth: bool = False) -> None:
         self.robot = robot
+        self.truth = truth
         self.amcl = Amcl(parameters, grid, seed=seed)
         p = robot.pose
         self.amcl.set_initial_pose((p.x, p.y, p.yaw), np.diag([0.05, 0.05, 0.02]))
@@ -132,27 +144,41 @@ class Localised:
         self.amcl.update(tuple(self.odom()), data, LASER)
 
     def pose(self) -> tuple[float, float, float]:
+        if self.truth:                                      # perfect localisation (--truth-pose)
+            p = self.robot.pose
+            return p.x, p.y, p.yaw
         return tuple(float(v) for v in compose(self.amcl.map_to_odom(), self.odom()))
+
+    def error(self) -> float:
+        """How far [m] the believed position is from the truth."""
+        x, y, _ = self.pose()
+        p = self.robot.pose
+        return math.hypot(x - p.x, y - p.y)
 
 
 class Stack:
     """The navigation stack around one simulated robot, stepped one control period at a time:
     AMCL and the costmap's obstacle layer take each scan, the costmap is rebuilt each second."""
 
-    def __init__(self, world, grid, seed: int) -> None:
-        rpp, cparams, amcl = stack_parameters()
+    def __init__(self, world, grid, seed: int, *, truth_pose: bool = False) -> None:
+        rpp, cparams, amcl, failure_tolerance = stack_parameters()
         self.costmap = LayeredCostmap(cparams)
         self.costmap.set_static_map(grid.data, grid.resolution, tuple(grid.origin[:2]))
         self.costmap.update()
         self.planner = GridPlanner(self.costmap)
-        self.sim = Simulation(world, seed=seed)
+        self.sim = Simulation(world, seed=seed, on_collision=self._on_collision)
         self.robot = self.sim.add_robot('burger', odometry='encoder')   # AMCL corrects a real robot's drift
         self.loc = Localised(self.robot, MapGrid(grid.data, resolution=grid.resolution, origin=tuple(grid.origin[:2])),
-                             amcl, seed)
+                             amcl, seed, truth=truth_pose)
+        self.cmd = (0.0, 0.0)
+        self.doing = 'follow'                   # what the stack was doing: 'follow' or a recovery
+        self.contacts: list[str] = []           # each collision: where, the command, what was running
         self.follower = PathFollower(RegulatedPurePursuit(rpp, inscribed_radius=cparams.robot_radius,
                                                           control_period=CONTROL_PERIOD),
-                                     GoalChecker(), ProgressChecker())
+                                     GoalChecker(), ProgressChecker(), failure_tolerance=failure_tolerance)
         self.plan_ms: list[float] = []
+        self.failures: list[str] = []           # the controller's failures during the current goal
+        self.worst_error = 0.0                  # the largest localisation error [m] during the current goal
         self._next_scan = self._next_update = 0.0
 
     def plan(self, goal: tuple[float, float]) -> np.ndarray:
@@ -165,6 +191,7 @@ class Stack:
 
     def tick(self, cmd: tuple[float, float]) -> None:
         """Command the robot for one control period, feeding sensors as their rates come due."""
+        self.cmd = cmd
         self.robot.command(*cmd)
         self.sim.step(CONTROL_PERIOD)
         if self.sim.time >= self._next_scan - 1e-9:
@@ -173,6 +200,7 @@ class Stack:
             sx, sy = x + LASER[0] * math.cos(yaw), y + LASER[0] * math.sin(yaw)
             self.costmap.add_scan((sx, sy), yaw + self.loc.bearings, self.loc.ranges, LDS_01.range_min,
                                   LDS_01.range_max)
+            self.worst_error = max(self.worst_error, self.loc.error())
             self._next_scan = self.sim.time + SCAN_PERIOD
         if self.sim.time >= self._next_update - 1e-9:
             self.costmap.update()
@@ -193,17 +221,25 @@ class Stack:
             try:
                 cmd = self.follower.step(self.loc.pose(), self.robot.velocity[0], self.sim.time,
                                          self.costmap.cost_at)
-            except FollowError:
+            except FollowError as exc:
+                x, y, yaw = self.loc.pose()
+                self.failures.append(f'{exc} at ({x:.2f}, {y:.2f}, {yaw:.2f})')
                 return False
             if cmd is None:
                 return True
             self.tick(cmd)
         return False
 
+    def _on_collision(self, robot) -> None:
+        p = robot.pose
+        self.contacts.append(f'({p.x:.2f}, {p.y:.2f}) cmd ({self.cmd[0]:.2f}, {self.cmd[1]:.2f}) during {self.doing}, '
+                             f'localisation error {self.loc.error():.2f} m')
+
     def recover(self, index: int) -> None:
         """bt_navigator's round of recoveries: clear the costmaps, spin 1.57 rad, wait 5 s, back up
         0.30 m at 0.05 m/s."""
         kind = index % 4
+        self.doing = ('clear', 'spin', 'wait', 'backup')[kind]
         if kind == 0:
             self.costmap.clear()
             self.costmap.update()
@@ -225,6 +261,7 @@ class Stack:
             while self.sim.time - t0 < 10.0 and math.hypot(self.loc.pose()[0] - x0, self.loc.pose()[1] - y0) < 0.30:
                 self.tick((-0.05, 0.0))
         self.tick((0.0, 0.0))
+        self.doing = 'follow'
 
 
 def goal_candidates(world, grid) -> np.ndarray:
@@ -256,11 +293,35 @@ def exact_map(world):
     return OccupancyMap(raster.occupancy_data().reshape(raster.cells.shape), 0.05, (*raster.origin, 0.0))
 
 
-def run_goals(name: str, goals: int, seed: int, map_dir: Path | None) -> dict:
-    """Goals on the SLAM-made map cached in `map_dir`, or on the exact map when it is None."""
+@dataclasses.dataclass
+class GoalRecord:
+    """One goal's outcome, for the failure table (`--per-goal`)."""
+
+    start: tuple[float, float]          # true position when the goal was sent [m]
+    goal: tuple[float, float]
+    ideal_s: float                      # first path length / 0.22 m/s
+    taken_s: float
+    reached: bool                       # the goal checker accepted (on the believed pose)
+    true_error: float                   # [m] true position to the goal at the end
+    loc_error: float                    # [m] believed minus true position at the end
+    worst_loc_error: float              # [m] the largest during the goal (at scans)
+    recoveries: int
+    failures: list[str]                 # the controller's failures, in order
+    contacts: list[str]                 # collisions during the goal
+
+    @property
+    def outcome(self) -> str:
+        if self.reached and self.true_error <= TRUE_TOLERANCE:
+            return 'ok'
+        return 'false success' if self.reached else 'failed'
+
+
+def run_goals(name: str, goals: int, seed: int, map_dir: Path | None, *, truth_pose: bool = False) -> dict:
+    """Goals on the SLAM-made map cached in `map_dir`, or on the exact map when it is None;
+    `truth_pose` gives the stack the true pose instead of AMCL's (navigation alone)."""
     world = load_world(name)
     grid = slam_map(name, map_dir) if map_dir is not None else exact_map(world)
-    stack = Stack(world, grid, seed)
+    stack = Stack(world, grid, seed, truth_pose=truth_pose)
     sim, robot = stack.sim, stack.robot
     rng = np.random.default_rng(seed)
     candidates = goal_candidates(world, grid)
@@ -272,6 +333,8 @@ def run_goals(name: str, goals: int, seed: int, map_dir: Path | None) -> dict:
         gx, gy = goal[:2]
         ideal = float(np.linalg.norm(np.diff(path, axis=0), axis=1).sum()) / MAX_SPEED
         stack.follower.set_path(path, goal[2])
+        start, contacts0 = robot.pose, len(stack.contacts)
+        stack.failures, stack.worst_error = [], stack.loc.error()
         t0 = sim.time
         deadline = t0 + 3 * ideal + 30
         reached, tries = stack.follow(goal, deadline), 0
@@ -288,7 +351,9 @@ def run_goals(name: str, goals: int, seed: int, map_dir: Path | None) -> dict:
         recoveries += tries
         truth = robot.pose
         error = math.hypot(truth.x - gx, truth.y - gy)
-        per_goal.append((ideal, sim.time - t0, reached, error, tries))
+        per_goal.append(GoalRecord((start.x, start.y), (float(gx), float(gy)), ideal, sim.time - t0, reached, error,
+                                   stack.loc.error(), stack.worst_error, tries, stack.failures,
+                                   stack.contacts[contacts0:]))
         if reached:
             errors.append(error)
         if reached and error <= TRUE_TOLERANCE:
@@ -302,6 +367,23 @@ def run_goals(name: str, goals: int, seed: int, map_dir: Path | None) -> dict:
             'ratio_max': max(ratios) if ratios else math.nan,
             'plan_ms_median': statistics.median(plan_ms), 'plan_ms_max': max(plan_ms),
             'error_max': max(errors) if errors else math.nan, 'sim_time': sim.time, 'per_goal': per_goal}
+
+
+def print_per_goal(rows: list[dict]) -> None:
+    """Every goal that was not a clean success (or touched something), with what happened."""
+    for r in rows:
+        print(f"\n{r['world']}: goals not reached cleanly")
+        print('| # | start -> goal | outcome | true error [m] | localisation error at end / worst [m] | '
+              'recoveries | controller failures | collisions |')
+        print('|---|---|---|---|---|---|---|---|')
+        for i, g in enumerate(r['per_goal']):
+            if g.outcome == 'ok' and not g.contacts:
+                continue
+            failures = '-' if not g.failures else f'{len(g.failures)}x, first: {g.failures[0]}' + (
+                f'; last: {g.failures[-1]}' if len(g.failures) > 1 else '')
+            print(f"| {i} | ({g.start[0]:.2f}, {g.start[1]:.2f}) -> ({g.goal[0]:.2f}, {g.goal[1]:.2f}) | {g.outcome} | "
+                  f"{g.true_error:.2f} | {g.loc_error:.2f} / {g.worst_loc_error:.2f} | {g.recoveries} | {failures} | "
+                  f"{'; '.join(g.contacts) or '-'} |")
 
 
 def print_goals(rows: list[dict]) -> None:
@@ -581,13 +663,20 @@ def main() -> int:
                         help='where the SLAM-made maps are cached')
     parser.add_argument('--exact-map', action='store_true',
                         help="goals on the world's exact raster instead of the SLAM-made map (AMCL still localises)")
+    parser.add_argument('--truth-pose', action='store_true',
+                        help="the stack sees the simulator's true pose instead of AMCL's (navigation alone)")
+    parser.add_argument('--per-goal', action='store_true', help='also list each goal not reached cleanly, and why')
     parser.add_argument('--rtf', type=float, default=2.0, help='real-time factor of the exploration run')
     parser.add_argument('--seconds', type=float, default=60.0, help='wall seconds of the real-time CPU run')
     parser.add_argument('--load', type=int, default=4, help='busy processes beside the stack (part load)')
     args = parser.parse_args()
     if args.part in ('goals', 'all'):
         map_dir = None if args.exact_map else args.map_dir
-        print_goals([run_goals(name, args.goals, args.seed, map_dir) for name in (args.world or WORLDS)])
+        rows = [run_goals(name, args.goals, args.seed, map_dir, truth_pose=args.truth_pose)
+                for name in (args.world or WORLDS)]
+        print_goals(rows)
+        if args.per_goal:
+            print_per_goal(rows)
     if args.part in ('explore', 'all'):
         r = run_explore(args.rtf)
         to95 = f"{r['time_to_95']:.0f} s" if r['time_to_95'] is not None else 'not reached'

@@ -6,9 +6,14 @@ costmap (which runs in this process as /local_costmap/local_costmap), publishing
 A lifecycle node. Parameters as Nav2's: `controller_frequency`, `controller_plugins`
 (`FollowPath`), `FollowPath.<RPP parameter>` (desired_linear_vel, lookahead_dist, ...),
 `progress_checker_plugin(s)` with `required_movement_radius` / `movement_time_allowance`,
-`goal_checker_plugins` with `xy_goal_tolerance` / `yaw_goal_tolerance` / `stateful`, `odom_topic`.
+`goal_checker_plugins` with `xy_goal_tolerance` / `yaw_goal_tolerance` / `stateful`, `odom_topic`,
+`failure_tolerance` (seconds a controller may fail, stopping the robot, before the goal aborts).
 A FollowPath plugin other than Regulated Pure Pursuit (TurtleBot3's files name DWB) is served
 by Regulated Pure Pursuit, with DWB's `max_vel_x` / `max_vel_theta` as its speeds, and said so.
+
+On a busy machine the loop warns when it misses its rate, as Nav2's does, and a step that
+comes late slows the command in proportion (zros.navigation.controller.late_loop_scale): the
+robot slows down rather than holding each command for longer at full speed.
 
 A new goal replaces the running one (which ends ABORTED), keeping the goal and progress
 checkers when it leads to the same place: that is how the navigator hands over replanned paths.
@@ -47,6 +52,7 @@ class ControllerServer(LifecycleNode):
         self.tf_listener = TransformListener(self.tf_buffer, self)
         prm = Nav2Params(self)
         self.frequency = prm.get('controller_frequency', 20.0)
+        failure_tolerance = prm.get('failure_tolerance', 0.0)
         self.controller_ids = prm.get('controller_plugins', ['FollowPath'])
         cid = self.controller_ids[0]
         plugin = prm.get(f'{cid}.plugin', 'nav2_regulated_pure_pursuit_controller::RegulatedPurePursuitController')
@@ -79,7 +85,7 @@ class ControllerServer(LifecycleNode):
         self.robot_base_frame = self.costmap.robot_base_frame
         self.follower = PathFollower(RegulatedPurePursuit(rpp, inscribed_radius=self.costmap.params.robot_radius,
                                                           control_period=1.0 / self.frequency),
-                                     self.goal_checker, self.progress)
+                                     self.goal_checker, self.progress, failure_tolerance=failure_tolerance)
         self.speed = 0.0
         self.goals = GoalRunner(self, stop=self._stop)
         self.cmd_pub = self.create_lifecycle_publisher(Twist, 'cmd_vel', 1)

@@ -10,7 +10,10 @@ reverse), `autostart` (start up at once), `bond_timeout` (0 turns the health che
 up again when every node answers once more, if that happens within this many seconds),
 `service_timeout` (seconds to wait for a node's lifecycle services and for its `get_state`
 answer, as in Nav2 after Jazzy: a busy machine answers late, and a late answer is not a
-failed node; the transition itself is waited for as long as its callback runs).
+failed node; the transition itself is waited for as long as its callback runs). A `get_state`
+that does not answer in time is asked again, up to `_STATE_ATTEMPTS` times in all, while the
+node is still in the graph: on a machine with every core busy one late answer is not yet a
+failed transition.
 Services: `<manager>/manage_nodes` (nav2_msgs/srv/ManageLifecycleNodes: STARTUP, PAUSE,
 RESUME, RESET, SHUTDOWN) and `<manager>/is_active` (std_srvs/srv/Trigger).
 
@@ -58,6 +61,8 @@ _RESPAWN_PERIOD_S = 1.0
 # How long a managed node must stay out of the graph before it counts as down [s]: long enough
 # for this manager's own signal to land when a launch stops everything at once.
 _DOWN_CONFIRM_S = 1.0
+# How many times a transition's get_state is asked (each within service_timeout) before it fails.
+_STATE_ATTEMPTS = 3
 
 
 class LifecycleManager(Node):
@@ -122,14 +127,28 @@ class LifecycleManager(Node):
         try:
             if wait and not self._wait_for(name):
                 return False
-            if (client.change_state(transition)
-                    and client.get_state(timeout_sec=self._service_timeout()).label == _GOAL[transition]):
+            if client.change_state(transition) and self._state_after(name) == _GOAL[transition]:
                 return True
         except ServiceCallError as exc:
             self._failure(f'Failed to change state for node: {name}. Exception: {exc}.')
             return False
         self._failure(f'Failed to change state for node: {name}')
         return False
+
+    def _state_after(self, name: str) -> str:
+        """`name`'s state label after a transition: asked again when the answer is late and the
+        node is still alive (a busy machine), raising ServiceCallError after _STATE_ATTEMPTS."""
+        timeout = self._service_timeout()
+        attempt = 1
+        while True:
+            try:
+                return self._lifecycle[name].get_state(timeout_sec=timeout).label
+            except ServiceCallError:
+                if attempt >= _STATE_ATTEMPTS or self._stopping() or self._fqn[name] not in self._alive():
+                    raise
+            attempt += 1
+            self.get_logger().warn(f'{name}/get_state did not answer within {timeout:g} s (service_timeout); '
+                                   f'asking again ({attempt} of {_STATE_ATTEMPTS})')
 
     def _change_all(self, transition: int, *, hard: bool = False, wait: bool = False) -> bool:
         """Configure/activate in list order, the rest in reverse; stop at the first failure

@@ -395,6 +395,30 @@ def test_assisted_teleop_passes_the_teleop_command_until_preempted(stack: Any, m
     assert turned > 0.5, (turned, out)
 
 
+def test_a_path_into_a_wall_stops_the_robot_then_runs_out_of_patience(stack: Any) -> None:
+    """FollowPath straight through the box: the controller sees the collision ahead, stops the
+    robot short of it and asks again each period; after burger.yaml's failure_tolerance (0.3 s)
+    of that, the goal aborts with NO_VALID_CONTROL, and the robot has not touched the box."""
+    import numpy as np
+    from interfaces.action_msgs.msg import GoalStatus
+    from interfaces.nav2_msgs.action import FollowPath, NavigateToPose
+    from zros.navigation.node_support import path_msg
+    from zros.navigation.planner import path_yaws
+    side = -1.0 if _truth_xy(stack)[0] < 0.3 else 1.0    # the box spans x 0.1..0.5: stay on the robot's side
+    start = (0.3 + side, 0.0)
+    facing = 0.0 if side < 0 else math.pi
+    handle = _send(stack, NavigateToPose, 'navigate_to_pose', NavigateToPose.Goal(pose=_pose(*start, facing)))
+    assert _result(handle, 120).status == GoalStatus.STATUS_SUCCEEDED, stack.launch.output()[-3000:]
+    line = np.linspace(start, (0.3 - side, 0.0), 41)
+    path = path_msg(line, path_yaws(line, facing), 'map', stack.node.get_clock().now().to_msg())
+    handle = _send(stack, FollowPath, 'follow_path', FollowPath.Goal(path=path))
+    response = _result(handle, 90)
+    assert response.status == GoalStatus.STATUS_ABORTED, stack.launch.output()[-3000:]
+    assert response.result.error_code == 106 and 'patience' in response.result.error_msg, response.result.error_msg
+    x, _ = _truth_xy(stack)
+    assert abs(x - 0.3) > 0.2 + 0.105, x                # the box's face plus the burger's radius
+
+
 def test_a_dead_controller_is_reported_by_the_manager(stack: Any) -> None:
     """Last in this module: it takes the stack down."""
     import os

@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from zros.navigation.controller import (FAILED_TO_MAKE_PROGRESS, NO_VALID_CONTROL, FollowError, GoalChecker,
-                                        PathFollower, ProgressChecker, RegulatedPurePursuit, RPPParams,
-                                        curvature_constraint)
+from zros.navigation.controller import (FAILED_TO_MAKE_PROGRESS, NO_VALID_CONTROL, CollisionAhead, FollowError,
+                                        GoalChecker, PathFollower, ProgressChecker, RegulatedPurePursuit, RPPParams,
+                                        curvature_constraint, late_loop_scale)
 from zros.navigation.costmap import (FREE_SPACE, INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION,
                                      CostmapParams, LayeredCostmap, inflate, static_costs, to_occupancy)
 from zros.navigation.planner import (GOAL_OCCUPIED, GOAL_OUTSIDE_MAP, NO_VALID_PATH, START_OCCUPIED, GridPlanner,
@@ -131,6 +131,70 @@ def test_checkers_and_collision_ahead():
     with pytest.raises(FollowError) as err:
         follower.step((0.0, 0.0, 0.0), 0.0, 0.0, wall)
     assert err.value.code == NO_VALID_CONTROL
+
+
+def test_failure_tolerance_stops_the_robot_and_retries_before_failing():
+    """controller_server's failure_tolerance: a collision ahead stops the robot for as long as
+    the tolerance allows; the goal fails only when the controller has failed for longer."""
+    wall = lambda pts: np.where(np.asarray(pts)[:, 0] > 0.3, LETHAL_OBSTACLE, FREE_SPACE).astype(np.uint8)  # noqa: E731
+    free = lambda pts: np.zeros(len(pts), np.uint8)  # noqa: E731
+    follower = PathFollower(RegulatedPurePursuit(RPPParams()), GoalChecker(), ProgressChecker(),
+                            failure_tolerance=0.3)
+    follower.set_path(np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]), 0.0)
+    assert follower.step((0.0, 0.0, 0.0), 0.0, 0.0, wall) == (0.0, 0.0)
+    assert follower.step((0.0, 0.0, 0.0), 0.0, 0.2, wall) == (0.0, 0.0)
+    assert follower.step((0.0, 0.0, 0.0), 0.0, 0.3, free)[0] > 0.0      # the way cleared: driving again
+    assert follower.step((0.0, 0.0, 0.0), 0.0, 0.4, wall) == (0.0, 0.0)   # the patience starts over
+    with pytest.raises(FollowError) as err:
+        follower.step((0.0, 0.0, 0.0), 0.0, 0.8, wall)
+    assert err.value.code == NO_VALID_CONTROL and 'patience' in str(err.value)
+    never = PathFollower(RegulatedPurePursuit(RPPParams()), GoalChecker(), ProgressChecker(0.5, 100.0),
+                         failure_tolerance=-1.0)
+    never.set_path(np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]), 0.0)
+    assert never.step((0.0, 0.0, 0.0), 0.0, 0.0, wall) == never.step((0.0, 0.0, 0.0), 0.0, 50.0, wall) == (0.0, 0.0)
+
+
+def test_a_late_control_step_slows_the_command():
+    """A loop that runs late holds each command longer: the speed is cut so that the distance per
+    command stays what it was meant to be, down to a floor that still makes progress."""
+    assert late_loop_scale(0.1, 0.1) == 1.0 and late_loop_scale(0.05, 0.1) == 1.0
+    assert late_loop_scale(0.2, 0.1) == pytest.approx(0.5)
+    assert late_loop_scale(10.0, 0.1) == 0.25
+    follower = PathFollower(RegulatedPurePursuit(RPPParams(desired_linear_vel=0.2)), GoalChecker(),
+                            ProgressChecker())
+    follower.set_path(np.array([[0.0, 0.0], [2.0, 0.0], [4.0, 0.0]]), 0.0)
+    on_time = follower.step((0.0, 0.0, 0.0), 0.2, 0.0)[0]
+    assert follower.step((0.0, 0.0, 0.0), 0.2, 0.1)[0] == pytest.approx(on_time)   # on time: unchanged
+    assert follower.step((0.0, 0.0, 0.0), 0.2, 0.4)[0] == pytest.approx(on_time / 3)   # 0.3 s late: a third
+
+
+def _block(x0: float, x1: float, y0: float, y1: float):
+    """cost_at for a lethal rectangle in free space."""
+    def cost_at(points):
+        pts = np.asarray(points)
+        inside = (pts[:, 0] >= x0) & (pts[:, 0] <= x1) & (pts[:, 1] >= y0) & (pts[:, 1] <= y1)
+        return np.where(inside, LETHAL_OBSTACLE, FREE_SPACE).astype(np.uint8)
+    return cost_at
+
+
+def test_a_blocked_arc_falls_back_to_the_near_carrot_then_to_turning_in_place():
+    """In a doorway the arc to a far carrot cuts the jamb where the path itself is clear: the
+    controller follows the carrot at min_lookahead_dist instead; when that arc is blocked too it
+    turns in place towards it; facing it and still blocked is a real collision ahead."""
+    controller = RegulatedPurePursuit(RPPParams(lookahead_dist=0.5, min_lookahead_dist=0.3))
+    bend = np.array([[0.0, 0.0], [0.1, 0.0], [0.2, 0.0], [0.3, 0.0], [0.38, 0.13], [0.45, 0.26], [0.6, 0.5]])
+    jamb = _block(0.2, 0.32, 0.06, 0.3)            # the far carrot's arc bulges into it, the path does not
+    v, w = controller.compute((0.0, 0.0, 0.0), 0.0, bend, 0.0, xy_goal_tolerance=0.25, cost_at=jamb)
+    assert v > 0.0 and abs(w) < 1e-6                # the near carrot (0.3, 0) is straight ahead
+    line = np.column_stack([np.linspace(0.0, 2.0, 41), np.zeros(41)])
+    ahead = _block(0.1, 0.3, 0.03, 0.3)            # in front of a robot turned 0.4 rad off the path
+    v, w = controller.compute((0.0, 0.0, 0.4), 0.0, line, 0.0, xy_goal_tolerance=0.25, cost_at=ahead)
+    assert v == 0.0 and w < 0.0                      # turning back towards the path
+    with pytest.raises(CollisionAhead):
+        controller.compute((0.0, 0.0, 0.0), 0.0, line, 0.0, xy_goal_tolerance=0.25, cost_at=_block(0.1, 0.3, -0.3, 0.3))
+    no_turning = RegulatedPurePursuit(RPPParams(lookahead_dist=0.5, min_lookahead_dist=0.3, use_rotate_to_heading=False))
+    with pytest.raises(CollisionAhead):
+        no_turning.compute((0.0, 0.0, 0.4), 0.0, line, 0.0, xy_goal_tolerance=0.25, cost_at=ahead)
 
 
 def test_once_at_the_goal_position_only_the_heading_is_turned_to():

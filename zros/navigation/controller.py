@@ -25,7 +25,7 @@ from zros.rotations import angle_diff
 
 __all__ = ['RPPParams', 'RegulatedPurePursuit', 'CollisionAhead', 'ProgressChecker', 'GoalChecker',
            'PathFollower', 'FollowError', 'FAILED_TO_MAKE_PROGRESS', 'NO_VALID_CONTROL', 'INVALID_PATH',
-           'curvature_constraint', 'cost_constraint', 'approach_velocity']
+           'curvature_constraint', 'cost_constraint', 'approach_velocity', 'late_loop_scale']
 
 
 @dataclass
@@ -60,6 +60,10 @@ class RPPParams:
         return [f.name for f in fields(cls)]
 
 
+# A blocked arc with the carrot within this angle of straight ahead [rad] is a real obstacle.
+_ALIGNED_RAD = 0.1
+
+
 class CollisionAhead(Exception):
     """The commanded arc runs into an obstacle within the collision horizon."""
 
@@ -90,6 +94,16 @@ def approach_velocity(v: float, remaining: float, *, scaling_dist: float, min_ve
     return v
 
 
+def late_loop_scale(interval: float, period: float, *, floor: float = 0.25) -> float:
+    """How much to slow down when the control loop ran `interval` [s] after its last step instead
+    of its `period` [s]: each command is then held longer, so the speed is cut by period /
+    interval to keep the distance driven per command (what the collision check looked ahead for)
+    as planned; never below `floor`, so a busy machine still makes progress."""
+    if not interval > period:
+        return 1.0
+    return max(floor, period / interval)
+
+
 class RegulatedPurePursuit:
     """Turns (robot pose, path) into (v, w). Poses are (x, y, yaw) in the path's frame [m, rad]."""
 
@@ -112,16 +126,49 @@ class RegulatedPurePursuit:
                 xy_goal_tolerance: float, cost_at: Callable[[np.ndarray], np.ndarray] | None = None,
                 ) -> tuple[float, float]:
         """Velocity command for `pose` following `path` ((N, 2), already pruned to start near the
-        robot); `cost_at` maps (M, 2) points in the path frame to costmap costs."""
-        p = self.params
+        robot); `cost_at` maps (M, 2) points in the path frame to costmap costs.
+
+        When the arc to the carrot runs into an obstacle, a carrot at `min_lookahead_dist` is
+        tried before giving up (zros's addition to Nav2's controller): in a doorway the long arc
+        cuts the jamb's corner where the path itself is clear, and the short one follows the
+        path. If that arc is blocked too, the robot turns in place towards the near carrot (a
+        round robot can always turn where it stands), after which the way along the path is
+        straight ahead; only a robot already facing it raises CollisionAhead."""
+        lookahead = self.lookahead(speed)
+        near = self.params.min_lookahead_dist
+        try:
+            return self._command(pose, path, goal_yaw, lookahead, xy_goal_tolerance, cost_at)
+        except CollisionAhead as exc:
+            blocked = exc
+        if near < lookahead:
+            try:
+                return self._command(pose, path, goal_yaw, near, xy_goal_tolerance, cost_at)
+            except CollisionAhead as exc:
+                blocked = exc
+        carrot = self._carrot(pose, path, min(near, lookahead))[0]
+        heading = math.atan2(carrot[1], carrot[0])
+        if not self.params.use_rotate_to_heading or abs(heading) < _ALIGNED_RAD:
+            raise blocked
+        return 0.0, self._rotate(heading)
+
+    @staticmethod
+    def _carrot(pose: tuple[float, float, float], path: np.ndarray, lookahead: float) -> tuple[np.ndarray, np.ndarray]:
+        """The carrot in the robot frame (the first path point `lookahead` [m] away, else the
+        last), and every path point's distance from the robot."""
         x, y, yaw = pose
         c, s = math.cos(yaw), math.sin(yaw)
         rel = path - (x, y)
         local = np.stack([c * rel[:, 0] + s * rel[:, 1], -s * rel[:, 0] + c * rel[:, 1]], axis=1)
         dist = np.hypot(local[:, 0], local[:, 1])
-        lookahead = self.lookahead(speed)
         beyond = np.nonzero(dist >= lookahead)[0]
-        carrot = local[beyond[0]] if len(beyond) else local[-1]
+        return (local[beyond[0]] if len(beyond) else local[-1]), dist
+
+    def _command(self, pose: tuple[float, float, float], path: np.ndarray, goal_yaw: float, lookahead: float,
+                 xy_goal_tolerance: float, cost_at: Callable[[np.ndarray], np.ndarray] | None) -> tuple[float, float]:
+        """compute() with a given lookahead [m]."""
+        p = self.params
+        x, y, yaw = pose
+        carrot, dist = self._carrot(pose, path, lookahead)
         seg = np.linalg.norm(np.diff(path, axis=0), axis=1)
         remaining = float(dist[0] + seg.sum())
         goal_dist = float(dist[-1])
@@ -252,17 +299,27 @@ class PathFollower:
 
     `step` is what controller_server does each control period (computeControl): prune the path
     behind the robot, check the goal, check progress, ask the controller for a command.
+
+    `failure_tolerance` [s] is controller_server's: a controller that cannot find a command (a
+    collision ahead) stops the robot and is asked again next period; only when it has failed for
+    longer than this does the goal fail (0: at the first failure, -1: never). A step that comes
+    late (more than 1.5 control periods after the last one: a busy machine) slows the command
+    by `late_loop_scale`, so the robot slows down instead of driving blind for longer.
     """
 
     def __init__(self, controller: RegulatedPurePursuit, goal_checker: GoalChecker,
-                 progress_checker: ProgressChecker, *, prune_distance: float = 1.0) -> None:
+                 progress_checker: ProgressChecker, *, prune_distance: float = 1.0,
+                 failure_tolerance: float = 0.0) -> None:
         self.controller = controller
         self.goal_checker = goal_checker
         self.progress_checker = progress_checker
         self.prune_distance = prune_distance
+        self.failure_tolerance = failure_tolerance
         self.path = np.zeros((0, 2))
         self.goal = (0.0, 0.0, 0.0)
         self._closest = 0
+        self._last_step: float | None = None         # node clock [s] of the last step
+        self._last_valid: float | None = None        # ... of the last step with a valid command
 
     def set_path(self, path: np.ndarray, goal_yaw: float, *, keep_progress: bool = False) -> None:
         """A new path; `keep_progress` for a replanned path of the same goal (Nav2 keeps the checkers)."""
@@ -276,6 +333,7 @@ class PathFollower:
             self.controller.reset()
             self.goal_checker.reset()
             self.progress_checker.reset()
+            self._last_step = self._last_valid = None
 
     def remaining_distance(self, x: float, y: float) -> float:
         rest = self.path[self._closest:]
@@ -299,8 +357,23 @@ class PathFollower:
         # if localisation noise puts the robot a hair outside the tolerance again (else it turns
         # back towards the goal point, then to the heading, and so on).
         tolerance = math.inf if self.goal_checker.xy_reached else self.goal_checker.xy_goal_tolerance
+        period = self.controller.control_period
+        interval = period if self._last_step is None else now - self._last_step
+        self._last_step = now
+        if self._last_valid is None:
+            self._last_valid = now
         try:
-            return self.controller.compute(pose, speed, self.path[self._closest:], self.goal[2],
+            v, w = self.controller.compute(pose, speed, self.path[self._closest:], self.goal[2],
                                            xy_goal_tolerance=tolerance, cost_at=cost_at)
         except CollisionAhead as exc:
-            raise FollowError(NO_VALID_CONTROL, str(exc)) from None
+            patience = self.failure_tolerance
+            if patience == 0.0 or (patience > 0.0 and now - self._last_valid > patience):
+                raise FollowError(NO_VALID_CONTROL, str(exc) if patience == 0.0 else
+                                  f'{exc} Controller patience exceeded') from None
+            self.controller.reset()
+            return 0.0, 0.0
+        self._last_valid = now
+        if interval > 1.5 * period:
+            scale = late_loop_scale(interval, period)
+            return v * scale, w * scale
+        return v, w
