@@ -7,6 +7,7 @@ from zros.entity import NodeEntity
 from zros.graph import EntityKind
 from zros.message import MsgT, encoder
 from zros.priority import transport_priority
+from zros.typesupport import type_name_of
 from zros.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from zros.wire import AttachmentWriter
 
@@ -38,7 +39,7 @@ class Publisher(NodeEntity, Generic[MsgT]):
         key = topic_key(node.context.domain_id, topic)
         reliable = qos.reliability != ReliabilityPolicy.BEST_EFFORT
         # zros.priority: a cmd_vel overtakes a map queued on a slow link
-        self.transport_priority = transport_priority(topic, msg_type._TYPE)
+        self.transport_priority = transport_priority(topic, type_name_of(msg_type))
         options: dict[str, Any] = dict(
             congestion_control=zenoh.CongestionControl.BLOCK if reliable else zenoh.CongestionControl.DROP,
             reliability=zenoh.Reliability.RELIABLE if reliable else zenoh.Reliability.BEST_EFFORT,
