@@ -512,9 +512,6 @@ class Node(HandleOwner):
         :return: ``True``.
         """
         rate.destroy()
-        if rate._pacer is not None:
-            self.destroy_timer(rate._pacer)
-            rate._pacer = None
         return True
 
     @property

@@ -230,5 +230,13 @@ class Rate:
         schedule.advance(now)
 
     def destroy(self) -> None:
-        """Make further `sleep()` calls fail; `Node.destroy_rate` calls this."""
+        """Make further `sleep()` calls fail and take the rate's timer off its node.
+
+        A loop that makes a rate per run (a navigation server's goal loop) destroys it when it
+        ends; the node's timer must go with it, or every run leaves one more timer waking the
+        executor. Calling it twice is harmless; `Node.destroy_rate` calls it too.
+        """
         self._destroyed = True
+        pacer, self._pacer = self._pacer, None
+        if pacer is not None and pacer._node is not None:
+            pacer._node.destroy_timer(pacer)

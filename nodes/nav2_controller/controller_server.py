@@ -115,9 +115,10 @@ class ControllerServer(LifecycleNode):
             return self.goals.fail(handle, result, 103, 'Path is empty.')
         path, goal_yaw = path_points(goal.path)
         path_frame = goal.path.header.frame_id or 'map'
-        same_goal = (previous is not None and self.follower.path.size
-                     and np.hypot(*(self.follower.path[-1] - path[-1])) < _SAME_GOAL_M)
-        self.follower.set_path(path, goal_yaw, keep_progress=bool(same_goal))
+        with self.follower.lock:   # the preempted goal's loop may be in a step (see step below)
+            same_goal = (previous is not None and self.follower.path.size
+                         and np.hypot(*(self.follower.path[-1] - path[-1])) < _SAME_GOAL_M)
+            self.follower.set_path(path, goal_yaw, keep_progress=bool(same_goal))
         feedback = FollowPath.Feedback()
 
         def step() -> Any:
@@ -129,10 +130,16 @@ class ControllerServer(LifecycleNode):
             except Exception as exc:  # noqa: BLE001 - tf2's exceptions
                 return self.goals.fail(handle, result, _TF_ERROR, f'Unable to transform robot pose into {path_frame}: {exc}')
             now = self.get_clock().now().nanoseconds / 1e9
-            try:
-                cmd = self.follower.step(pose, self.speed, now, _cost_in(self.costmap, pose, local))
-            except FollowError as exc:
-                return self.goals.fail(handle, result, exc.code, str(exc))
+            with self.follower.lock:
+                # A newer goal has taken the slot and set (or is setting) its path: this goal's
+                # last step must not run on it; the loop ends this goal as preempted.
+                if not self.goals.slot.is_current(handle):
+                    return None
+                try:
+                    cmd = self.follower.step(pose, self.speed, now, _cost_in(self.costmap, pose, local))
+                    distance = self.follower.remaining_distance(pose[0], pose[1])
+                except FollowError as exc:
+                    return self.goals.fail(handle, result, exc.code, str(exc))
             if cmd is None:
                 self._stop()
                 self.get_logger().info('Reached the goal!')
@@ -142,7 +149,7 @@ class ControllerServer(LifecycleNode):
             twist.linear.x, twist.angular.z = float(cmd[0]), float(cmd[1])
             self.cmd_pub.publish(twist)
             feedback.speed = float(self.speed)
-            feedback.distance_to_goal = float(self.follower.remaining_distance(pose[0], pose[1]))
+            feedback.distance_to_goal = float(distance)
             handle.publish_feedback(feedback)
             return None
         return self.goals.loop(handle, result, self.frequency, step, report_missed_rate=True)

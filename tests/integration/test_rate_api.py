@@ -46,3 +46,19 @@ def test_a_rate_needs_a_positive_number(context):
         node.create_rate(0.0)
     assert not list(node.timers)
     node.destroy_node()
+
+
+def test_destroying_a_rate_itself_takes_its_timer_off_the_node(context):
+    # A navigation server makes a rate per goal loop and destroys it with rate.destroy(); each
+    # forgotten timer would wake the executor for the rest of the node's life (the soak's leak).
+    node = Node('looping', context=context)
+    for _ in range(50):
+        rate = node.create_rate(20.0)
+        rate.sleep()
+        rate.destroy()
+        rate.destroy()   # twice is harmless
+    assert not list(node.timers)
+    with pytest.raises(RuntimeError):
+        rate.sleep()
+    assert node.destroy_rate(rate) and not list(node.timers)
+    node.destroy_node()

@@ -302,3 +302,28 @@ def test_a_control_step_longer_than_its_period_is_reported_as_nav2_does():
     assert missed_rate_message(20.0, 0.05) is None               # exactly the period still fits
     assert missed_rate_message(20.0, 0.08) == ('Control loop missed its desired rate of 20.0000 Hz. '
                                                'Current loop rate is 12.5000 Hz.')
+
+
+def test_a_new_path_waits_for_the_running_step():
+    """controller_server sets a new goal's path on one thread while the preempted goal's loop may
+    be in a step on another (issue 36: one such interleaving raised IndexError and aborted a goal).
+    The new path waits until the step ends; the step finishes on the path it began with."""
+    import threading
+    setter: list[threading.Thread] = []
+
+    class SetsAPathMidStep(ProgressChecker):
+        def check(self, x, y, now):   # called inside step, before the path is read
+            if not setter:
+                turn_back = np.array([[0.0, 0.0], [-1.0, 0.0], [-2.0, 0.0]])
+                setter.append(threading.Thread(target=follower.set_path, args=(turn_back, math.pi)))
+                setter[0].start()
+                setter[0].join(0.3)
+                assert setter[0].is_alive(), 'set_path ran in the middle of a step'
+            return super().check(x, y, now)
+
+    follower = PathFollower(RegulatedPurePursuit(RPPParams()), GoalChecker(), SetsAPathMidStep())
+    follower.set_path(np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]), 0.0)
+    v, w = follower.step((0.0, 0.0, 0.0), 0.0, 0.0)
+    assert v > 0.0 and abs(w) < 1e-6     # straight along the old path
+    setter[0].join(5)
+    assert not setter[0].is_alive() and follower.goal[:2] == (-2.0, 0.0)

@@ -13,6 +13,7 @@ import os
 import threading
 import time
 import uuid
+import weakref
 from typing import TYPE_CHECKING, Any, Callable
 
 from zros.action.counts import NumberOfEntities
@@ -145,7 +146,9 @@ class ActionClient:
         self._client_id = os.urandom(8).hex()
         self._lock = threading.Lock()
         self._feedback_callbacks: dict[bytes, Callable] = {}
-        self._handles: dict[bytes, ClientGoalHandle] = {}
+        # Weak, as in rclpy: a goal whose result nobody asks for (a navigator replacing its
+        # FollowPath goal every replanning period) is forgotten with its last handle.
+        self._handles: weakref.WeakValueDictionary[bytes, ClientGoalHandle] = weakref.WeakValueDictionary()
         self._settled: dict[bytes, int] = {}   # goal key -> when its result came [ns, wall clock]
         group = self.callback_group
         self._send_client: Client[Any, Any] = node.create_client(
@@ -275,14 +278,18 @@ class ActionClient:
         before now still reaches the goal's callback; later feedback does not, as in rclpy."""
         handle._status = GoalStatus(response.status)
         key = handle.goal_id.uuid.tobytes()
-        now = time.time_ns()
         with self._lock:
             self._handles.pop(key, None)
-            self._settled[key] = now
-            for old, when in list(self._settled.items()):
-                if now - when > _SETTLED_MEMORY_S * 1e9:
-                    del self._settled[old]
-                    self._feedback_callbacks.pop(old, None)
+            self._note_settled(key, time.time_ns())
+
+    def _note_settled(self, key: bytes, now: int) -> None:
+        """Record that goal `key` ended at `now` [ns, wall clock] and forget the feedback callbacks
+        of goals that ended more than _SETTLED_MEMORY_S ago. Called with the lock held."""
+        self._settled.setdefault(key, now)
+        for old, when in list(self._settled.items()):
+            if now - when > _SETTLED_MEMORY_S * 1e9:
+                del self._settled[old]
+                self._feedback_callbacks.pop(old, None)
 
     def send_goal(self, goal: Any, feedback_callback: Callable | None = None, goal_uuid: Any = None) -> Any:
         """Send a goal and block until it ends.
@@ -357,11 +364,17 @@ class ActionClient:
             callback(message)
 
     def _on_status(self, array: Any) -> None:
+        """Update the handles' status; a goal the server reports ended is settled here too, so
+        the feedback callback of a goal whose result is never asked for is forgotten as well."""
+        now = time.time_ns()
         with self._lock:
             for status in array.status_list:
-                handle = self._handles.get(status.goal_info.goal_id.uuid.tobytes())
+                key = status.goal_info.goal_id.uuid.tobytes()
+                handle = self._handles.get(key)
                 if handle is not None:
                     handle._status = GoalStatus(status.status)
+                if status.status >= GoalStatus.SUCCEEDED and key in self._feedback_callbacks:
+                    self._note_settled(key, now)
 
     def destroy(self) -> None:
         """Destroy the client's services and subscriptions and leave the graph.

@@ -201,6 +201,23 @@ class ServerGoalHandle:
         return head, b''.join(tail)
 
 
+class _EndedGoal:
+    """What the server keeps of a goal from its end until `result_timeout`: what the status array
+    and get-result and cancel requests need. Not the goal request, as rcl keeps only the result: a
+    FollowPath goal's path is most of a goal's memory, and a controller replaced every replanning
+    period ends hundreds of goals within the 900 s default. User code holding the goal's
+    ServerGoalHandle still has its request."""
+
+    __slots__ = ('_goal_id', '_stamp', '_key', 'status', '_result', '_lock', '_waiters')
+    is_active = False
+
+    def __init__(self, handle: ServerGoalHandle) -> None:
+        self._goal_id, self._stamp, self._key = handle._goal_id, handle._stamp, handle._key
+        self.status, self._result = handle.status, handle._result
+        self._lock = handle._lock
+        self._waiters: list[DeferredResponse] = []   # the result is in: nobody waits any more
+
+
 class ActionServer:
     """Serves one action, as rclpy.action.ActionServer.
 
@@ -246,7 +263,7 @@ class ActionServer:
         self._result_timeout = result_timeout
         self._feedback_qos = feedback_pub_qos_profile
         self.callback_group = callback_group or node.default_callback_group
-        self._goal_handles: dict[bytes, ServerGoalHandle] = {}
+        self._goal_handles: dict[bytes, ServerGoalHandle | _EndedGoal] = {}
         self._feedback_pubs: dict[str, Publisher] = {}
         self._lock = threading.RLock()
         self._destroyed = False
@@ -489,6 +506,8 @@ class ActionServer:
             waiters, handle._waiters = handle._waiters, []
         with self._lock:
             self._finished.append((handle._finished_at, handle._key))
+            if self._goal_handles.get(handle._key) is handle:
+                self._goal_handles[handle._key] = _EndedGoal(handle)
         response = self._types.GetResultService.Response(status=handle.status, result=result)
         for waiter in waiters:
             waiter.resolve(response)

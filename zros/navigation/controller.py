@@ -15,6 +15,7 @@ regulation_functions.hpp); nav2_controller's simple_progress_checker and simple_
 from __future__ import annotations
 
 import math
+import threading
 from dataclasses import dataclass, fields
 from typing import Callable
 
@@ -305,6 +306,10 @@ class PathFollower:
     longer than this does the goal fail (0: at the first failure, -1: never). A step that comes
     late (more than 1.5 control periods after the last one: a busy machine) slows the command
     by `late_loop_scale`, so the robot slows down instead of driving blind for longer.
+
+    A new goal's `set_path` comes from another thread than the running goal's `step`: both hold
+    `lock` (re-entrant), so a step never sees half of a new path. A caller that must check
+    something first (is my goal still the current one?) holds `lock` around the check and the step.
     """
 
     def __init__(self, controller: RegulatedPurePursuit, goal_checker: GoalChecker,
@@ -320,12 +325,17 @@ class PathFollower:
         self._closest = 0
         self._last_step: float | None = None         # node clock [s] of the last step
         self._last_valid: float | None = None        # ... of the last step with a valid command
+        self.lock = threading.RLock()
 
     def set_path(self, path: np.ndarray, goal_yaw: float, *, keep_progress: bool = False) -> None:
         """A new path; `keep_progress` for a replanned path of the same goal (Nav2 keeps the checkers)."""
         path = np.asarray(path, np.float64).reshape(-1, 2)
         if len(path) == 0:
             raise FollowError(INVALID_PATH, 'Path is empty.')
+        with self.lock:
+            self._set_path(path, goal_yaw, keep_progress)
+
+    def _set_path(self, path: np.ndarray, goal_yaw: float, keep_progress: bool) -> None:
         self.path = path
         self.goal = (float(path[-1, 0]), float(path[-1, 1]), float(goal_yaw))
         self._closest = 0
@@ -336,13 +346,19 @@ class PathFollower:
             self._last_step = self._last_valid = None
 
     def remaining_distance(self, x: float, y: float) -> float:
-        rest = self.path[self._closest:]
+        with self.lock:
+            rest = self.path[self._closest:]
         seg = np.linalg.norm(np.diff(rest, axis=0), axis=1).sum() if len(rest) > 1 else 0.0
         return float(math.hypot(rest[0, 0] - x, rest[0, 1] - y) + seg)
 
     def step(self, pose: tuple[float, float, float], speed: float, now: float,
              cost_at: Callable[[np.ndarray], np.ndarray] | None = None) -> tuple[float, float] | None:
         """Command for this period, or None once the goal is reached; FollowError when stuck."""
+        with self.lock:
+            return self._step(pose, speed, now, cost_at)
+
+    def _step(self, pose: tuple[float, float, float], speed: float, now: float,
+              cost_at: Callable[[np.ndarray], np.ndarray] | None) -> tuple[float, float] | None:
         x, y, _ = pose
         if self.goal_checker.is_goal_reached(pose, self.goal):
             return None
