@@ -125,7 +125,11 @@ start = PoseStamped()
 start.header.frame_id = 'map'
 start.pose.position.x, start.pose.position.y, start.pose.orientation.w = -2.0, -0.5, 1.0
 navigator.waitUntilNav2Active(localizer='map_server')
-# Placed once the stack is up (a pose sent before the simulator subscribes is lost, as in ROS).
+# Placed once the simulator listens (a pose sent before it subscribes is lost, as in ROS; under
+# load its process can come up after Nav2's lifecycle nodes are active).
+deadline = time.monotonic() + 60
+while navigator.count_subscribers('initialpose') == 0 and time.monotonic() < deadline:
+    time.sleep(0.1)
 navigator.setInitialPose(start)
 time.sleep(1.0)
 goal = PoseStamped()
