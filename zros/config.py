@@ -521,6 +521,10 @@ def open_session(settings: SessionSettings, *, mesh: bool = True, connect_wait: 
             return zenoh.open(build_config(settings, as_hub=True, mesh=mesh)), True
         except zenoh.ZError:
             pass  # another process won the race for the hub port: join it instead
+    if not mesh and not settings.tls:
+        reader = _open_graph_reader(settings)
+        if reader is not None:
+            return reader, False
     if settings.mode == 'client':
         return _open_client(settings, mesh, connect_wait), False
     session = _open(build_config(settings, as_hub=False, mesh=mesh))
@@ -543,6 +547,26 @@ def open_session(settings: SessionSettings, *, mesh: bool = True, connect_wait: 
         # wrong address or a TLS-only router would otherwise look like an empty system.
         _warn_unreachable(settings)
     return session, False
+
+
+def _open_graph_reader(settings: SessionSettings):
+    """A session that only reads the graph (`mesh=False`): a Zenoh client of whatever holds the
+    hub port, the loopback hub or a `zros router`, both of which answer the graph query; None
+    when nothing answers there (the caller then opens a session its usual way).
+
+    One link, nothing to listen on, and `open` returns once the link is up instead of waiting
+    for the other side's declarations: a reader only queries, and a client sends every query to
+    its router whatever it has declared. That wait is what made a command against a router slow:
+    Zenoh gives a router up to 0.5 s to send them, on every open (measured in docs/benchmarks.md,
+    "The robot and the laptop over a bad link")."""
+    import zenoh
+    config = build_config(replace(settings, connect=(settings.hub_endpoint,), mode='client'), as_hub=False,
+                          mesh=False)
+    config.insert_json5('open/return_conditions/declares', 'false')
+    try:
+        return zenoh.open(config)
+    except zenoh.ZError:
+        return None
 
 
 def _open(config):
