@@ -55,6 +55,36 @@ def test_map_and_costmap_colour_schemes():
         convert.occupancy_rgba(data, 3, 2, 'jet')
 
 
+def test_the_map_display_pastes_costmap_updates_into_its_last_grid():
+    """RViz's Map display: `<topic>_updates` patches the last whole grid; an update before any
+    grid, or one that does not fit it, is dropped."""
+    import threading
+    from types import SimpleNamespace
+
+    from zros.view.scene.displays.maps import MapDisplay
+
+    from interfaces.map_msgs.msg import OccupancyGridUpdate
+    from interfaces.nav_msgs.msg import OccupancyGrid
+    scene = SimpleNamespace(add_frame=lambda name, **_: SimpleNamespace(name=name))
+    display = MapDisplay(SimpleNamespace(scene=scene, wake=threading.Event()), 'Costmap', '/global_costmap/costmap')
+    update = OccupancyGridUpdate(x=1, y=2, width=2, height=1, data=np.array([100, 99], np.int8))
+    display.on_update(update)
+    assert display._latest is None                             # nothing to paste into yet
+    grid = OccupancyGrid()
+    grid.info.width, grid.info.height = 4, 3
+    grid.data = np.zeros(12, np.int8)
+    display.on_message(grid)
+    display.on_update(update)
+    shown = np.asarray(display._latest.data).reshape(3, 4)
+    assert shown[2].tolist() == [0, 100, 99, 0] and not shown[:2].any()
+    assert not np.asarray(grid.data).any()                     # the message drawn before is not changed under it
+    display.on_update(OccupancyGridUpdate(x=0, y=0, width=1, height=1, data=np.array([5], np.int8)))
+    assert np.asarray(display._latest.data).reshape(3, 4)[[0, 2], [0, 1]].tolist() == [5, 100]   # on top of the last
+    before = display._latest
+    display.on_update(OccupancyGridUpdate(x=3, y=0, width=2, height=1, data=np.array([1, 1], np.int8)))
+    assert display._latest is before                           # outside the grid: dropped
+
+
 def test_known_window_and_cropped_placement():
     from interfaces.nav_msgs.msg import MapMetaData
     cells = np.full((10, 12), -1, dtype=np.int8)

@@ -3,8 +3,9 @@
 It is a node of its own (`global_costmap` in namespace `global_costmap`, `local_costmap` in
 `local_costmap`), living in the process of the server that uses it, as in Nav2, so that Nav2's
 parameter files (`global_costmap: global_costmap: ros__parameters: ...`) apply unchanged. It
-publishes `<name>/costmap` (nav_msgs/OccupancyGrid, Nav2's cost-to-occupancy table) and
-`<name>/costmap_raw` (nav2_msgs/Costmap), and serves `<name>/clear_entirely_<name>`,
+publishes `<name>/costmap` (nav_msgs/OccupancyGrid, Nav2's cost-to-occupancy table),
+`<name>/costmap_updates` (map_msgs/OccupancyGridUpdate: the rectangle that changed, see
+`CostmapNode.publish`) and `<name>/costmap_raw` (nav2_msgs/Costmap), and serves `<name>/clear_entirely_<name>`,
 `clear_except_<name>`, `clear_around_<name>` and `clear_around_pose_<name>` (also under the
 `clear_costmap_*` names Jazzy's BasicNavigator calls).
 
@@ -18,6 +19,7 @@ from typing import Any, Callable
 
 import numpy as np
 
+from zros.grid_update import changed_bounds, patch
 from zros.navigation.costmap import NO_INFORMATION, CostmapParams, LayeredCostmap, to_occupancy
 from zros.navigation.node_support import Nav2Params, lookup_pose
 from zros.node import Node
@@ -43,6 +45,7 @@ class CostmapNode(Node):
         self.robot_base_frame = prm.get('robot_base_frame', 'base_link')
         update_frequency = prm.get('update_frequency', 5.0 if rolling else 1.0)
         publish_frequency = prm.get('publish_frequency', 2.0 if rolling else 1.0)
+        self.always_send_full_costmap = prm.get('always_send_full_costmap', False)
         plugins = prm.get('plugins', ['voxel_layer', 'inflation_layer'] if rolling
                           else ['static_layer', 'obstacle_layer', 'inflation_layer'])
         kinds = {name: self._kind(prm, name) for name in plugins}
@@ -78,10 +81,15 @@ class CostmapNode(Node):
         self._scan_frame_warned = False
         latched = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
         from interfaces.nav2_msgs.msg import Costmap
+        from interfaces.map_msgs.msg import OccupancyGridUpdate
         from interfaces.nav2_msgs.srv import ClearEntireCostmap, GetCostmap
         from interfaces.nav_msgs.msg import OccupancyGrid
         from interfaces.sensor_msgs.msg import LaserScan
         self._grid_pub = self.create_publisher(OccupancyGrid, 'costmap', latched)
+        self._update_pub = self.create_publisher(OccupancyGridUpdate, 'costmap_updates', latched)
+        self._sent: np.ndarray | None = None      # the occupancy grid the subscribers hold now
+        self._sent_placement: tuple | None = None  # its resolution and origin
+        self._grid_subscribers = 0
         self._raw_pub = self.create_publisher(Costmap, 'costmap_raw', latched)
         if static:
             topic = prm.get(f'{static}.map_topic', '/map')
@@ -199,10 +207,37 @@ class CostmapNode(Node):
             return self.costmap.cost_at(xy)
 
     def publish(self) -> None:
-        if self._have_map:
-            grid, raw = self._messages()
+        """Publish the raw costmap, and the occupancy grid whole or as the rectangle that changed.
+
+        As Nav2's Costmap2DPublisher: the grid goes whole the first time, when its size,
+        resolution or origin changed (a rolling window that moved), and every time with
+        `always_send_full_costmap`; otherwise only the cells that changed since, on
+        `costmap_updates`, nothing when none did. Nav2 takes the rectangle from its layers'
+        bounds of change; here it is the smallest one holding every cell whose value differs
+        from what the subscribers hold, so it is never larger. Unlike Humble's, the grid also
+        goes whole when a subscriber joined since the last one (the graph counts it): the latched
+        grid a late subscriber gets may be older than the updates since, as in Humble's RViz."""
+        if not self._have_map:
+            return
+        grid, raw = self._messages()
+        self._raw_pub.publish(raw)
+        occupancy = np.asarray(grid.data).reshape(grid.info.height, grid.info.width)
+        placement = (grid.info.resolution, grid.info.origin.position.x, grid.info.origin.position.y)
+        subscribers = self._grid_pub.get_subscription_count()
+        whole = (self.always_send_full_costmap or self._sent is None or self._sent.shape != occupancy.shape
+                 or placement != self._sent_placement or subscribers > self._grid_subscribers)
+        self._grid_subscribers = subscribers
+        if whole:
             self._grid_pub.publish(grid)
-            self._raw_pub.publish(raw)
+        else:
+            bounds = changed_bounds(self._sent, occupancy)
+            if bounds is None:
+                return
+            from interfaces.map_msgs.msg import OccupancyGridUpdate
+            update = OccupancyGridUpdate(header=grid.header, x=bounds.x0, y=bounds.y0, width=bounds.width,
+                                         height=bounds.height, data=patch(occupancy, bounds))
+            self._update_pub.publish(update)
+        self._sent, self._sent_placement = occupancy, placement
 
     def _messages(self) -> tuple[Any, Any]:
         """The master grid as (nav_msgs/OccupancyGrid, nav2_msgs/Costmap)."""

@@ -1,11 +1,19 @@
-"""Map: nav_msgs/OccupancyGrid as a textured plane (maps and costmaps), re-sent only when it changed."""
+"""Map: nav_msgs/OccupancyGrid as a textured plane (maps and costmaps), re-sent only when it changed.
+
+As RViz's Map display it also subscribes to `<topic>_updates` (map_msgs/OccupancyGridUpdate),
+which Nav2's costmaps publish between whole grids: each update is pasted into the last grid, so a
+costmap that sends only what changed (`always_send_full_costmap: false`, Nav2's default) is
+shown as it is, not as it was at its last whole grid.
+"""
 from __future__ import annotations
 
+import copy
 import zlib
 from typing import Any
 
 import numpy as np
 
+from zros.grid_update import apply_update
 from zros.view.scene.convert import MAP_SCHEMES, grid_placement, known_window, occupancy_rgba
 from zros.view.scene.displays.base import Display
 from zros.view.scene.frames import FrameError
@@ -36,11 +44,53 @@ class MapDisplay(Display):
         self._frame = ''
         self._replaced_at = 0.0
         self.uploads = 0               # textures sent to the browser (the benchmark reads it)
+        self._grid: Any = None         # the last whole grid, with the updates since pasted in
+        self._updates: Any = None      # the subscription to `<topic>_updates`
 
     def qos(self) -> Any:
         from zros.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
         return QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                           durability=DurabilityPolicy.TRANSIENT_LOCAL)
+
+    def subscribe(self) -> None:
+        super().subscribe()
+        if self._subscription is None:
+            return
+        from zros.typesupport import get_message
+        self._updates = self.ctx.node.create_subscription(
+            get_message('map_msgs/msg/OccupancyGridUpdate'), f'{self.topic}_updates', self.on_update, self.qos())
+
+    def unsubscribe(self) -> None:
+        super().unsubscribe()
+        if self._updates is not None:
+            try:
+                self.ctx.node.destroy_subscription(self._updates)
+            except Exception:  # noqa: BLE001 - the node may be shutting down
+                pass
+            self._updates = None
+
+    def on_message(self, msg: Any) -> None:
+        with self._lock:
+            self._grid = msg
+        super().on_message(msg)
+
+    def on_update(self, update: Any) -> None:
+        """Paste an update into the last grid (node's executor thread) and show the result as
+        the newest message. An update before any grid, or one that does not fit it (cut from a
+        grid of another size), is dropped, as RViz does: the next whole grid puts things right."""
+        with self._lock:
+            grid = self._grid
+        if grid is None:
+            return
+        info = grid.info
+        data = np.array(grid.data, np.int8).reshape(int(info.height), int(info.width))   # a copy: draw may read the old
+        try:
+            apply_update(data, int(update.x), int(update.y), int(update.width), int(update.height), update.data)
+        except ValueError:
+            return
+        patched = copy.copy(grid)
+        patched.data = data.ravel()
+        self.on_message(patched)
 
     def draw(self, msg: Any, pose: Transform) -> None:
         info = msg.info
