@@ -103,12 +103,16 @@ class Display:
         self._subscription = self.ctx.node.create_subscription(msg_class, self.topic, self.on_message, self.qos())
 
     def unsubscribe(self) -> None:
-        if self._subscription is not None:
+        self.destroy_subscription(self._subscription)
+        self._subscription = None
+
+    def destroy_subscription(self, subscription: Any) -> None:
+        """Destroy one of the display's subscriptions (None: nothing to do)."""
+        if subscription is not None:
             try:
-                self.ctx.node.destroy_subscription(self._subscription)
+                self.ctx.node.destroy_subscription(subscription)
             except Exception:  # noqa: BLE001 - the node may be shutting down
                 pass
-            self._subscription = None
 
     def on_message(self, msg: Any) -> None:
         with self._lock:

@@ -62,12 +62,8 @@ class MapDisplay(Display):
 
     def unsubscribe(self) -> None:
         super().unsubscribe()
-        if self._updates is not None:
-            try:
-                self.ctx.node.destroy_subscription(self._updates)
-            except Exception:  # noqa: BLE001 - the node may be shutting down
-                pass
-            self._updates = None
+        self.destroy_subscription(self._updates)
+        self._updates = None
 
     def on_message(self, msg: Any) -> None:
         with self._lock:
