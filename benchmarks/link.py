@@ -5,6 +5,7 @@ and how soon the laptop sees the robot's nodes again.
     sudo python benchmarks/link.py --view        # with the view (rviz2's role) open on the laptop
     sudo python benchmarks/link.py --json out.json
     sudo python benchmarks/link.py --part priority   # cmd_vel behind big messages (benchmarks/link_priority.py)
+    sudo python benchmarks/link.py --part relist --stops 3   # the graph and teleop after drop-outs
 
 The robot and the laptop are tools/link_netns.py's namespaces, joined only through
 tools/link_shaper.py at 30 ms one way, 5 ms jitter, 2 Mbit/s. The laptop runs `zros router` and
@@ -28,6 +29,10 @@ What is measured:
 - `graph`: after a drop-out that resets the connections (and one that holds them), the time from
   the link's return until `zros node list` on the laptop shows /gazebo and
   /robot_state_publisher. Goal: <= 2 s.
+- `--part relist` (instead of the above): the same after `--stops` drop-outs of each kind, and a
+  teleop running on the laptop all along (a node publishing cmd_vel at 10 Hz while its key is
+  held) whose key is pressed the moment the link returns: the time until the robot's /odom, as
+  the laptop receives it, turns.
 
     sudo python benchmarks/link.py --navigate 20  # 20 goals with drop-outs, about 10 minutes
     sudo python benchmarks/link.py --soak 30      # 30 minutes of goals: memory, graph, lost messages
@@ -64,7 +69,7 @@ import sys
 import tempfile
 import time
 from pathlib import Path
-from typing import Iterator
+from typing import Callable, Iterator
 
 REPO = Path(__file__).resolve().parents[1]
 if str(REPO) not in sys.path:
@@ -136,8 +141,10 @@ def probe(seconds: float, topics_out: str) -> None:
     Path(topics_out).write_text(json.dumps({k: [n / seconds, b / seconds] for k, (n, b) in counts.items()}))
 
 
-def truth(out: str) -> None:
-    """Append `sim_time x y yaw` of every /sim/ground_truth sample to `out` (the stop measurement)."""
+def truth(out: str, topic: str = '/sim/ground_truth', wall: bool = False) -> None:
+    """Append `time x y yaw` of every Odometry sample on `topic` to `out`: the message's simulated
+    stamp (the stop measurement), or with `wall` the wall time it arrived on the laptop (teleop
+    after a drop-out, `--part relist`)."""
     import zros
     from zros.node import Node
 
@@ -149,9 +156,36 @@ def truth(out: str) -> None:
         def on_truth(msg: Odometry) -> None:
             p, q = msg.pose.pose.position, msg.pose.pose.orientation
             yaw = 2.0 * math.atan2(q.z, q.w)
-            file.write(f'{msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9:.4f} {p.x:.5f} {p.y:.5f} {yaw:.5f}\n')
-        node.create_subscription(Odometry, '/sim/ground_truth', on_truth, 1000)
+            stamp = time.time() if wall else msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+            file.write(f'{stamp:.4f} {p.x:.5f} {p.y:.5f} {yaw:.5f}\n')
+        node.create_subscription(Odometry, topic, on_truth, 1000)
         zros.spin(node)
+
+
+def teleop(control_file: str) -> None:
+    """A teleop that is running all along, as a user's teleop_twist_keyboard: while
+    `control_file` holds a non-zero turn rate [rad/s] (a key held down), publish it on /cmd_vel
+    at 10 Hz; nothing otherwise."""
+    import zros
+    from zros.node import Node
+
+    from interfaces.geometry_msgs.msg import Twist
+
+    zros.init([])
+    node = Node('link_teleop')
+    publisher = node.create_publisher(Twist, '/cmd_vel', 10)
+
+    def tick() -> None:
+        try:
+            rate = float(Path(control_file).read_text() or 0.0)
+        except (OSError, ValueError):
+            rate = 0.0
+        if rate:
+            msg = Twist()
+            msg.angular.z = rate
+            publisher.publish(msg)
+    node.create_timer(0.1, tick)
+    zros.spin(node)
 
 
 def clock_now(out: str) -> None:
@@ -513,30 +547,105 @@ def run(args: argparse.Namespace) -> dict:
         topo.stop(teleop)
         result['stop'] = result['stops'][0]
 
-        # graph after the link returns: held and reset drop-outs. Each `zros node list` is a new
-        # process that takes its own start-up time, so the attempts are kept: (started after
-        # the return [s], took [s], listed the robot's nodes)
+        # graph after the link returns: held and reset drop-outs
         result['graph'], result['graph_attempts'] = {}, {}
-        started = time.monotonic()
-        listed = all(n in _zros(topo, topo.laptop, 'node', 'list').split() for n in ROBOT_NODES)
-        result['graph_baseline_s'] = time.monotonic() - started if listed else None   # the command alone
+        result['graph_baseline_s'] = _baseline_listing(topo)
         for mode in ('hold', 'reset'):
-            control(sock, cmd='set', dropout_mode=mode)
-            control(sock, cmd='drop', seconds=args.drop)
-            back = time.monotonic() + args.drop
-            time.sleep(args.drop)
-            while time.monotonic() < back:
-                time.sleep(0.01)
-            attempts: list[tuple[float, float, bool]] = []
-            while time.monotonic() - back < 30 and not (attempts and attempts[-1][2]):
-                started = time.monotonic()
-                nodes = _zros(topo, topo.laptop, 'node', 'list', timeout=10).split()
-                attempts.append((started - back, time.monotonic() - started, all(n in nodes for n in ROBOT_NODES)))
-            result['graph_attempts'][mode] = attempts
-            result['graph'][mode] = time.monotonic() - back if attempts[-1][2] else None
+            result['graph'][mode], result['graph_attempts'][mode] = _relist(topo, sock, mode, args.drop)
         control(sock, cmd='set', dropout_mode='hold')
         result['logs'] = str(logs)
     return result
+
+
+def _baseline_listing(topo: Topology) -> float | None:
+    """How long one `zros node list` on the laptop takes with the link up (the command alone);
+    None if it did not list the robot's nodes."""
+    started = time.monotonic()
+    listed = all(n in _zros(topo, topo.laptop, 'node', 'list').split() for n in ROBOT_NODES)
+    return time.monotonic() - started if listed else None
+
+
+def _relist(topo: Topology, sock: str, mode: str, drop: float,
+            at_return: Callable[[], None] | None = None) -> tuple[float | None, list[tuple[float, float, bool]]]:
+    """Drop the link for `drop` s (`mode`: hold or reset the connections), then run `zros node
+    list` on the laptop from the moment it returns until one lists the robot's nodes (30 s at
+    most). Each listing is a new process with its own start-up, so every attempt is kept as
+    (started after the return [s], took [s], listed the robot's nodes). Returns the seconds from
+    the return to the end of the listing that had them (None: none in 30 s), and the attempts.
+    `at_return` runs the moment the link is back, before the first listing."""
+    control(sock, cmd='set', dropout_mode=mode)
+    control(sock, cmd='drop', seconds=drop)
+    back = time.monotonic() + drop
+    time.sleep(drop)
+    while time.monotonic() < back:
+        time.sleep(0.01)
+    if at_return is not None:
+        at_return()
+    attempts: list[tuple[float, float, bool]] = []
+    while time.monotonic() - back < 30 and not (attempts and attempts[-1][2]):
+        started = time.monotonic()
+        nodes = _zros(topo, topo.laptop, 'node', 'list', timeout=10).split()
+        attempts.append((started - back, time.monotonic() - started, all(n in nodes for n in ROBOT_NODES)))
+    control(sock, cmd='set', dropout_mode='hold')
+    return (time.monotonic() - back if attempts[-1][2] else None), attempts
+
+
+def run_relist(args: argparse.Namespace) -> dict:
+    """`--part relist`: after each drop-out (held, then reset, `--stops` times), how soon the
+    laptop's `zros node list` shows the robot's nodes, and how soon a teleop that ran all along
+    on the laptop turns the robot when its key is pressed at the return (the robot's /odom, as
+    the laptop receives it, moves)."""
+    logs = Path(tempfile.mkdtemp(prefix='link-relist-'))
+    sock = str(logs / 'link.sock')
+    me = [sys.executable, str(Path(__file__).resolve())]
+    result: dict = {'settings': {'latency_ms': 30, 'jitter_ms': 5, 'rate_mbit_s': 2, 'view': args.view,
+                                 'drop_s': args.drop}, 'logs': str(logs), 'load_start': os.getloadavg()[0]}
+    with Topology(logs) as topo:
+        result['startup_s'] = _start_stack(topo, sock, args.view)
+        odom_file, key_file = logs / 'odom.txt', logs / 'teleop_key.txt'
+        key_file.write_text('0')
+        topo.spawn(topo.laptop, [*me, '--truth', str(odom_file), '--truth-topic', '/odom', '--wall'], 'odom',
+                   _env(), REPO)
+        topo.spawn(topo.laptop, [*me, '--teleop', str(key_file)], 'teleop', _env(), REPO)
+        _wait('odometry on the laptop', lambda: odom_file.exists() and odom_file.stat().st_size > 1000, 60)
+        result['graph_baseline_s'] = _baseline_listing(topo)
+        result['returns'] = []
+        for _ in range(args.stops):
+            for mode in ('hold', 'reset'):
+                def press() -> None:      # at the return: turn in place, nothing to bump into
+                    key_file.write_text('0.5')
+                    pressed.append(time.time())
+                pressed: list[float] = []
+                listed, attempts = _relist(topo, sock, mode, args.drop, at_return=press)
+                moved = None
+                while moved is None and time.time() - pressed[0] < 15:
+                    if _last_movement(odom_file.read_text().splitlines(), pressed[0], math.inf) is not None:
+                        moved = time.time() - pressed[0]
+                    time.sleep(0.05)
+                key_file.write_text('0')
+                time.sleep(2.0)                   # the watchdog stops the robot before the next drop
+                result['returns'].append({'mode': mode, 'listed_s': listed, 'attempts': attempts,
+                                          'teleop_moved_s': moved})
+        result['load_end'] = os.getloadavg()[0]
+    return result
+
+
+def relist_table(r: dict) -> str:
+    """`--part relist`'s figures as rows for docs/benchmarks.md."""
+    rows = ['| After the link returns | Value | Goal |', '|---|---|---|']
+    for mode in ('hold', 'reset'):
+        mine = [x for x in r['returns'] if x['mode'] == mode]
+        listed = ', '.join('n/a' if x['listed_s'] is None else f"{x['listed_s']:.2f}" for x in mine)
+        tries = ', '.join(str(len(x['attempts'])) for x in mine)
+        moved = ', '.join('n/a' if x['teleop_moved_s'] is None else f"{x['teleop_moved_s']:.2f}" for x in mine)
+        rows.append(f"| {mode} drop-out: robot's nodes in `zros node list` (listings needed) | {listed} s ({tries}) | <= 2 s |")
+        rows.append(f'| {mode} drop-out: teleop running all along, key pressed at the return, turns the robot '
+                    f'(odom on the laptop) | {moved} s | |')
+    base = r.get('graph_baseline_s')
+    rows.append(f"| `zros node list` with the link up (the command alone) | "
+                f"{'did not list them' if base is None else f'{base:.2f} s'} | |")
+    rows.append(f"\n(load average {r['load_start']:.1f} -> {r['load_end']:.1f}; logs: {r['logs']})")
+    return '\n'.join(rows)
 
 
 def table(r: dict) -> str:
@@ -616,9 +725,10 @@ def main() -> int:
     parser.add_argument('--view', action='store_true', help='open the view on the laptop')
     parser.add_argument('--stops', type=int, default=1, help='drop-outs for the stop measurement')
     parser.add_argument('--json', help='also write the results here')
-    parser.add_argument('--part', choices=('stack', 'priority'), default='stack',
+    parser.add_argument('--part', choices=('stack', 'priority', 'relist'), default='stack',
                         help='stack: the TurtleBot3 stack (the default); priority: cmd_vel latency behind '
-                             'big messages, with and without priorities (benchmarks/link_priority.py)')
+                             'big messages, with and without priorities (benchmarks/link_priority.py); '
+                             'relist: the graph and teleop after drop-outs (--stops of each kind)')
     parser.add_argument('--drain', type=float, default=15.0, help=argparse.SUPPRESS)
     parser.add_argument('--sndbuf', type=int, default=0,
                         help="--part priority: the laptop router's TCP send buffer (Zenoh's "
@@ -630,17 +740,23 @@ def main() -> int:
     parser.add_argument('--mission', metavar='CONFIG', help=argparse.SUPPRESS)
     parser.add_argument('--probe', nargs=2, metavar=('SECONDS', 'OUT'), help=argparse.SUPPRESS)
     parser.add_argument('--truth', metavar='OUT', help=argparse.SUPPRESS)
+    parser.add_argument('--truth-topic', default='/sim/ground_truth', help=argparse.SUPPRESS)
+    parser.add_argument('--wall', action='store_true', help=argparse.SUPPRESS)
     parser.add_argument('--clock', metavar='OUT', help=argparse.SUPPRESS)
+    parser.add_argument('--teleop', metavar='KEY_FILE', help=argparse.SUPPRESS)
     args = parser.parse_args()
     try:
         if args.probe:
             probe(float(args.probe[0]), args.probe[1])
             return 0
         if args.truth:
-            truth(args.truth)
+            truth(args.truth, args.truth_topic, args.wall)
             return 0
         if args.clock:
             clock_now(args.clock)
+            return 0
+        if args.teleop:
+            teleop(args.teleop)
             return 0
         if args.mission:
             mission(args.mission)
@@ -655,6 +771,9 @@ def main() -> int:
         import link_priority
         result = link_priority.run(args, _env, _wait)
         print(link_priority.table(result))
+    elif args.part == 'relist':
+        result = run_relist(args)
+        print(relist_table(result))
     elif args.navigate is not None or args.soak is not None:
         if (args.navigate is not None and args.navigate < 1) or (args.soak is not None and args.soak <= 0):
             print('link benchmark: --navigate needs at least 1 goal, --soak more than 0 minutes', file=sys.stderr)
