@@ -413,16 +413,17 @@ def _last_movement(lines: list[str], start: float, end: float) -> float | None:
     return last
 
 
-def _start_stack(topo: Topology, sock: str, view: bool) -> float:
-    """The shaper, the laptop's router and half of the stack, the robot's half; the seconds until
-    the laptop's graph has the robot's nodes and Nav2's."""
+def _start_stack(topo: Topology, sock: str, view: bool, laptop_args: tuple[str, ...] = ()) -> float:
+    """The shaper, the laptop's router and half of the stack (with `laptop_args`, launch
+    arguments such as `params_file:=...`), the robot's half; the seconds until the laptop's
+    graph has the robot's nodes and Nav2's."""
     topo.start_shaper(Path(sock), '--latency', '0.03', '--jitter', '0.005', '--rate', '2e6')
     _wait('shaper', lambda: os.path.exists(sock), 15)
     zros = [sys.executable, '-m', 'zros.cli.main']
     topo.spawn(topo.laptop, [*zros, 'router'], 'router', _env(), REPO)
     time.sleep(2.0)
     topo.spawn(topo.laptop, [*zros, 'launch', 'turtlebot3_bringup', 'laptop.launch.py',
-                             f'view:={"true" if view else "false"}'], 'laptop', _env(), REPO)
+                             f'view:={"true" if view else "false"}', *laptop_args], 'laptop', _env(), REPO)
     topo.spawn(topo.robot, [*zros, 'launch', 'turtlebot3_bringup', 'robot.launch.py'], 'robot',
                _env(ZROS_CONFIG=CLIENT, ZROS_CONNECT=ROBOT_CONNECT), REPO)
 
@@ -494,7 +495,7 @@ def run(args: argparse.Namespace) -> dict:
                                  'drop_s': args.drop}}
     with Topology(logs) as topo:
         zros = [sys.executable, '-m', 'zros.cli.main']
-        result['startup_s'] = _start_stack(topo, sock, args.view)
+        result['startup_s'] = _start_stack(topo, sock, args.view, tuple(args.laptop_arg))
         # where the robot starts (robot.launch.py's pose), as a user gives it in RViz: AMCL then
         # publishes map -> odom, and the costmaps and the pose flow as they do in a real session
         _zros(topo, topo.laptop, 'topic', 'pub', '--once', '/initialpose',
@@ -723,6 +724,8 @@ def main() -> int:
     parser.add_argument('--seconds', type=float, default=20.0, help='measurement window [s]')
     parser.add_argument('--drop', type=float, default=5.0, help='drop-out length [s]')
     parser.add_argument('--view', action='store_true', help='open the view on the laptop')
+    parser.add_argument('--laptop-arg', action='append', default=[], metavar='NAME:=VALUE',
+                        help='a launch argument for laptop.launch.py, e.g. params_file:=my_nav2.yaml (repeatable)')
     parser.add_argument('--stops', type=int, default=1, help='drop-outs for the stop measurement')
     parser.add_argument('--json', help='also write the results here')
     parser.add_argument('--part', choices=('stack', 'priority', 'relist'), default='stack',
