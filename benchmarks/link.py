@@ -401,16 +401,22 @@ def _watchdog_stops(robot_log: Path) -> list[tuple[float, float]]:
         r'\[(\d+\.\d+)\] \[gazebo\]: \S+ stopped: no cmd_vel for [\d.]+ s \(cmd_vel_timeout\) at ([\d.]+) s', text)]
 
 
-def _last_movement(lines: list[str], start: float, end: float) -> float | None:
-    """Simulated time of the last sample in [start, end] that moved (> 1 mm or > 0.002 rad) from
-    the one before it; None if none did."""
+def _movements(lines: list[str], start: float, end: float) -> list[float]:
+    """Times of the samples in [start, end] that moved (> 1 mm or > 0.002 rad) from the one
+    before them, in order."""
     samples = [tuple(map(float, line.split())) for line in lines if len(line.split()) == 4]
-    last = None
+    moved = []
     for (_, x0, y0, a0), (t1, x1, y1, a1) in zip(samples, samples[1:]):
         turned = abs(math.remainder(a1 - a0, math.tau))
         if start <= t1 <= end and (math.hypot(x1 - x0, y1 - y0) > 1e-3 or turned > 2e-3):
-            last = t1
-    return last
+            moved.append(t1)
+    return moved
+
+
+def _last_movement(lines: list[str], start: float, end: float) -> float | None:
+    """Simulated time of the last sample in [start, end] that moved; None if none did."""
+    moved = _movements(lines, start, end)
+    return moved[-1] if moved else None
 
 
 def _start_stack(topo: Topology, sock: str, view: bool, laptop_args: tuple[str, ...] = ()) -> float:
@@ -618,10 +624,10 @@ def run_relist(args: argparse.Namespace) -> dict:
                     pressed.append(time.time())
                 pressed: list[float] = []
                 listed, attempts = _relist(topo, sock, mode, args.drop, at_return=press)
-                moved = None
+                moved = None                      # the first odometry sample that turned, as it arrived
                 while moved is None and time.time() - pressed[0] < 15:
-                    if _last_movement(odom_file.read_text().splitlines(), pressed[0], math.inf) is not None:
-                        moved = time.time() - pressed[0]
+                    turned = _movements(odom_file.read_text().splitlines(), pressed[0], math.inf)
+                    moved = turned[0] - pressed[0] if turned else None
                     time.sleep(0.05)
                 key_file.write_text('0')
                 time.sleep(2.0)                   # the watchdog stops the robot before the next drop
