@@ -483,7 +483,9 @@ def build_config(settings: SessionSettings, *, as_hub: bool, mesh: bool = True):
             put(key, value)
     # The loopback hub is re-dialled quickly: when its process exits, the next zros process takes
     # the port over, and a short-lived one (a CLI command) only waits ~0.3 s for peers to join.
-    retry_max_ms = 200 if settings.uses_hub else 1000
+    # A router across a network every 0.5 s at most: a robot whose Wi-Fi came back is in the
+    # laptop's graph again within half a second of it (one dial a second more while it is away).
+    retry_max_ms = 200 if settings.uses_hub else 500
     if unset('connect/retry/period_init_ms') and unset('connect/retry/period_max_ms'):
         put('connect/retry', {'period_init_ms': min(250, retry_max_ms // 2), 'period_max_ms': retry_max_ms,
                               'period_increase_factor': 2})
