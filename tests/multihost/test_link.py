@@ -129,6 +129,35 @@ def test_the_laptop_lists_the_robots_node_right_after_a_drop_out(link):
         assert '/robot_pub' in names, f'after a {mode} drop-out: {names} (the command took {took:.1f} s)'
 
 
+def test_the_laptop_drives_the_robot_right_after_a_drop_out(link):
+    """Teleop's direction, laptop -> robot: after either kind of drop-out, a message the laptop
+    sends once the link is back reaches the robot within 3 s, with no process restarted (the
+    robot's client re-dials its router every 0.5 s at most)."""
+    topo = link['topo']
+    robot = topo.spawn(topo.robot, [sys.executable, HERE / 'seqnode.py', 'sub', 'robot_base'], 'robot_base',
+                       _env(ZROS_CONFIG=CLIENT, ZROS_CONNECT=ROBOT_CONNECT, SEQ_TOPIC='drive'), REPO)
+    laptop = topo.spawn(topo.laptop, [sys.executable, HERE / 'seqnode.py', 'pub', 'laptop_teleop', '10'],
+                        'laptop_teleop', _env(SEQ_TOPIC='drive'), REPO)
+    try:
+        wait_until(lambda: len(_arrivals(robot.log)) >= 10, 30, 'the laptop\'s stream at the robot')
+        for mode in ('hold', 'reset'):
+            control(link['sock'], cmd='set', dropout_mode=mode)
+            control(link['sock'], cmd='drop', seconds=3.0)
+            back = time.time() + 3.0
+            try:
+                # the first sample sent after the return (arrival - delay: both hosts share a clock)
+                wait_until(lambda: any(t - d / 1e3 > back for _, t, d in _arrivals(robot.log)), 15,
+                           f'a sample sent after the {mode} drop-out at the robot')
+            finally:
+                control(link['sock'], cmd='set', dropout_mode='hold')
+            first = min(t for _, t, d in _arrivals(robot.log) if t - d / 1e3 > back)
+            assert first - back <= 3.0, f'after a {mode} drop-out the robot heard the laptop {first - back:.2f} s later'
+        assert robot.poll() is None and laptop.poll() is None
+    finally:
+        topo.stop(laptop)
+        topo.stop(robot)
+
+
 def test_loss_bursts_stall_the_stream_without_losing_it(link):
     """Two 0.2 s loss bursts a second: samples come late, in bursts, all of them, in order."""
     sub = link['sub']
