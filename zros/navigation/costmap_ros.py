@@ -80,8 +80,8 @@ class CostmapNode(Node):
         self._have_map = static is None
         self._scan_frame_warned = False
         latched = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
-        from interfaces.nav2_msgs.msg import Costmap
         from interfaces.map_msgs.msg import OccupancyGridUpdate
+        from interfaces.nav2_msgs.msg import Costmap
         from interfaces.nav2_msgs.srv import ClearEntireCostmap, GetCostmap
         from interfaces.nav_msgs.msg import OccupancyGrid
         from interfaces.sensor_msgs.msg import LaserScan
@@ -215,8 +215,8 @@ class CostmapNode(Node):
         `costmap_updates`, nothing when none did. Nav2 takes the rectangle from its layers'
         bounds of change; here it is the smallest one holding every cell whose value differs
         from what the subscribers hold, so it is never larger. Unlike Humble's, the grid also
-        goes whole when a subscriber joined since the last one (the graph counts it): the latched
-        grid a late subscriber gets may be older than the updates since, as in Humble's RViz."""
+        goes whole when a subscriber joined since the last publish (the graph counts them): a
+        late subscriber's latched grid may be older than the updates sent since it."""
         if not self._have_map:
             return
         grid, raw = self._messages()
