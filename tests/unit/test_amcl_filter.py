@@ -477,3 +477,29 @@ def test_a_cloud_settled_on_the_wrong_pose_is_not_reported_confident(tb3_world):
     amcl.set_initial_pose((1.65, 0.55, 0.0), np.diag([0.0004, 0.0004, 0.0001]))
     right = amcl.update((0.0, 0.0, 0.0), scan, LASER).estimate
     assert right.explained > 0.95 and right.covariance[:2, :2].max() < 0.01
+
+
+def test_after_losing_the_robot_only_a_run_of_near_perfect_fits_makes_it_confident_again(tb3_world):
+    from zros.amcl.localizer import CONFIRM_ESTIMATES, confirmation
+    assert confirmation(None, 0.97) is None and confirmation(None, math.nan) is None
+    assert confirmation(None, 0.3) == 0 and confirmation(4, 0.3) == 0
+    assert confirmation(4, 0.97) == 0 and confirmation(4, 0.995) == 5 and confirmation(4, math.nan) == 4
+    assert confirmation(CONFIRM_ESTIMATES - 1, 1.0) is None
+    world, grid = tb3_world
+    s = world.spawn
+    amcl = Amcl(AmclParameters(laser_model_type='likelihood_field_prob'), grid, seed=9)
+    here = Simulation(world, seed=6).add_robot('burger')
+    elsewhere = Simulation(world, seed=6).add_robot('burger', (1.0, 1.6, 2.0))
+    seen, lost = (amcl.prepare_scan(r.scan(noise=False), LDS_01.angles(), LDS_01.range_min, LDS_01.range_max)
+                  for r in (here, elsewhere))
+    amcl.set_initial_pose((s.x, s.y, s.yaw), np.diag([0.0004, 0.0004, 0.0004]))
+
+    def variance(scan) -> float:
+        amcl.request_nomotion_update()
+        return float(np.linalg.eigvalsh(amcl.update((0.0, 0.0, 0.0), scan, LASER).estimate.covariance[:2, :2])[-1])
+    assert variance(seen) < 0.05
+    assert variance(lost) > 0.5                       # the scan stops fitting: lost
+    assert all(variance(seen) > 0.4 for _ in range(CONFIRM_ESTIMATES - 1))    # right again, not yet believed
+    assert variance(seen) < 0.05
+    amcl.global_localization()
+    assert variance(seen) > 0.4                       # a fresh global localization is not believed at once
