@@ -286,18 +286,6 @@ def test_recovery_follows_the_share_of_beams_explained_not_how_many_returned(tb3
     assert far.mean() > 0.1 and len(amcl.pf) > parameters.min_particles      # random ones, counted by KLD
 
 
-def test_weighing_gives_each_particles_share_of_explained_beams(tb3_world):
-    world, grid = tb3_world
-    robot = Simulation(world, seed=3).add_robot('burger', (1.65, 0.55, 0.0))
-    amcl = Amcl(AmclParameters(laser_model_type='likelihood_field_prob'), grid, seed=0)
-    scan = amcl.prepare_scan(robot.scan(), LDS_01.angles(), LDS_01.range_min, LDS_01.range_max)
-    poses = np.array([[1.65, 0.55, 0.0], [1.65, -0.55, 0.0], [0.0, 0.0, 1.0]])
-    likelihood, explained = amcl.laser_model.weigh(poses, scan, LASER, within=0.1)
-    assert np.array_equal(likelihood, amcl.laser_model.likelihood(poses, scan, LASER))
-    assert list(explained) == [amcl.laser_model.explained_share(p, scan, LASER, within=0.1) for p in poses]
-    assert explained[0] > 0.95 > explained[1]
-
-
 def test_a_huge_initial_covariance_spreads_over_free_space_only(tb3_world):
     _, grid = tb3_world
     pf = ParticleFilter(grid, rng=np.random.default_rng(7))
@@ -477,6 +465,24 @@ def test_a_cloud_settled_on_the_wrong_pose_is_not_reported_confident(tb3_world):
     amcl.set_initial_pose((1.65, 0.55, 0.0), np.diag([0.0004, 0.0004, 0.0001]))
     right = amcl.update((0.0, 0.0, 0.0), scan, LASER).estimate
     assert right.explained > 0.95 and right.covariance[:2, :2].max() < 0.01
+
+
+def test_recovery_does_not_feed_on_its_own_random_particles_with_the_gentle_model(tb3_world):
+    world, grid = tb3_world
+    s = world.spawn
+    amcl = Amcl(AmclParameters(recovery_alpha_slow=0.001, recovery_alpha_fast=0.1), grid, seed=10)
+    robot = Simulation(world, seed=7).add_robot('burger')
+    seen = amcl.prepare_scan(robot.scan(), LDS_01.angles(), LDS_01.range_min, LDS_01.range_max)
+    amcl.set_initial_pose((s.x, s.y, s.yaw), np.diag([0.01, 0.01, 0.01]))
+    amcl.update((0.0, 0.0, 0.0), seen, LASER)
+    amcl.request_nomotion_update()
+    amcl.update((0.0, 0.0, 0.0), seen, LASER)
+    amcl.pf.w_fast *= 0.9                             # one injection: 10 % random particles
+    for _ in range(20):
+        amcl.request_nomotion_update()
+        amcl.update((0.0, 0.0, 0.0), seen, LASER)
+    assert amcl.pf.w_fast >= 0.97 * amcl.pf.w_slow     # the reported pose still fits: no more injected
+    assert np.linalg.norm(amcl.estimate.pose[:2] - [s.x, s.y]) < 0.1
 
 
 def test_after_losing_the_robot_only_a_run_of_near_perfect_fits_makes_it_confident_again(tb3_world):

@@ -38,7 +38,7 @@ from zros.amcl.sensor_models import LaserScanData, create_laser_model
 from zros.rotations import angle_diff
 
 __all__ = ['Amcl', 'AmclParameters', 'LaserScanData', 'UpdateResult', 'compose', 'inverse', 'honest_covariance',
-           'recovery_fit', 'confirmation', 'FIT_DISTANCE', 'FIT_SHARE', 'LOST_VARIANCE', 'LOST_SHARE',
+           'confirmation', 'FIT_DISTANCE', 'FIT_SHARE', 'LOST_VARIANCE', 'LOST_SHARE',
            'CONFIRM_ESTIMATES', 'CONFIRM_SHARE']
 
 #: [m] a beam is explained by the map when its end point lies this close to an obstacle.
@@ -153,22 +153,6 @@ def confirmation(unconfirmed: int | None, explained: float) -> int | None:
     return None if unconfirmed >= CONFIRM_ESTIMATES else unconfirmed
 
 
-def recovery_fit(weights: np.ndarray, explained: np.ndarray) -> float | None:
-    """What recovery's running averages follow: the share of beams the map explains, averaged
-    over the particles by their new `weights` (N,); None (Nav2's average weight) when no beam
-    was used or no particle has weight.
-
-    Nav2 averages the weights themselves. With the product model (`likelihood_field_prob`) they
-    move by orders of magnitude with how many beams returned (1e-15 to 1e-24 in one drive in
-    turtlebot3_world), so w_fast against w_slow said nothing about being lost. The share is in
-    [0, 1] whatever the beam count: about 1 while tracking, a half or less once lost.
-    """
-    total = float(weights.sum())
-    if not (total > 0.0 and math.isfinite(total)) or np.isnan(explained).any():
-        return None
-    return float(weights @ explained) / total
-
-
 class Amcl:
     """One robot's localizer on one map. See the module docstring.
 
@@ -273,9 +257,8 @@ class Amcl:
             self._odom_pose = pose
             beams = len(self.laser_model.beams(scan)[0])
             if first or beams:
-                likelihood, explained = self.laser_model.weigh(self.pf.particles, scan, laser_pose,
-                                                               within=FIT_DISTANCE)
-                self.pf.sensor_update(likelihood, fit=recovery_fit(self.pf.weights * likelihood, explained))
+                self.pf.sensor_update(self.laser_model.likelihood(self.pf.particles, scan, laser_pose),
+                                      fit=math.nan if first else self._reported_fit(pose, scan, laser_pose))
                 self._updates += 1
                 if self._updates % p.resample_interval == 0:
                     self.pf.resample()
@@ -290,6 +273,24 @@ class Amcl:
                                               explained=explained)
             self._estimate_odom_pose = pose
         return UpdateResult(update, resampled, published, self.estimate)
+
+    def _reported_fit(self, odom_pose: np.ndarray, scan: LaserScanData,
+                      laser_pose: tuple[float, float, float]) -> float:
+        """What recovery's running averages follow: the share of beams the map explains at the
+        pose reported now (the latest estimate carried by odometry), nan before any estimate.
+
+        Nav2 averages the particles' weights. With the product model (`likelihood_field_prob`)
+        they move by orders of magnitude with how many beams returned (1e-15 to 1e-24 in one
+        drive in turtlebot3_world), so w_fast against w_slow said nothing about being lost. The
+        share is in [0, 1] whatever the beams, the laser model, the number or the spread of the
+        particles: about 1 while tracking, a half or less once lost. A share over the particles
+        would count the random ones recovery injects, which then inject more (with
+        `likelihood_field`'s gentle weights that ran away while the robot was still tracked).
+        """
+        if self.estimate is None:
+            return math.nan
+        reported = compose(self.map_to_odom(), odom_pose)
+        return self.laser_model.explained_share(reported, scan, laser_pose, within=FIT_DISTANCE)
 
     def map_to_odom(self) -> np.ndarray | None:
         """The map -> odom transform (x, y, yaw) that puts the robot at the latest estimate, or

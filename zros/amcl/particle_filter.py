@@ -11,8 +11,8 @@ numpy over the whole set instead of a loop per particle:
   its density, instead of off the map where no scan can ever match.
 - `sensor_update`: weights times the laser model's likelihood, normalised; a measure of fit
   feeds the slow and fast running averages (`recovery_alpha_slow`, `recovery_alpha_fast`):
-  Nav2's average weight by default, the share of beams explained from the localizer
-  (zros.amcl.localizer.recovery_fit says why).
+  Nav2's average weight by default, the share of beams explained at the reported pose from
+  the localizer (zros.amcl.localizer.Amcl._reported_fit says why).
 - `resample`: the new set's size comes from KLD sampling: samples are drawn one after another
   and counted in 0.5 m x 0.5 m x 10 deg bins; the set is big enough once it exceeds
   (k - 1) / (2 pf_err) * (1 - 2/(9(k-1)) + sqrt(2/(9(k-1))) pf_z)^3 for k occupied bins,
@@ -184,7 +184,8 @@ class ParticleFilter:
 
     def sensor_update(self, likelihood: np.ndarray, *, fit: float | None = None) -> None:
         """Weight the particles by `likelihood` (N,) and update the recovery averages with `fit`,
-        how well the scan matched (default Nav2's: the weighted likelihood over N)."""
+        how well the scan matched (default Nav2's: the weighted likelihood over N; nan: leave
+        the averages as they are)."""
         weights = self.weights * likelihood
         total = float(weights.sum())
         if not (total > 0.0 and math.isfinite(total)):
@@ -192,6 +193,8 @@ class ParticleFilter:
             return
         self.weights = weights / total
         average = total / len(weights) if fit is None else fit
+        if math.isnan(average):
+            return
         self.w_slow = average if self.w_slow == 0.0 else self.w_slow + self.alpha_slow * (average - self.w_slow)
         self.w_fast = average if self.w_fast == 0.0 else self.w_fast + self.alpha_fast * (average - self.w_fast)
 

@@ -141,26 +141,24 @@ class LikelihoodFieldModel:
         `within` [m] of an obstacle on the map (nan when no beam is used). The filter's spread
         says how sure it is among the poses it kept; this says whether the map agrees with the
         scan there at all (a cloud collapsed on the wrong pillar row scores about half)."""
-        return float(self.weigh(np.asarray(pose, dtype=np.float64)[None, :], scan, laser_pose, within=within)[1][0])
+        ranges, bearings = self.beams(scan)
+        if len(ranges) == 0:
+            return float('nan')
+        distance = self.end_distances(np.asarray(pose, dtype=np.float64)[None, :], ranges, bearings, laser_pose)
+        return float(np.mean(distance < within))
 
     def likelihood(self, particles: np.ndarray, scan: LaserScanData,
                    laser_pose: tuple[float, float, float]) -> np.ndarray:
         """The factor (N,) to multiply each particle's weight by for this scan."""
-        return self.weigh(particles, scan, laser_pose, within=0.0)[0]
-
-    def weigh(self, particles: np.ndarray, scan: LaserScanData, laser_pose: tuple[float, float, float], *,
-              within: float) -> tuple[np.ndarray, np.ndarray]:
-        """`likelihood`'s factors (N,) and, from the same end points, the share (N,) of each
-        particle's beams the map explains (`explained_share`'s, nan when no beam is used)."""
         ranges, bearings = self.beams(scan)
         if len(ranges) == 0:
-            return np.ones(len(particles)), np.full(len(particles), np.nan)
-        distance = self.end_distances(particles, ranges, bearings, laser_pose)
-        return self._score(distance, float(scan.range_max)), np.mean(distance < within, axis=1)
+            return np.ones(len(particles))
+        return self._score(self.end_distances(particles, ranges, bearings, laser_pose), float(scan.range_max))
 
     def _score(self, distance: np.ndarray, range_max: float) -> np.ndarray:
         """Each particle's factor from its beams' end-point distances (N, B)."""
         return 1.0 + np.sum(self._pz(distance, range_max) ** 3, axis=1)
+
 
 class LikelihoodFieldProbModel(LikelihoodFieldModel):
     """The product form of the likelihood field, with optional beam skipping."""
@@ -183,6 +181,7 @@ class LikelihoodFieldProbModel(LikelihoodFieldModel):
             if skipped < distance.shape[1] * self.beam_skip_error_threshold:
                 log_pz = log_pz[:, explained]
         return np.exp(log_pz.sum(axis=1))
+
 
 #: `laser_model_type` values. Nav2's `beam` model (ray casting from every particle) is not provided.
 LASER_MODELS = ('likelihood_field', 'likelihood_field_prob')
