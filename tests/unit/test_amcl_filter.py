@@ -467,6 +467,18 @@ def test_a_cloud_settled_on_the_wrong_pose_is_not_reported_confident(tb3_world):
     assert right.explained > 0.95 and right.covariance[:2, :2].max() < 0.01
 
 
+def test_weighing_gives_each_particles_share_of_explained_beams(tb3_world):
+    world, grid = tb3_world
+    robot = Simulation(world, seed=3).add_robot('burger', (1.65, 0.55, 0.0))
+    amcl = Amcl(AmclParameters(laser_model_type='likelihood_field_prob'), grid, seed=0)
+    scan = amcl.prepare_scan(robot.scan(), LDS_01.angles(), LDS_01.range_min, LDS_01.range_max)
+    poses = np.array([[1.65, 0.55, 0.0], [1.65, -0.55, 0.0], [0.0, 0.0, 1.0]])
+    likelihood, explained = amcl.laser_model.weigh(poses, scan, LASER, within=0.1)
+    assert np.array_equal(likelihood, amcl.laser_model.likelihood(poses, scan, LASER))
+    assert list(explained) == [amcl.laser_model.explained_share(p, scan, LASER, within=0.1) for p in poses]
+    assert explained[0] > 0.95 > explained[1]
+
+
 def test_recovery_does_not_feed_on_its_own_random_particles_with_the_gentle_model(tb3_world):
     world, grid = tb3_world
     s = world.spawn

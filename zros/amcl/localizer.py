@@ -257,8 +257,11 @@ class Amcl:
             self._odom_pose = pose
             beams = len(self.laser_model.beams(scan)[0])
             if first or beams:
-                self.pf.sensor_update(self.laser_model.likelihood(self.pf.particles, scan, laser_pose),
-                                      fit=math.nan if first else self._reported_fit(pose, scan, laser_pose))
+                likelihood, explained = self.laser_model.weigh(self.pf.particles, scan, laser_pose,
+                                                               within=FIT_DISTANCE)
+                fit = math.nan if first else self._fit(pose, scan, laser_pose, self.pf.weights * likelihood,
+                                                       explained)
+                self.pf.sensor_update(likelihood, fit=fit)
                 self._updates += 1
                 if self._updates % p.resample_interval == 0:
                     self.pf.resample()
@@ -274,23 +277,29 @@ class Amcl:
             self._estimate_odom_pose = pose
         return UpdateResult(update, resampled, published, self.estimate)
 
-    def _reported_fit(self, odom_pose: np.ndarray, scan: LaserScanData,
-                      laser_pose: tuple[float, float, float]) -> float:
-        """What recovery's running averages follow: the share of beams the map explains at the
-        pose reported now (the latest estimate carried by odometry), nan before any estimate.
+    def _fit(self, odom_pose: np.ndarray, scan: LaserScanData, laser_pose: tuple[float, float, float],
+             weights: np.ndarray, explained: np.ndarray) -> float:
+        """What recovery's running averages follow: the share of beams the map explains (within
+        FIT_DISTANCE), the larger of two: at the pose reported now (the latest estimate carried
+        by odometry) and averaged over the particles by their new `weights` (N,) from their own
+        shares `explained` (N,). nan (leave the averages) before any estimate or without beams.
 
         Nav2 averages the particles' weights. With the product model (`likelihood_field_prob`)
         they move by orders of magnitude with how many beams returned (1e-15 to 1e-24 in one
         drive in turtlebot3_world), so w_fast against w_slow said nothing about being lost. The
-        share is in [0, 1] whatever the beams, the laser model, the number or the spread of the
-        particles: about 1 while tracking, a half or less once lost. A share over the particles
-        would count the random ones recovery injects, which then inject more (with
-        `likelihood_field`'s gentle weights that ran away while the robot was still tracked).
+        share is in [0, 1] whatever the beams: about 1 while tracking, a half or less once lost.
+        The particles' share alone falls with the random particles recovery injects when the
+        weights are gentle (`likelihood_field`), which then inject more: it ran away while the
+        robot was tracked. The reported pose's alone stays low while the injected particles are
+        finding the robot (their cluster is not yet the estimate), so the filter kept replacing
+        most of them: 0 of 10 kidnapped robots found, against 10 of 10 with the larger.
         """
-        if self.estimate is None:
+        total = float(weights.sum())
+        if self.estimate is None or np.isnan(explained).any() or not (total > 0.0 and math.isfinite(total)):
             return math.nan
         reported = compose(self.map_to_odom(), odom_pose)
-        return self.laser_model.explained_share(reported, scan, laser_pose, within=FIT_DISTANCE)
+        at_pose = self.laser_model.explained_share(reported, scan, laser_pose, within=FIT_DISTANCE)
+        return max(at_pose, float(weights @ explained) / total)
 
     def map_to_odom(self) -> np.ndarray | None:
         """The map -> odom transform (x, y, yaw) that puts the robot at the latest estimate, or

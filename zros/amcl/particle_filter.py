@@ -11,8 +11,8 @@ numpy over the whole set instead of a loop per particle:
   its density, instead of off the map where no scan can ever match.
 - `sensor_update`: weights times the laser model's likelihood, normalised; a measure of fit
   feeds the slow and fast running averages (`recovery_alpha_slow`, `recovery_alpha_fast`):
-  Nav2's average weight by default, the share of beams explained at the reported pose from
-  the localizer (zros.amcl.localizer.Amcl._reported_fit says why).
+  Nav2's average weight by default, a share of beams explained from the localizer
+  (zros.amcl.localizer.Amcl._fit says which and why).
 - `resample`: the new set's size comes from KLD sampling: samples are drawn one after another
   and counted in 0.5 m x 0.5 m x 10 deg bins; the set is big enough once it exceeds
   (k - 1) / (2 pf_err) * (1 - 2/(9(k-1)) + sqrt(2/(9(k-1))) pf_z)^3 for k occupied bins,
