@@ -78,6 +78,27 @@ def test_noise_grows_with_the_alphas_and_driving_backwards_is_not_a_half_turn():
     assert p[:, 2].std() < 0.3          # a half turn's noise would be ~sqrt(0.2) * pi
 
 
+def test_the_sampled_motions_mean_is_the_odometrys_but_for_the_heading_noises_shortening():
+    """Nav2's sample_motion_model_odometry is unbiased in each of its three parts; the mean
+    position falls short of the odometry only by E[cos] of the heading noise, exp(-var / 2)."""
+    rng = np.random.default_rng(11)
+    start, end = np.array([0.5, -0.2, 0.3]), np.array([0.5 + 0.25 * math.cos(0.4), -0.2 + 0.25 * math.sin(0.4), 0.45])
+    delta = end - start
+    n = 400_000
+    no_heading_noise = np.tile(start, (n, 1))
+    DifferentialMotionModel(0.0, 0.0, 0.2, 0.2).odometry_update(no_heading_noise, end, delta, rng)
+    error = no_heading_noise.mean(axis=0) - end
+    assert np.abs(error[:2]).max() < 4 * no_heading_noise[:, 0].std() / math.sqrt(n)
+    assert abs(error[2]) < 1e-9
+    noisy = np.tile(start, (n, 1))
+    DifferentialMotionModel(0.2, 0.2, 0.2, 0.2).odometry_update(noisy, end, delta, rng)
+    rot1, trans = 0.1, 0.25
+    shrink = math.exp(-(0.2 * rot1 ** 2 + 0.2 * trans ** 2) / 2.0)
+    expected = start[:2] + trans * shrink * np.array([math.cos(start[2] + rot1), math.sin(start[2] + rot1)])
+    assert np.abs(noisy[:, :2].mean(axis=0) - expected).max() < 4 * noisy[:, 0].std() / math.sqrt(n)
+    assert abs(math.atan2(np.sin(noisy[:, 2]).mean(), np.cos(noisy[:, 2]).mean()) - end[2]) < 1e-3
+
+
 def test_omni_strafe_noise_comes_from_alpha5():
     rng = np.random.default_rng(2)
     sideways = np.array([[0.0, 0.0, 0.0], [0.0, 0.4, 0.0]])
@@ -229,7 +250,40 @@ def test_recovery_injects_random_particles_when_the_fit_drops():
     pf.resample()
     far = np.hypot(pf.particles[:, 0] - 2.0, pf.particles[:, 1] - 2.0) > 1.0
     assert 0.3 < far.mean() < 1.0
-    assert pf.w_slow == pf.w_fast == 0.0
+    injected = far.mean()
+    pf.sensor_update(np.full(len(pf), 0.5))          # still lost: the averages are kept, it injects again
+    pf.resample()
+    assert np.mean(np.hypot(pf.particles[:, 0] - 2.0, pf.particles[:, 1] - 2.0) > 1.0) > 0.5 * injected
+    for _ in range(30):
+        pf.sensor_update(np.full(len(pf), 10.0))     # found again: w_fast climbs back over w_slow
+    pf.resample()
+    assert pf.w_fast > pf.w_slow
+
+
+def test_recovery_follows_the_share_of_beams_explained_not_how_many_returned(tb3_world):
+    world, grid = tb3_world
+    parameters = AmclParameters(laser_model_type='likelihood_field_prob', recovery_alpha_slow=0.001,
+                                recovery_alpha_fast=0.1)
+    amcl = Amcl(parameters, grid, seed=8)
+    s = world.spawn
+    robot = Simulation(world, seed=4).add_robot('burger')
+    amcl.set_initial_pose((s.x, s.y, s.yaw), np.diag([0.0004, 0.0004, 0.0004]))
+    full = amcl.prepare_scan(robot.scan(), LDS_01.angles(), LDS_01.range_min, LDS_01.range_max)
+    amcl.update((0.0, 0.0, 0.0), full, LASER)
+    for step, kept in enumerate((360, 90, 360, 30, 200)):       # ever fewer or more beams return
+        ranges = full.ranges.copy()
+        ranges[kept:] = np.inf
+        amcl.request_nomotion_update()
+        amcl.update((0.0, 0.0, 0.0), full._replace(ranges=ranges), LASER)
+        assert amcl.pf.w_fast > 0.9 and amcl.pf.w_slow > 0.9 and amcl.pf.w_fast >= 0.97 * amcl.pf.w_slow
+    elsewhere = Simulation(world, seed=4).add_robot('burger', (1.0, 1.6, 2.0))
+    lost = amcl.prepare_scan(elsewhere.scan(), LDS_01.angles(), LDS_01.range_min, LDS_01.range_max)
+    for _ in range(5):
+        amcl.request_nomotion_update()
+        amcl.update((0.0, 0.0, 0.0), lost, LASER)
+    assert amcl.pf.w_fast < 0.8 * amcl.pf.w_slow
+    far = np.hypot(amcl.pf.particles[:, 0] - s.x, amcl.pf.particles[:, 1] - s.y) > 1.0
+    assert far.mean() > 0.1 and len(amcl.pf) > parameters.min_particles      # random ones, counted by KLD
 
 
 def test_a_huge_initial_covariance_spreads_over_free_space_only(tb3_world):
@@ -327,6 +381,24 @@ def test_no_update_without_motion_unless_asked(tb3_world):
     assert amcl.update((0.3, 0.1, 0.1), scan, LASER).published
 
 
+def test_a_scan_with_no_beam_in_range_moves_the_particles_but_publishes_nothing(tb3_world):
+    world, grid = tb3_world
+    amcl = Amcl(AmclParameters(laser_model_type='likelihood_field_prob'), grid, seed=4)
+    robot = Simulation(world, seed=2).add_robot('burger')
+    seen = amcl.prepare_scan(robot.scan(), LDS_01.angles(), LDS_01.range_min, LDS_01.range_max)
+    blind = amcl.prepare_scan(np.full(len(seen.ranges), np.inf), LDS_01.angles(), LDS_01.range_min, LDS_01.range_max)
+    amcl.set_initial_pose((world.spawn.x, world.spawn.y, world.spawn.yaw), np.diag([0.01, 0.01, 0.01]))
+    assert amcl.update((0.0, 0.0, 0.0), seen, LASER).published
+    map_to_odom, weights = amcl.map_to_odom(), amcl.pf.weights.copy()
+    spread = amcl.pf.particles[:, 2].std()
+    for step in range(1, 9):                          # 2.4 m with nothing in range
+        result = amcl.update((0.3 * step, 0.0, 0.0), blind, LASER)
+        assert result.updated and not result.resampled and not result.published
+    assert np.array_equal(amcl.map_to_odom(), map_to_odom)      # the pose follows odometry
+    assert np.array_equal(amcl.pf.weights, weights) and amcl.pf.particles[:, 2].std() > 2 * spread
+    assert amcl.update((2.7, 0.0, 0.0), seen, LASER).published
+
+
 def test_global_localization_finds_the_robot_in_a_distinctive_world():
     world = load_world('turtlebot3_house')
     start = (world.spawn.x, world.spawn.y)
@@ -393,3 +465,59 @@ def test_a_cloud_settled_on_the_wrong_pose_is_not_reported_confident(tb3_world):
     amcl.set_initial_pose((1.65, 0.55, 0.0), np.diag([0.0004, 0.0004, 0.0001]))
     right = amcl.update((0.0, 0.0, 0.0), scan, LASER).estimate
     assert right.explained > 0.95 and right.covariance[:2, :2].max() < 0.01
+
+
+def test_weighing_gives_each_particles_share_of_explained_beams(tb3_world):
+    world, grid = tb3_world
+    robot = Simulation(world, seed=3).add_robot('burger', (1.65, 0.55, 0.0))
+    amcl = Amcl(AmclParameters(laser_model_type='likelihood_field_prob'), grid, seed=0)
+    scan = amcl.prepare_scan(robot.scan(), LDS_01.angles(), LDS_01.range_min, LDS_01.range_max)
+    poses = np.array([[1.65, 0.55, 0.0], [1.65, -0.55, 0.0], [0.0, 0.0, 1.0]])
+    likelihood, explained = amcl.laser_model.weigh(poses, scan, LASER, within=0.1)
+    assert np.array_equal(likelihood, amcl.laser_model.likelihood(poses, scan, LASER))
+    assert list(explained) == [amcl.laser_model.explained_share(p, scan, LASER, within=0.1) for p in poses]
+    assert explained[0] > 0.95 > explained[1]
+
+
+def test_recovery_does_not_feed_on_its_own_random_particles_with_the_gentle_model(tb3_world):
+    world, grid = tb3_world
+    s = world.spawn
+    amcl = Amcl(AmclParameters(recovery_alpha_slow=0.001, recovery_alpha_fast=0.1), grid, seed=10)
+    robot = Simulation(world, seed=7).add_robot('burger')
+    seen = amcl.prepare_scan(robot.scan(), LDS_01.angles(), LDS_01.range_min, LDS_01.range_max)
+    amcl.set_initial_pose((s.x, s.y, s.yaw), np.diag([0.01, 0.01, 0.01]))
+    amcl.update((0.0, 0.0, 0.0), seen, LASER)
+    amcl.request_nomotion_update()
+    amcl.update((0.0, 0.0, 0.0), seen, LASER)
+    amcl.pf.w_fast *= 0.9                             # one injection: 10 % random particles
+    for _ in range(20):
+        amcl.request_nomotion_update()
+        amcl.update((0.0, 0.0, 0.0), seen, LASER)
+    assert amcl.pf.w_fast >= 0.97 * amcl.pf.w_slow     # the reported pose still fits: no more injected
+    assert np.linalg.norm(amcl.estimate.pose[:2] - [s.x, s.y]) < 0.1
+
+
+def test_after_losing_the_robot_only_a_run_of_near_perfect_fits_makes_it_confident_again(tb3_world):
+    from zros.amcl.localizer import CONFIRM_ESTIMATES, confirmation
+    assert confirmation(None, 0.97) is None and confirmation(None, math.nan) is None
+    assert confirmation(None, 0.3) == 0 and confirmation(4, 0.3) == 0
+    assert confirmation(4, 0.97) == 0 and confirmation(4, 0.995) == 5 and confirmation(4, math.nan) == 4
+    assert confirmation(CONFIRM_ESTIMATES - 1, 1.0) is None
+    world, grid = tb3_world
+    s = world.spawn
+    amcl = Amcl(AmclParameters(laser_model_type='likelihood_field_prob'), grid, seed=9)
+    here = Simulation(world, seed=6).add_robot('burger')
+    elsewhere = Simulation(world, seed=6).add_robot('burger', (1.0, 1.6, 2.0))
+    seen, lost = (amcl.prepare_scan(r.scan(noise=False), LDS_01.angles(), LDS_01.range_min, LDS_01.range_max)
+                  for r in (here, elsewhere))
+    amcl.set_initial_pose((s.x, s.y, s.yaw), np.diag([0.0004, 0.0004, 0.0004]))
+
+    def variance(scan) -> float:
+        amcl.request_nomotion_update()
+        return float(np.linalg.eigvalsh(amcl.update((0.0, 0.0, 0.0), scan, LASER).estimate.covariance[:2, :2])[-1])
+    assert variance(seen) < 0.05
+    assert variance(lost) > 0.5                       # the scan stops fitting: lost
+    assert all(variance(seen) > 0.4 for _ in range(CONFIRM_ESTIMATES - 1))    # right again, not yet believed
+    assert variance(seen) < 0.05
+    amcl.global_localization()
+    assert variance(seen) > 0.4                       # a fresh global localization is not believed at once

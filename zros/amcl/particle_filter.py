@@ -9,8 +9,10 @@ numpy over the whole set instead of a loop per particle:
   Unlike Nav2, a Gaussian that mostly falls outside free space (an initial pose with a
   covariance of hundreds of m^2, or next to walls) is drawn over the free cells, weighted by
   its density, instead of off the map where no scan can ever match.
-- `sensor_update`: weights times the laser model's likelihood, normalised; the average weight
-  feeds the slow and fast running averages (`recovery_alpha_slow`, `recovery_alpha_fast`).
+- `sensor_update`: weights times the laser model's likelihood, normalised; a measure of fit
+  feeds the slow and fast running averages (`recovery_alpha_slow`, `recovery_alpha_fast`):
+  Nav2's average weight by default, a share of beams explained from the localizer
+  (zros.amcl.localizer.Amcl._fit says which and why).
 - `resample`: the new set's size comes from KLD sampling: samples are drawn one after another
   and counted in 0.5 m x 0.5 m x 10 deg bins; the set is big enough once it exceeds
   (k - 1) / (2 pf_err) * (1 - 2/(9(k-1)) + sqrt(2/(9(k-1))) pf_z)^3 for k occupied bins,
@@ -18,7 +20,10 @@ numpy over the whole set instead of a loop per particle:
   counting runs on one vectorised draw of max_particles candidates (the first n of a random
   draw are a random draw of n); the kept set is then drawn with low-variance (systematic)
   resampling. With recovery on, each new particle is replaced by a random free-space pose with
-  probability max(0, 1 - w_fast / w_slow).
+  probability max(0, 1 - w_fast / w_slow); as in Nav2 the random ones count in the bins, so a
+  filter that injects many grows towards max_particles. Unlike Nav2, the averages are not
+  restarted after an injection (Probabilistic Robotics' Augmented MCL): Nav2's restart puts
+  w_slow at the lost level, so it injects once and never again while the robot stays lost.
 - `estimate`: particles clustered by connected occupied bins (yaw wraps around); the pose is
   the heaviest cluster's weighted mean (circular mean for yaw), the covariance the whole set's
   (x, y and their cross term; yaw as -2 ln of the mean resultant length), as Nav2 publishes.
@@ -177,15 +182,19 @@ class ParticleFilter:
         model.odometry_update(self.particles, np.asarray(pose, dtype=np.float64),
                               np.asarray(delta, dtype=np.float64), self.rng)
 
-    def sensor_update(self, likelihood: np.ndarray) -> None:
-        """Weight the particles by `likelihood` (N,) and update the recovery averages."""
+    def sensor_update(self, likelihood: np.ndarray, *, fit: float | None = None) -> None:
+        """Weight the particles by `likelihood` (N,) and update the recovery averages with `fit`,
+        how well the scan matched (default Nav2's: the weighted likelihood over N; nan: leave
+        the averages as they are)."""
         weights = self.weights * likelihood
         total = float(weights.sum())
         if not (total > 0.0 and math.isfinite(total)):
             self.weights = np.full(len(self.particles), 1.0 / len(self.particles))
             return
         self.weights = weights / total
-        average = total / len(weights)
+        average = total / len(weights) if fit is None else fit
+        if math.isnan(average):
+            return
         self.w_slow = average if self.w_slow == 0.0 else self.w_slow + self.alpha_slow * (average - self.w_slow)
         self.w_fast = average if self.w_fast == 0.0 else self.w_fast + self.alpha_fast * (average - self.w_fast)
 
@@ -194,18 +203,18 @@ class ParticleFilter:
         cumulative = np.cumsum(self.weights)
         total = cumulative[-1]
         last = len(cumulative) - 1
-        candidates = np.minimum(np.searchsorted(cumulative, self.rng.random(self.max_particles) * total,
-                                                side='right'), last)
-        count = self._kld_count(self.particles[candidates])
+        candidates = self.particles[np.minimum(np.searchsorted(cumulative, self.rng.random(self.max_particles) * total,
+                                                               side='right'), last)]
+        w_diff = 1.0 - self.w_fast / self.w_slow if self.w_slow > 0.0 else 0.0
+        fresh = self.rng.random(self.max_particles) < w_diff if len(self.grid.free_cells) else np.zeros(0, bool)
+        if fresh.any():
+            candidates[fresh] = self.grid.sample_free(int(np.count_nonzero(fresh)), self.rng)
+        count = self._kld_count(candidates)
         positions = (self.rng.random() + np.arange(count)) * (total / count)
         chosen = np.minimum(np.searchsorted(cumulative, positions, side='right'), last)
         particles = self.particles[chosen]
-        w_diff = 1.0 - self.w_fast / self.w_slow if self.w_slow > 0.0 else 0.0
-        if w_diff > 0.0:
-            fresh = np.flatnonzero(self.rng.random(count) < w_diff)
-            if len(fresh) and len(self.grid.free_cells):
-                particles[fresh] = self.grid.sample_free(len(fresh), self.rng)
-            self.w_slow = self.w_fast = 0.0
+        if fresh.any():
+            particles[fresh[:count]] = candidates[:count][fresh[:count]]
         self.particles = particles
         self.weights = np.full(count, 1.0 / count)
 

@@ -141,19 +141,22 @@ class LikelihoodFieldModel:
         `within` [m] of an obstacle on the map (nan when no beam is used). The filter's spread
         says how sure it is among the poses it kept; this says whether the map agrees with the
         scan there at all (a cloud collapsed on the wrong pillar row scores about half)."""
-        ranges, bearings = self.beams(scan)
-        if len(ranges) == 0:
-            return float('nan')
-        distance = self.end_distances(np.asarray(pose, dtype=np.float64)[None, :], ranges, bearings, laser_pose)
-        return float(np.mean(distance < within))
+        return float(self.weigh(np.asarray(pose, dtype=np.float64)[None, :], scan, laser_pose, within=within)[1][0])
 
     def likelihood(self, particles: np.ndarray, scan: LaserScanData,
                    laser_pose: tuple[float, float, float]) -> np.ndarray:
         """The factor (N,) to multiply each particle's weight by for this scan."""
+        return self.weigh(particles, scan, laser_pose, within=0.0)[0]
+
+    def weigh(self, particles: np.ndarray, scan: LaserScanData, laser_pose: tuple[float, float, float], *,
+              within: float) -> tuple[np.ndarray, np.ndarray]:
+        """`likelihood`'s factors (N,) and, from the same end points, the share (N,) of each
+        particle's beams the map explains (`explained_share`'s, nan when no beam is used)."""
         ranges, bearings = self.beams(scan)
         if len(ranges) == 0:
-            return np.ones(len(particles))
-        return self._score(self.end_distances(particles, ranges, bearings, laser_pose), float(scan.range_max))
+            return np.ones(len(particles)), np.full(len(particles), np.nan)
+        distance = self.end_distances(particles, ranges, bearings, laser_pose)
+        return self._score(distance, float(scan.range_max)), np.mean(distance < within, axis=1)
 
     def _score(self, distance: np.ndarray, range_max: float) -> np.ndarray:
         """Each particle's factor from its beams' end-point distances (N, B)."""
