@@ -156,6 +156,14 @@ def test_a_short_drive_builds_a_map_whose_walls_match_the_truth(tmp_path):
     odom_error = trajectory_error(odoms, truths)
     assert slam_error.rmse < 0.03 and odom_error.final > 3 * slam_error.final, (slam_error, odom_error)
     assert slam.graph.edges and all(edge.robust for edge in slam.graph.edges)      # links too, not only closures
+    # Each loop closure's information is its match's (zros.slam.loop_check): never tighter than
+    # loop_sigma_*'s floor, and looser than it (the match's own covariance is added).
+    p = slam.parameters
+    floor = np.diag([p.loop_sigma_xy ** -2, p.loop_sigma_xy ** -2, p.loop_sigma_yaw ** -2])
+    closures = [edge.information for edge in slam.graph.edges if edge.j - edge.i > 1]
+    assert len(closures) == slam.loop_closures >= 1
+    assert all(np.linalg.eigvalsh(floor - info).min() > -1e-6 * floor.max() for info in closures)
+    assert not any(np.allclose(info, floor, rtol=1e-3) for info in closures)
     grid = slam.occupancy_map()
     truth = rasterize(world, 0.05)
     # Every occupied map cell within one cell of a true obstacle, nearly: no smear.

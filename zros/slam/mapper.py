@@ -15,8 +15,12 @@ For each scan (with the odometry pose at the scan's time):
    linked to the previous keyframe by the matched relative pose.
 3. Loop closure. A new keyframe is matched, in a wider window, against a submap of old keyframes
    (at least `loop_search_minimum_travel` of travel ago, within `loop_search_maximum_distance`).
-   A match scoring `loop_match_minimum_response` or more adds an edge, and the graph is
-   optimised (zros.slam.pose_graph): the whole trajectory bends to close the loop. Every edge,
+   A match scoring `loop_match_minimum_response` or more adds an edge, unless it would move the
+   keyframe (more than two match cells from where the graph has it) on a score below
+   `loop_match_correction_response`: look-alike rooms and corridors fit fairly, the same place
+   fits almost perfectly (zros.slam.loop_check). The edge's covariance is `loop_sigma_*` plus the match's own (its Hessian), so
+   it pulls weakly where the scan pins little down. The graph is then optimised
+   (zros.slam.pose_graph): the whole trajectory bends to close the loop. Every edge,
    link or closure, is robust (a Cauchy kernel) and weighted by what matches are truly off by
    (millimetres): a wrong edge then stands out against the many right ones around it and is
    outvoted, where loose weights would let its error spread along the chain and bend the map.
@@ -46,6 +50,7 @@ from zros.map_io import OccupancyMap
 from zros.slam.geometry import compose, inverse, relative, transform_points
 from zros.slam.grid import LogOddsGrid
 from zros.slam.match_grid import MatchGrid
+from zros.slam.loop_check import closure_information, is_ambiguous
 from zros.slam.matcher import SearchWindow, keep_prediction_along, match_scan, weak_directions
 from zros.slam.pose_graph import PoseGraph
 from zros.slam.scan import ScanPoints, voxel_filter
@@ -77,6 +82,9 @@ class SlamParameters:
     loop_search_angle_offset: float = 0.3       # [rad] loop closure window, each side
     loop_match_minimum_response: float = 0.65   # loop closures scoring less are not added
     loop_submap_size: int = 10                  # keyframes each side of the candidate in its submap
+    # A closure that moves its keyframe more than two match cells from where the graph has it must
+    # score this much: look-alike rooms and corridors fit 0.78-0.90, right matches 0.97-0.99.
+    loop_match_correction_response: float = 0.95
     hit_probability: float = 0.7                # occupancy evidence of one return in a cell
     miss_probability: float = 0.3               # evidence of one beam passing through a cell
     occupied_thresh: float = 0.65               # published 100 above this probability
@@ -261,7 +269,11 @@ class Slam:
         result = match_scan(grid, points, pose, self._loop, min_score=p.loop_match_minimum_response)
         if result.score < p.loop_match_minimum_response or len(weak_directions(result.information)):
             return False            # no match, or one that slides along a corridor: no evidence of a loop
-        self.graph.add_edge(target, node, relative(poses[target], result.pose), self._loop_info, robust=True)
+        if is_ambiguous(result.score, float(np.hypot(*(result.pose[:2] - pose[:2]))),
+                        min_response=p.loop_match_correction_response, tolerance=2.0 * p.match_resolution):
+            return False            # a fair fit elsewhere: a look-alike, not evidence to bend the graph
+        information = closure_information(result.information, self._loop_info, p.match_sigma)
+        self.graph.add_edge(target, node, relative(poses[target], result.pose), information, robust=True)
         self.loop_closures += 1
         return True
 
