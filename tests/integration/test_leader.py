@@ -78,6 +78,34 @@ def test_reliable_samples_arrive_in_order_and_none_is_lost(make_context, wait_fo
     assert (sub.lost, sub.dropped) == (0, 0)
 
 
+def test_a_flood_takes_the_hand_off_and_paced_samples_are_led(make_context, wait_for):
+    """Leading only after a quiet spell: samples published back to back mostly run on the
+    spinning thread (Zenoh's thread receives the next meanwhile), samples 20 ms apart on the
+    thread they arrived on; none lost, in order, either way."""
+    received = []
+    publisher, sub, _, executor = _pair(
+        make_context, '/flood_then_paced', lambda m: received.append((m.data, threading.current_thread())), KEEP_ALL)
+    spinner = _spinning(executor)
+    try:
+        time.sleep(0.2)   # parked
+        flood = 3000
+        for i in range(flood):
+            publisher.publish(Int32(data=i))
+        wait_for(lambda: len(received) == flood, timeout=20, message=lambda: f'{flood}, have {len(received)}')
+        for i in range(flood, flood + 10):
+            time.sleep(0.02)
+            publisher.publish(Int32(data=i))
+        wait_for(lambda: len(received) == flood + 10, timeout=10, message=lambda: f'{flood + 10}, have {len(received)}')
+    finally:
+        executor.shutdown()
+        spinner.join(5)
+    assert [data for data, _ in received] == list(range(flood + 10))
+    assert (sub.lost, sub.dropped) == (0, 0)
+    on_spinner = sum(thread is spinner for _, thread in received[:flood])
+    assert on_spinner > flood // 2, f'{on_spinner} of the flood ran on the spinning thread'
+    assert not any(thread is spinner for _, thread in received[flood:])
+
+
 def test_a_timer_in_the_subscriptions_group_never_overlaps_a_led_callback(make_context, wait_for):
     group = MutuallyExclusiveCallbackGroup()
     running, overlaps, ticks, received = [], [], [], []
