@@ -253,3 +253,28 @@ def _quiet_spin(executor):
         executor.spin()
     except executors.ExternalShutdownException:
         pass
+
+
+def test_a_led_callback_may_destroy_its_own_subscription(make_context, wait_for):
+    """A one-shot subscription (rclpy code destroys it in its own callback) run on the Zenoh
+    thread that delivers to it: undeclaring from that thread neither hangs nor stops the spin."""
+    done = []
+
+    def once(msg):
+        done.append(threading.current_thread())
+        node.destroy_subscription(sub)
+        done.append('destroyed')
+    publisher, sub, node, executor = _pair(make_context, '/one_shot', once)
+    ticks = []
+    spinner = _spinning(executor)
+    try:
+        time.sleep(0.2)   # parked
+        publisher.publish(Int32(data=1))
+        wait_for(lambda: len(done) == 2, timeout=5, message='the one-shot callback to end')
+        node.create_timer(0.01, lambda: ticks.append(1))
+        wait_for(lambda: len(ticks) > 3, timeout=5, message='the spin to go on')
+    finally:
+        executor.shutdown()
+        spinner.join(5)
+    assert done[0] is not spinner
+    assert sub not in node.subscriptions
