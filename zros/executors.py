@@ -15,20 +15,19 @@ Where work comes from, in the order it is taken: tasks made by `create_task` tha
 yet (newest first, as rclpy yields its tasks), due timers, the user waitables of the nodes
 (zros.waitable, asked in turn whenever the executor looks for work), then the queue.
 
-Leader/follower (docs/architecture.md §3), opt-in with ZROS_CALLBACK_THREAD=zenoh: a thread hop
+Leader/follower (docs/architecture.md §3; ZROS_CALLBACK_THREAD=spin turns it off): a thread hop
 costs more than the rest of zros's work per message, so while a SingleThreadedExecutor's
-`spin()` or `spin_until_future_complete()` is parked on its queue, a subscription's sample is
-run at once by the thread it arrived on
-(zenoh-python's callback thread), which takes the executor's token (`_token`) for it: the
-spinning thread takes the same token before it runs anything, so callbacks still run one at a
-time, inside their groups, with the executor's accounting. Anything else, and any sample that
-arrives while the executor is busy, takes the hand-off through the queue. `spin_once` never
-lets a sample be led (it returns after one callback of its own); neither does a
-MultiThreadedExecutor, nor a subclass with its own `spin_once`. It is off by default: it cuts
-the round trip (1.5x raw zenoh-python's against 1.8x) but halves a flood's throughput
-(KEEP_ALL 0.35-0.48x raw against 0.58-0.74x), since one thread then both receives and runs
-each sample where the hand-off lets Zenoh's thread receive the next while the executor runs
-this one (docs/benchmarks-history.md, "Issue 35").
+`spin()` or `spin_until_future_complete()` is parked on its queue, a subscription's sample that
+comes after a quiet spell is run at once by the thread it arrived on (zenoh-python's callback
+thread), which takes the executor's token (`_token`) for it: the spinning thread takes the same
+token before it runs anything, so callbacks still run one at a time, inside their groups, with
+the executor's accounting. Anything else takes the hand-off through the queue: a sample that
+arrives while the executor is busy, and a sample close behind the previous one (a burst,
+zros.subscription), since leading a flood would put receiving and running on one thread where
+the hand-off lets Zenoh's thread receive the next sample while the executor runs this one
+(leading every sample halved KEEP_ALL throughput, docs/benchmarks-history.md, "Issue 35").
+`spin_once` never lets a sample be led (it returns after one callback of its own); neither does
+a MultiThreadedExecutor, nor a subclass with its own `spin_once`.
 """
 from __future__ import annotations
 
@@ -76,10 +75,10 @@ _MAX_WAIT = 0.5
 # How many waiting samples spin() lets one subscription deliver per turn: a burst then costs
 # one trip through the executor's queue per batch, not per message.
 _SPIN_BATCH = 64
-# ZROS_CALLBACK_THREAD: 'spin' (the default), every callback on the spinning thread; 'zenoh',
-# leader/follower (checked with the other settings at init: zros.config)
+# ZROS_CALLBACK_THREAD: 'zenoh' (the default), leader/follower; 'spin', every callback on the
+# spinning thread (checked with the other settings at init: zros.config)
 def _leading_allowed(setting: str | None) -> bool:
-    return (setting or '').strip() == 'zenoh'
+    return (setting or '').strip() != 'spin'
 
 
 _LEADING_ALLOWED = _leading_allowed(os.environ.get('ZROS_CALLBACK_THREAD'))
@@ -231,7 +230,9 @@ class Executor:
                 self.wake()
             finally:
                 self._leader = None
-                took = time.perf_counter() - start
+                end = time.perf_counter()
+                entity._last_seen = end   # (a sample waiting behind this one is a burst)
+                took = end - start
                 if took > _LEAD_QUICK_S or entity._lead_slow:
                     entity._note_led(took)
             return True

@@ -4,8 +4,10 @@ read, decoded and handed to the callback on the executor.
 One hand-off: on zenoh-python's callback thread, the subscription appends the sample,
 untouched, to its queue and puts itself in the executor's queue if it is not there yet: no
 copy, no parsing, so that thread holds the GIL as little as possible. The exception is an
-executor parked in `spin()` with nothing to do: then that thread leads, running the sample
-through the executor at once (zros.executors, leader/follower), which saves the thread hop. The
+executor parked in `spin()` with nothing to do and a sample that comes after a quiet spell
+(_BURST_GAP_S): then that thread leads, running the sample through the executor at once
+(zros.executors, leader/follower), which saves the thread hop; a burst keeps the hand-off, so
+that receiving the next sample overlaps running this one. The
 queue is the QoS depth (KEEP_LAST): when full, the oldest sample is pushed out and counted in
 `dropped`, so a sample the depth rule drops is never copied or decoded. The executor reads each
 sample's attachment once. Gaps in a publisher's sequence numbers over every sample that reached
@@ -98,9 +100,12 @@ _HAND_OFF_S = 0.002
 # the next _LEAD_PAUSE samples (doubling up to _LEAD_PAUSE_MAX) take the hand-off instead.
 _LEAD_QUICK_S = 0.001
 _LEAD_PAUSE, _LEAD_PAUSE_MAX = 64, 65536
-# A deep queue with this many samples waiting makes Zenoh's thread wait for the executor to
-# empty it, at most _CATCH_UP_S (_let_catch_up).
-_CATCH_UP, _CATCH_UP_S = 256, 0.005
+_clock = time.perf_counter
+# A sample that arrives sooner than this after the subscription's previous one (or after the end
+# of the callback its thread led) is part of a burst: it takes the hand-off, so that Zenoh's
+# thread receives the next sample while the executor runs this one. Longer than Zenoh's
+# thread's own work per sample under a flood (a few µs), shorter than a round trip (about 80 µs).
+_BURST_GAP_S = 30e-6
 
 
 class Subscription(QueuedEntity, Generic[MsgT]):
@@ -137,8 +142,7 @@ class Subscription(QueuedEntity, Generic[MsgT]):
         self._handing_off = False
         self._lead_skip = self._lead_pause = 0   # _note_led
         self._lead_slow = False
-        self._drained = threading.Event()    # _let_catch_up: the executor emptied the queue
-        self._catching_up = False
+        self._last_seen = 0.0   # _on_sample: when the last sample came, or a led callback ended
         self._drops_noted = 0
         self._tail = type_tail(msg_type)
         self._decode = decoder(msg_type)
@@ -170,8 +174,8 @@ class Subscription(QueuedEntity, Generic[MsgT]):
         return self._node.count_publishers(self.topic_name)
 
     # Zenoh thread: queue the sample untouched (no copy, no parsing), then either run it here at
-    # once, if the executor is parked and lets this thread lead (zros.executors), or make sure
-    # the executor will run us.
+    # once, if it came after a quiet spell and the executor is parked and lets this thread lead
+    # (zros.executors), or make sure the executor will run us.
     def _on_sample(self, sample: Any) -> None:
         queue = self._queue
         if len(queue) == queue.maxlen:
@@ -179,17 +183,20 @@ class Subscription(QueuedEntity, Generic[MsgT]):
                 self._hand_off()
             if len(queue) == queue.maxlen:
                 self._push_out()
-        elif len(queue) >= _CATCH_UP and self._scheduled and not self._catching_up:
-            self._let_catch_up()
         queue.append(sample)
         if self._events is not None:
             self._events.on_sample()
+        now = _clock()
+        burst = now - self._last_seen < _BURST_GAP_S
+        self._last_seen = now
         if not self._scheduled:
             executor = self._node._executor
-            if self._lead_skip:
+            if burst or executor is None or not executor._leading:
+                self._schedule()
+            elif self._lead_skip:
                 self._lead_skip -= 1
                 self._schedule()
-            elif executor is None or not executor._leading or not executor._lead(self):
+            elif not executor._lead(self):
                 self._schedule()
 
     def _note_led(self, seconds: float) -> None:
@@ -229,23 +236,6 @@ class Subscription(QueuedEntity, Generic[MsgT]):
             self._taken.wait(_HAND_OFF_S)
         self._handing_off = False
 
-    def _let_catch_up(self) -> None:
-        """A backlog of _CATCH_UP samples or more in a deep queue (KEEP_ALL) of an executor that
-        may be led: wait until the executor has taken them all, as raw Zenoh's callback thread
-        makes a reliable publisher wait for a slow callback. At most _CATCH_UP_S, and not again
-        before the queue has been empty once, so an executor busy elsewhere holds Zenoh's thread
-        up once. Without this a flood outruns the executor for good (appending costs less than
-        delivering), the queue grows and no sample is led again; with it, the next sample finds
-        the queue empty and leads."""
-        executor = self._node._executor
-        if executor is None or not executor._leading:
-            return
-        self._drained.clear()
-        self._catching_up = True
-        if self._queue and self._scheduled and not self._drained.wait(_CATCH_UP_S):
-            return   # busy elsewhere: no more waits until the queue has been emptied once
-        self._catching_up = False
-
     def _push_out(self) -> None:
         """KEEP_LAST: drop the oldest waiting sample, counted in `dropped`; its attachment is
         kept, unread, so that the executor can still count a gap before it in `lost`."""
@@ -265,9 +255,6 @@ class Subscription(QueuedEntity, Generic[MsgT]):
             for _ in range(budget):
                 with take_lock:   # pushed-out samples are older than the one taken here
                     if not queue:
-                        if self._catching_up:
-                            self._catching_up = False
-                            self._drained.set()
                         return None
                     item = queue.popleft()
                     notes = self._take_notes() if self._evicted else None

@@ -23,7 +23,7 @@ KEEP_ALL = QoSProfile(history=HistoryPolicy.KEEP_ALL)
 
 @pytest.fixture(autouse=True)
 def _leading(monkeypatch):
-    """Leader/follower is opt-in (ZROS_CALLBACK_THREAD=zenoh): these tests turn it on."""
+    """Leader/follower is the default; these tests hold it on whatever the environment says."""
     monkeypatch.setattr(executors, '_LEADING_ALLOWED', True)
 
 
@@ -76,6 +76,34 @@ def test_reliable_samples_arrive_in_order_and_none_is_lost(make_context, wait_fo
         spinner.join(5)
     assert received == list(range(3000))
     assert (sub.lost, sub.dropped) == (0, 0)
+
+
+def test_a_flood_takes_the_hand_off_and_paced_samples_are_led(make_context, wait_for):
+    """Leading only after a quiet spell: samples published back to back mostly run on the
+    spinning thread (Zenoh's thread receives the next meanwhile), samples 20 ms apart on the
+    thread they arrived on; none lost, in order, either way."""
+    received = []
+    publisher, sub, _, executor = _pair(
+        make_context, '/flood_then_paced', lambda m: received.append((m.data, threading.current_thread())), KEEP_ALL)
+    spinner = _spinning(executor)
+    try:
+        time.sleep(0.2)   # parked
+        flood = 3000
+        for i in range(flood):
+            publisher.publish(Int32(data=i))
+        wait_for(lambda: len(received) == flood, timeout=20, message=lambda: f'{flood}, have {len(received)}')
+        for i in range(flood, flood + 10):
+            time.sleep(0.02)
+            publisher.publish(Int32(data=i))
+        wait_for(lambda: len(received) == flood + 10, timeout=10, message=lambda: f'{flood + 10}, have {len(received)}')
+    finally:
+        executor.shutdown()
+        spinner.join(5)
+    assert [data for data, _ in received] == list(range(flood + 10))
+    assert (sub.lost, sub.dropped) == (0, 0)
+    on_spinner = sum(thread is spinner for _, thread in received[:flood])
+    assert on_spinner > flood // 2, f'{on_spinner} of the flood ran on the spinning thread'
+    assert not any(thread is spinner for _, thread in received[flood:])
 
 
 def test_a_timer_in_the_subscriptions_group_never_overlaps_a_led_callback(make_context, wait_for):
@@ -225,3 +253,28 @@ def _quiet_spin(executor):
         executor.spin()
     except executors.ExternalShutdownException:
         pass
+
+
+def test_a_led_callback_may_destroy_its_own_subscription(make_context, wait_for):
+    """A one-shot subscription (rclpy code destroys it in its own callback) run on the Zenoh
+    thread that delivers to it: undeclaring from that thread neither hangs nor stops the spin."""
+    done = []
+
+    def once(msg):
+        done.append(threading.current_thread())
+        node.destroy_subscription(sub)
+        done.append('destroyed')
+    publisher, sub, node, executor = _pair(make_context, '/one_shot', once)
+    ticks = []
+    spinner = _spinning(executor)
+    try:
+        time.sleep(0.2)   # parked
+        publisher.publish(Int32(data=1))
+        wait_for(lambda: len(done) == 2, timeout=5, message='the one-shot callback to end')
+        node.create_timer(0.01, lambda: ticks.append(1))
+        wait_for(lambda: len(ticks) > 3, timeout=5, message='the spin to go on')
+    finally:
+        executor.shutdown()
+        spinner.join(5)
+    assert done[0] is not spinner
+    assert sub not in node.subscriptions

@@ -11,12 +11,13 @@ import pytest
 from zros import executors
 from zros.callback_groups import MutuallyExclusiveCallbackGroup
 from zros.executors import MultiThreadedExecutor, SingleThreadedExecutor
-from zros.subscription import _LEAD_PAUSE, _LEAD_QUICK_S, Subscription
+from zros import subscription
+from zros.subscription import _BURST_GAP_S, _LEAD_PAUSE, _LEAD_QUICK_S, Subscription
 
 
 @pytest.fixture(autouse=True)
 def _leading(monkeypatch):
-    """Leader/follower is opt-in (ZROS_CALLBACK_THREAD=zenoh): these tests turn it on."""
+    """Leader/follower is the default; these tests hold it on whatever the environment says."""
     monkeypatch.setattr(executors, '_LEADING_ALLOWED', True)
 
 
@@ -211,10 +212,62 @@ def test_two_slow_led_callbacks_in_a_row_pause_leading_and_each_pause_doubles():
     assert (sub._lead_skip, sub._lead_pause) == (0, 0)   # a quick one starts afresh
 
 
-def test_leading_is_off_unless_asked_for_and_a_bad_setting_is_one_line():
+class _Arrivals:
+    """Only what `Subscription._on_sample` touches below a full queue: records whether each
+    sample was led (run at once by a parked executor) or handed off (scheduled)."""
+
+    _on_sample = Subscription._on_sample
+    _events = None
+    _scheduled = False
+
+    def __init__(self) -> None:
+        import collections
+        import types
+        self._queue = collections.deque()
+        self._lead_skip = 0
+        self._last_seen = 0.0
+        self.ways: list[str] = []
+        executor = types.SimpleNamespace(_leading=True, _lead=self._led)
+        self._node = types.SimpleNamespace(_executor=executor)
+
+    def _led(self, entity: object) -> bool:
+        self.ways.append('led')
+        self._queue.clear()
+        return True
+
+    def _schedule(self) -> None:
+        self.ways.append('handed off')
+        self._scheduled = True
+
+    def drained(self) -> None:
+        """The executor took everything and parked again."""
+        self._queue.clear()
+        self._scheduled = False
+
+
+def test_a_burst_takes_the_hand_off_and_a_quiet_arrival_leads_again(monkeypatch):
+    now = [1.0]
+    monkeypatch.setattr(subscription, '_clock', lambda: now[0])
+    sub, step = _Arrivals(), _BURST_GAP_S / 3
+    sub._on_sample('first')            # after a quiet spell: led
+    for _ in range(3):                 # then samples close behind each other
+        now[0] += step
+        sub._on_sample('burst')
+    assert sub.ways == ['led', 'handed off']   # (the rest joined the queued one)
+    sub.drained()
+    now[0] += step
+    sub._on_sample('still the burst')  # the executor emptied the queue, but the burst goes on
+    assert sub.ways[-1] == 'handed off'
+    sub.drained()
+    now[0] += 10 * _BURST_GAP_S
+    sub._on_sample('quiet again')
+    assert sub.ways[-1] == 'led'
+
+
+def test_leading_is_on_unless_turned_off_and_a_bad_setting_is_one_line():
     from zros.config import settings_from_env
     from zros.errors import ZrosError
-    assert [executors._leading_allowed(v) for v in (None, '', 'spin', 'zenoh', ' zenoh ')] == [
-        False, False, False, True, True]
-    with pytest.raises(ZrosError, match="ZROS_CALLBACK_THREAD must be 'spin'"):
+    assert [executors._leading_allowed(v) for v in (None, '', 'spin', ' spin ', 'zenoh', ' zenoh ')] == [
+        True, True, False, False, True, True]
+    with pytest.raises(ZrosError, match="ZROS_CALLBACK_THREAD must be 'zenoh'"):
         settings_from_env({'ZROS_CALLBACK_THREAD': 'main'})
