@@ -163,7 +163,7 @@ class Navigation:
                         return outcome
                     if follow.poll():
                         break           # it ended while the path was computed: that is the outcome (the tree's FollowPath)
-                    if path is not None:
+                    if path is not None and follow.running:   # an ended goal's result is on its way
                         follow = GoalCall(self.server.follow_client, FollowPath.Goal(path=path))
                 rate.sleep()
         finally:

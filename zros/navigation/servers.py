@@ -185,6 +185,19 @@ class GoalCall:
         self.status, self.result = response.status, response.result
         return True
 
+    @property
+    def running(self) -> bool:
+        """Whether the goal may still be running: not answered yet, or accepted and not reported
+        ended on the action's status topic. A navigator replaces only a running goal with an
+        updated one, as Nav2's BtActionNode does (it sends the new path only while the old goal is
+        ACCEPTED or EXECUTING): a goal that has ended is waited for, so its success is not lost to
+        a replacement that ends the same way, and so on at every replanning period."""
+        from interfaces.action_msgs.msg import GoalStatus
+        if self.status is not None:
+            return False
+        return self._handle is None or self._handle.status in (GoalStatus.STATUS_ACCEPTED,
+                                                               GoalStatus.STATUS_EXECUTING)
+
     def cancel(self) -> None:
         if self._handle is not None and self.status is None:
             self._handle.cancel_goal_async()
