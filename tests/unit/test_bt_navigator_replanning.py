@@ -164,3 +164,35 @@ def test_goal_call_is_running_until_the_status_topic_reports_its_end():
     assert call.running
     handle.status = GoalStatus.STATUS_SUCCEEDED      # reported ended, result not in yet
     assert not call.poll() and not call.running
+
+
+def test_a_goal_given_up_before_its_send_failed_is_not_cancelled():
+    """GoalCall.cancel() on a goal not answered yet cancels it once accepted; if the send fails
+    (no server), the done callback must not raise: it runs on the node's executor."""
+    from zros.navigation.servers import GoalCall
+
+    class Sent(_Future):
+        def __init__(self) -> None:
+            super().__init__(None, done=False)
+            self.callbacks, self.error = [], None
+
+        def add_done_callback(self, callback):
+            self.callbacks.append(callback)
+
+        def exception(self):
+            return self.error
+
+        def result(self):
+            if self.error is not None:
+                raise self.error
+            return self.value
+    failed, accepted = Sent(), Sent()
+    cancelled = []
+    accepted.value = SimpleNamespace(accepted=True, cancel_goal_async=lambda: cancelled.append(1))
+    for sent in (failed, accepted):
+        GoalCall(SimpleNamespace(send_goal_async=lambda goal, feedback_callback: sent), goal=None).cancel()
+    failed.error = RuntimeError('no server')
+    for sent in (failed, accepted):
+        for callback in sent.callbacks:
+            callback(sent)
+    assert cancelled == [1]

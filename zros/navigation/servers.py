@@ -214,6 +214,12 @@ class GoalCall:
         if self._handle is not None and self.status is None:
             self._handle.cancel_goal_async()
         elif self._handle is None:
-            # Not accepted yet: cancel as soon as it is.
-            self._send_future.add_done_callback(
-                lambda f: f.result() is not None and f.result().accepted and f.result().cancel_goal_async())
+            self._send_future.add_done_callback(_cancel_once_accepted)
+
+
+def _cancel_once_accepted(sent: Any) -> None:
+    """Cancel a goal whose acceptance was still on its way when the caller gave it up. The send
+    may have failed instead (no server: a link drop-out), which leaves nothing to cancel; raising
+    here would end the spin of the executor that runs the callback, and the node with it."""
+    if sent.exception() is None and sent.result() is not None and sent.result().accepted:
+        sent.result().cancel_goal_async()
