@@ -10,6 +10,12 @@ messages a second; with the thresholds below, 1,000 - 1,400 at less CPU (docs/be
 
 zros keeps blocks under `MMAP_THRESHOLD` on the heap and up to `TRIM_THRESHOLD` of freed memory
 per heap for reuse: that much memory stays with a process after a burst of large messages.
+It also caps the heaps (arenas) at `ARENA_MAX`: glibc makes up to eight per core, one per thread
+that allocates at the same moment as another, and each keeps its own freed memory. A navigation
+server has a dozen threads (its executor's, Zenoh's) that take turns under the GIL, so they gain
+little from their own heaps, and the memory freed in each was not reused by the others: the
+process grew for as long as it ran (issue 36's soak; docs/benchmarks-history.md).
+
 `ZROS_MALLOC_TUNING=0` keeps glibc's defaults, and so does a process whose environment already
 sets glibc's own malloc settings. Other C libraries (musl, macOS) are left alone.
 """
@@ -17,17 +23,20 @@ from __future__ import annotations
 
 import os
 
-__all__ = ['MMAP_THRESHOLD', 'TRIM_THRESHOLD', 'tune']
+__all__ = ['ARENA_MAX', 'MMAP_THRESHOLD', 'TRIM_THRESHOLD', 'tune']
 
 #: Blocks smaller than this come from the heap, not from mmap (glibc's own upper bound for its
 #: moving threshold): a camera frame or a point cloud reuses freed memory.
 MMAP_THRESHOLD = 32 << 20
 #: Free memory a heap keeps at its top before giving it back to the kernel.
 TRIM_THRESHOLD = 64 << 20
+#: Heaps the threads of a process share (glibc's default is eight per core).
+ARENA_MAX = 2
 
 # glibc's mallopt parameter numbers (malloc.h).
 _M_TRIM_THRESHOLD = -1
 _M_MMAP_THRESHOLD = -3
+_M_ARENA_MAX = -8
 _USER_SETTINGS = ('MALLOC_TRIM_THRESHOLD_', 'MALLOC_MMAP_THRESHOLD_', 'MALLOC_TOP_PAD_', 'MALLOC_ARENA_MAX')
 
 _tuned = False
@@ -55,4 +64,6 @@ def tune() -> bool:
         return False
     # The mmap threshold first: setting either one stops glibc from moving both.
     _tuned = mallopt(_M_MMAP_THRESHOLD, MMAP_THRESHOLD) == 1 and mallopt(_M_TRIM_THRESHOLD, TRIM_THRESHOLD) == 1
+    # Before the session's and the executor's threads start: a cap applies to heaps made after it.
+    _tuned = _tuned and mallopt(_M_ARENA_MAX, ARENA_MAX) == 1
     return _tuned

@@ -29,7 +29,7 @@ from zros.navigation.assisted_teleop import collision_scale, projected_poses
 from zros.navigation.costmap import INSCRIBED_INFLATED_OBSTACLE, NO_INFORMATION
 from zros.navigation.costmap_ros import CostmapSubscriber
 from zros.navigation.node_support import Nav2Params, duration_msg, lookup_pose
-from zros.navigation.servers import GoalRunner, gated_action_server
+from zros.navigation.servers import GoalRunner, gated_action_server, RESULT_TIMEOUT_S
 from zros.rotations import angle_diff
 from zros.tf2_ros import Buffer, TransformListener
 
@@ -56,19 +56,23 @@ class BehaviorServer(LifecycleNode):
         self.simulation_time_step = prm.get('simulation_time_step', 0.1)
         teleop_topic = prm.get('cmd_vel_teleop', 'cmd_vel_teleop')
         prm.get('behavior_plugins', ['spin', 'backup', 'drive_on_heading', 'assisted_teleop', 'wait'])
+        result_timeout = prm.get('action_server_result_timeout', RESULT_TIMEOUT_S)
         prm.report_unused()
         self.goals = GoalRunner(self, stop=self._stop)
         self.cmd_pub = self.create_lifecycle_publisher(Twist, 'cmd_vel', 1)
         self.costmap = CostmapSubscriber(self, topic)
-        gated_action_server(self, Spin, 'spin', self._spin)
-        gated_action_server(self, BackUp, 'backup', lambda h: self._drive(h, BackUp, backwards=True))
-        gated_action_server(self, DriveOnHeading, 'drive_on_heading', lambda h: self._drive(h, DriveOnHeading))
-        gated_action_server(self, Wait, 'wait', self._wait)
+        gated_action_server(self, Spin, 'spin', self._spin, result_timeout=result_timeout)
+        gated_action_server(self, BackUp, 'backup', lambda h: self._drive(h, BackUp, backwards=True),
+                            result_timeout=result_timeout)
+        gated_action_server(self, DriveOnHeading, 'drive_on_heading', lambda h: self._drive(h, DriveOnHeading),
+                            result_timeout=result_timeout)
+        gated_action_server(self, Wait, 'wait', self._wait, result_timeout=result_timeout)
         self._teleop = (0.0, 0.0, 0.0)
         self._preempt = threading.Event()
         self.create_subscription(Twist, teleop_topic, self._on_teleop, 10)
         self.create_subscription(Empty, 'preempt_teleop', lambda _: self._preempt.set(), 10)
-        gated_action_server(self, AssistedTeleop, 'assisted_teleop', self._assisted_teleop)
+        gated_action_server(self, AssistedTeleop, 'assisted_teleop', self._assisted_teleop,
+                            result_timeout=result_timeout)
 
     def _on_teleop(self, msg: Any) -> None:
         self._teleop = (msg.linear.x, msg.linear.y, msg.angular.z)

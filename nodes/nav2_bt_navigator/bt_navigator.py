@@ -29,7 +29,7 @@ from zros.exceptions import ROSInterruptException
 from zros.executors import ExternalShutdownException, spin_nodes
 from zros.lifecycle import LifecycleNode, State, TransitionCallbackReturn
 from zros.navigation.node_support import Nav2Params, duration_msg, lookup_pose, quaternion_of
-from zros.navigation.servers import GoalCall, GoalSlot, gated_action_server
+from zros.navigation.servers import GoalCall, GoalSlot, gated_action_server, MISSION_RESULT_TIMEOUT_S
 from zros.tf2_ros import Buffer, TransformListener
 
 from interfaces.action_msgs.msg import GoalStatus
@@ -163,7 +163,7 @@ class Navigation:
                         return outcome
                     if follow.poll():
                         break           # it ended while the path was computed: that is the outcome (the tree's FollowPath)
-                    if path is not None:
+                    if path is not None and follow.running:   # an ended goal's result is on its way
                         follow = GoalCall(self.server.follow_client, FollowPath.Goal(path=path))
                 rate.sleep()
         finally:
@@ -247,6 +247,7 @@ class BtNavigator(LifecycleNode):
         self.loop_frequency = 1000.0 / max(prm.get('bt_loop_duration', 10), 1) / 5.0   # feedback at 20 Hz
         self.replan_frequency = prm.get('replan_frequency', 1.0)
         self.number_of_retries = prm.get('number_of_retries', 6)
+        result_timeout = prm.get('action_server_result_timeout', MISSION_RESULT_TIMEOUT_S)
         prm.report_unused()
         self.speed = 0.0
         self.slot = GoalSlot()
@@ -262,8 +263,9 @@ class BtNavigator(LifecycleNode):
             'local': self.create_client(ClearEntireCostmap, 'local_costmap/clear_entirely_local_costmap')}
         self.create_subscription(Odometry, odom_topic, self._on_odom, 10)
         self.create_subscription(PoseStamped, 'goal_pose', self._on_goal_pose, 10)
-        gated_action_server(self, NavigateToPose, 'navigate_to_pose', self._execute)
-        gated_action_server(self, NavigateThroughPoses, 'navigate_through_poses', self._execute)
+        gated_action_server(self, NavigateToPose, 'navigate_to_pose', self._execute, result_timeout=result_timeout)
+        gated_action_server(self, NavigateThroughPoses, 'navigate_through_poses', self._execute,
+                            result_timeout=result_timeout)
 
     def on_configure(self, state: State) -> TransitionCallbackReturn:
         self.get_logger().info('Configuring: navigate_to_pose and navigate_through_poses (plan, follow, replan, recover)')

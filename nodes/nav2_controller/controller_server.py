@@ -34,7 +34,7 @@ from zros.navigation.controller import (FollowError, GoalChecker, PathFollower, 
                                         RPPParams)
 from zros.navigation.costmap_ros import CostmapNode
 from zros.navigation.node_support import Nav2Params, lookup_pose, path_points
-from zros.navigation.servers import GoalRunner, gated_action_server
+from zros.navigation.servers import GoalRunner, gated_action_server, RESULT_TIMEOUT_S
 from zros.tf2_ros import Buffer, TransformListener
 
 from interfaces.geometry_msgs.msg import Twist
@@ -80,6 +80,7 @@ class ControllerServer(LifecycleNode):
         prm.get(f'{goal_id}.plugin', 'nav2_controller::SimpleGoalChecker')
         odom_topic = prm.get('odom_topic', 'odom')
         self.robot_base_frame = 'base_link'
+        result_timeout = prm.get('action_server_result_timeout', RESULT_TIMEOUT_S)
         prm.report_unused()
         self.costmap = CostmapNode('local_costmap', default_frame='odom', rolling=True, tf_buffer=self.tf_buffer)
         self.robot_base_frame = self.costmap.robot_base_frame
@@ -90,7 +91,7 @@ class ControllerServer(LifecycleNode):
         self.goals = GoalRunner(self, stop=self._stop)
         self.cmd_pub = self.create_lifecycle_publisher(Twist, 'cmd_vel', 1)
         self.create_subscription(Odometry, odom_topic, self._on_odom, 10)
-        gated_action_server(self, FollowPath, 'follow_path', self._follow)
+        gated_action_server(self, FollowPath, 'follow_path', self._follow, result_timeout=result_timeout)
 
     def on_deactivate(self, state: State) -> TransitionCallbackReturn:
         self._stop()

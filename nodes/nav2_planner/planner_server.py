@@ -24,7 +24,7 @@ from zros.lifecycle import LifecycleNode, State, TransitionCallbackReturn
 from zros.navigation.costmap_ros import CostmapNode
 from zros.navigation.node_support import Nav2Params, duration_msg, path_msg, pose_in_frame
 from zros.navigation.planner import UNKNOWN, GridPlanner, PlanningError, path_yaws
-from zros.navigation.servers import GoalRunner, gated_action_server
+from zros.navigation.servers import GoalRunner, gated_action_server, RESULT_TIMEOUT_S
 from zros.tf2_ros import Buffer, TransformListener
 
 from interfaces.nav2_msgs.action import ComputePathThroughPoses, ComputePathToPose
@@ -49,14 +49,17 @@ class PlannerServer(LifecycleNode):
         for plugin in self.plugin_ids:
             prm.get(f'{plugin}.plugin', 'nav2_navfn_planner/NavfnPlanner')
             prm.get(f'{plugin}.use_astar', False)
+        result_timeout = prm.get('action_server_result_timeout', RESULT_TIMEOUT_S)
         prm.report_unused()
         self.costmap = CostmapNode('global_costmap', default_frame='map', rolling=False, tf_buffer=self.tf_buffer,
                                    on_update=self._costmap_updated)
         self.planner = GridPlanner(self.costmap.costmap, tolerance=self.tolerance, allow_unknown=self.allow_unknown)
         self.plan_pub = self.create_lifecycle_publisher(Path, 'plan', 1)
         self.goals = GoalRunner(self)
-        gated_action_server(self, ComputePathToPose, 'compute_path_to_pose', self._to_pose)
-        gated_action_server(self, ComputePathThroughPoses, 'compute_path_through_poses', self._through_poses)
+        gated_action_server(self, ComputePathToPose, 'compute_path_to_pose', self._to_pose,
+                            result_timeout=result_timeout)
+        gated_action_server(self, ComputePathThroughPoses, 'compute_path_through_poses', self._through_poses,
+                            result_timeout=result_timeout)
 
     def on_configure(self, state: State) -> TransitionCallbackReturn:
         self.get_logger().info(f'Configuring: planner {", ".join(self.plugin_ids)} (Dijkstra on the global costmap)')

@@ -28,7 +28,7 @@ from zros.navigation.node_support import Nav2Params, duration_msg, lookup_pose, 
 from zros.navigation.route_graph import (NoValidGraph, Route, RouteError, RouteGraph, RouteProgress, densify,
                                          distance_costs, edge_costs, find_route, load_graph, nearest_nodes,
                                          prune_ends)
-from zros.navigation.servers import GoalRunner, gated_action_server
+from zros.navigation.servers import GoalRunner, gated_action_server, RESULT_TIMEOUT_S
 from zros.tf2_ros import Buffer, TransformException, TransformListener
 
 from interfaces.nav2_msgs.action import ComputeAndTrackRoute, ComputeRoute
@@ -39,7 +39,7 @@ from interfaces.nav_msgs.msg import Path
 
 _DISTANCE_SCORER = 'nav2_route::DistanceScorer'
 # Read (so Nav2's files configure this node without complaint) but not implemented in zros.
-_IGNORED = {'costmap_topic': 'global_costmap/costmap_raw', 'action_server_result_timeout': 10.0,
+_IGNORED = {'costmap_topic': 'global_costmap/costmap_raw',
             'enable_nn_search': True, 'max_nn_search_iterations': 10000, 'smoothing_radius': 1.0,
             'aggregate_blocked_ids': False, 'max_iterations': 0}
 
@@ -70,6 +70,7 @@ class RouteServer(LifecycleNode):
         self.operations = prm.get('operations', [])
         for op in self.operations:
             prm.get(f'{op}.plugin', '')
+        result_timeout = prm.get('action_server_result_timeout', RESULT_TIMEOUT_S)
         prm.report_unused()
         self.graph: RouteGraph | None = None
         self.costs: Any = None
@@ -77,8 +78,9 @@ class RouteServer(LifecycleNode):
         self.tf_listener = TransformListener(self.tf_buffer, self)
         self.plan_pub = self.create_lifecycle_publisher(Path, 'plan', 10)
         self.goals = GoalRunner(self)
-        gated_action_server(self, ComputeRoute, 'compute_route', self._compute)
-        gated_action_server(self, ComputeAndTrackRoute, 'compute_and_track_route', self._compute_and_track)
+        gated_action_server(self, ComputeRoute, 'compute_route', self._compute, result_timeout=result_timeout)
+        gated_action_server(self, ComputeAndTrackRoute, 'compute_and_track_route', self._compute_and_track,
+                            result_timeout=result_timeout)
         self.create_service(SetRouteGraph, '~/set_route_graph', self._set_graph)
 
     def _read_scorers(self, prm: Nav2Params) -> list[tuple[float, str]]:

@@ -29,7 +29,7 @@ from zros.navigation.costmap import INSCRIBED_INFLATED_OBSTACLE
 from zros.navigation.costmap_ros import CostmapSubscriber
 from zros.navigation.node_support import Nav2Params, duration_msg, quaternion_of, yaw_of
 from zros.navigation.path_smoother import SimpleSmootherParams, smooth_path
-from zros.navigation.servers import GoalRunner, gated_action_server
+from zros.navigation.servers import GoalRunner, gated_action_server, RESULT_TIMEOUT_S
 
 from interfaces.nav2_msgs.action import SmoothPath
 from interfaces.nav_msgs.msg import Path
@@ -54,11 +54,12 @@ class SmootherServer(LifecycleNode):
         costmap_topic = prm.get('costmap_topic', 'global_costmap/costmap_raw')
         for unused in ('footprint_topic', 'robot_base_frame', 'transform_tolerance'):
             prm.get(unused, '')
+        result_timeout = prm.get('action_server_result_timeout', RESULT_TIMEOUT_S)
         prm.report_unused()
         self.costmap = CostmapSubscriber(self, costmap_topic)
         self.goals = GoalRunner(self)
         self.plan_pub = self.create_lifecycle_publisher(Path, 'plan_smoothed', 1)
-        gated_action_server(self, SmoothPath, 'smooth_path', self._smooth)
+        gated_action_server(self, SmoothPath, 'smooth_path', self._smooth, result_timeout=result_timeout)
 
     def _smooth(self, handle: Any) -> Any:
         goal = handle.request

@@ -23,7 +23,7 @@ from zros.action import ActionClient
 from zros.executors import ExternalShutdownException, spin_nodes
 from zros.lifecycle import LifecycleNode
 from zros.navigation.node_support import Nav2Params
-from zros.navigation.servers import GoalCall, GoalRunner, gated_action_server
+from zros.navigation.servers import GoalCall, GoalRunner, gated_action_server, MISSION_RESULT_TIMEOUT_S
 
 from interfaces.action_msgs.msg import GoalStatus
 from interfaces.geometry_msgs.msg import PoseStamped
@@ -47,12 +47,14 @@ class WaypointFollower(LifecycleNode):
         self.pause_s = prm.get(f'{plugin}.waypoint_pause_duration', 0) / 1000.0
         self.pause_enabled = prm.get(f'{plugin}.enabled', True)
         self.global_frame_id = prm.get('global_frame_id', 'map').lstrip('/')
+        result_timeout = prm.get('action_server_result_timeout', MISSION_RESULT_TIMEOUT_S)
         prm.report_unused()
         self.goals = GoalRunner(self)
         self.nav_client = ActionClient(self, NavigateToPose, 'navigate_to_pose')
         self.from_ll = self.create_client(FromLL, '/fromLL')
-        gated_action_server(self, FollowWaypoints, 'follow_waypoints', self._follow)
-        gated_action_server(self, FollowGPSWaypoints, 'follow_gps_waypoints', self._follow_gps)
+        gated_action_server(self, FollowWaypoints, 'follow_waypoints', self._follow, result_timeout=result_timeout)
+        gated_action_server(self, FollowGPSWaypoints, 'follow_gps_waypoints', self._follow_gps,
+                            result_timeout=result_timeout)
 
     def _follow(self, handle: Any) -> Any:
         poses = list(handle.request.poses)

@@ -33,7 +33,7 @@ from zros.lifecycle import LifecycleNode, State, TransitionCallbackReturn
 from zros.navigation.docking import (ControlLaw, Dock, DockDatabaseError, approach_target, is_within,
                                      load_dock_database, parse_docks, staging_pose, to_robot_frame)
 from zros.navigation.node_support import Nav2Params, duration_msg, lookup_pose, pose_in_frame, quaternion_of
-from zros.navigation.servers import GoalCall, GoalRunner, gated_action_server
+from zros.navigation.servers import GoalCall, GoalRunner, gated_action_server, RESULT_TIMEOUT_S
 from zros.tf2_ros import Buffer, TransformException, TransformListener
 
 from interfaces.action_msgs.msg import GoalStatus
@@ -107,7 +107,7 @@ class DockingServer(LifecycleNode):
         self.dock_backwards = prm.get('dock_backwards', False)
         self.prestaging_tolerance = prm.get('dock_prestaging_tolerance', 0.5)
         self.navigator_bt_xml = prm.get('navigator_bt_xml', '')
-        prm.get('action_server_result_timeout', 10.0)
+        result_timeout = prm.get('action_server_result_timeout', RESULT_TIMEOUT_S)
         self.law = ControlLaw.from_params(prm.get)
         for unused, default in (('use_collision_detection', True), ('costmap_topic', 'local_costmap/costmap_raw'),
                                 ('footprint_topic', 'local_costmap/published_footprint'),
@@ -132,8 +132,8 @@ class DockingServer(LifecycleNode):
         self.cmd_pub = self.create_lifecycle_publisher(Twist, 'cmd_vel', 1)
         self.navigator = ActionClient(self, NavigateToPose, 'navigate_to_pose')
         self.goals = GoalRunner(self, stop=lambda: self.cmd_pub.publish(Twist()))
-        gated_action_server(self, DockRobot, 'dock_robot', self._dock)
-        gated_action_server(self, UndockRobot, 'undock_robot', self._undock)
+        gated_action_server(self, DockRobot, 'dock_robot', self._dock, result_timeout=result_timeout)
+        gated_action_server(self, UndockRobot, 'undock_robot', self._undock, result_timeout=result_timeout)
         self.create_service(ReloadDockDatabase, '~/reload_database', self._reload)
 
     def on_configure(self, state: State) -> TransitionCallbackReturn:

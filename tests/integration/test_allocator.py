@@ -55,3 +55,39 @@ def test_large_blocks_are_reused_instead_of_faulted_in_again(domain):
 def test_a_user_setting_of_malloc_is_left_alone(domain):
     tuned, _ = _probe(MALLOC_TRIM_THRESHOLD_='1048576')
     assert not tuned
+
+
+# After zros.init, eight threads allocate at once; glibc's malloc_stats lists one "Arena N:" per
+# heap on stderr.
+_ARENAS = '''
+import ctypes, sys, threading
+import zros
+with zros.init(args=['arena_probe']):
+    start = threading.Barrier(8)
+    def work():
+        start.wait()
+        blocks = [bytearray(4096) for _ in range(200)]
+        del blocks
+    threads = [threading.Thread(target=work) for _ in range(8)]
+    for t in threads: t.start()
+    for t in threads: t.join()
+    sys.stderr.flush()
+    ctypes.CDLL(None).malloc_stats()
+'''
+
+
+def _arenas(**env: str) -> int:
+    result = subprocess.run([sys.executable, '-c', _ARENAS], capture_output=True, text=True, timeout=60, cwd=REPO,
+                            env={**os.environ, **env})
+    assert result.returncode == 0, result.stderr[-2000:]
+    return sum(line.startswith('Arena ') for line in result.stderr.splitlines())
+
+
+@pytest.mark.skipif(not hasattr(os, 'confstr') or not os.confstr('CS_GNU_LIBC_VERSION').startswith('glibc'),
+                    reason='the arenas are glibc heaps')
+def test_the_threads_of_a_zros_process_share_arena_max_heaps(domain):
+    """A heap per thread kept each thread's freed memory to itself: a navigation server's
+    memory grew for as long as it ran (issue 36's soak)."""
+    from zros.allocator import ARENA_MAX
+    assert _arenas() <= ARENA_MAX
+    assert _arenas(ZROS_MALLOC_TUNING='0') > ARENA_MAX    # glibc's default, for scale

@@ -4,6 +4,8 @@ A FollowPath goal that ends while the navigator is computing the next path is th
 in Nav2's tree (its PipelineSequence ticks FollowPath again after ComputePathToPose). Replacing
 it with a new FollowPath lost the success: over a slow link, or on a loaded machine, the robot
 sat at its goal while the controller said "Reached the goal!" to one new path after another.
+Nor is a goal the status topic reports ended replaced while its result is on its way (Nav2's
+BtActionNode sends an updated goal only while the old one is ACCEPTED or EXECUTING).
 """
 from __future__ import annotations
 
@@ -44,10 +46,15 @@ class Call:
     def __init__(self, client, goal) -> None:
         self.status = None
         self.result = None
+        self.reported_ended = False     # the status topic said it ended; its result is still on its way
         Call.sent.append(self)
 
     def poll(self) -> bool:
         return self.status is not None
+
+    @property
+    def running(self) -> bool:
+        return self.status is None and not self.reported_ended
 
     def cancel(self) -> None:
         self.status = GoalStatus.STATUS_CANCELED
@@ -107,3 +114,85 @@ def test_a_running_follow_goal_gets_each_new_path(monkeypatch):
     nav = navigation(monkeypatch, compute_path)
     assert nav.follow_with_replanning().state == 'SUCCEEDED'
     assert len(Call.sent) == 3      # the first path, and one per replan while it ran
+
+
+def test_a_follow_goal_reported_ended_is_waited_for_not_replaced(monkeypatch):
+    """At a fast replanning rate, or with a slow result round trip, the next plan comes before the
+    ended goal's result: replacing it then made a new goal that ended the same way, forever."""
+    plans = []
+
+    def compute_path():
+        plans.append(1)
+        if len(plans) == 2:
+            Call.sent[0].reported_ended = True          # the status array says SUCCEEDED
+        elif len(plans) == 5:
+            Call.sent[0].status = GoalStatus.STATUS_SUCCEEDED   # its result arrives three plans later
+        return bt_navigator.Outcome('SUCCEEDED'), Path()
+    nav = navigation(monkeypatch, compute_path)
+    assert nav.follow_with_replanning().state == 'SUCCEEDED'
+    assert len(Call.sent) == 1
+
+
+class _Handle:
+    def __init__(self, status: int) -> None:
+        self.status, self.accepted = status, True
+
+    def get_result_async(self):
+        return _Future(None, done=False)
+
+
+class _Future:
+    def __init__(self, value, done: bool = True) -> None:
+        self.value, self._done = value, done
+
+    def done(self) -> bool:
+        return self._done
+
+    def result(self):
+        return self.value
+
+
+def test_goal_call_is_running_until_the_status_topic_reports_its_end():
+    from zros.navigation.servers import GoalCall
+    handle = _Handle(GoalStatus.STATUS_ACCEPTED)
+    sent = _Future(handle, done=False)
+    call = GoalCall(SimpleNamespace(send_goal_async=lambda goal, feedback_callback: sent), goal=None)
+    assert call.running and not call.poll()          # not answered yet
+    sent._done = True
+    assert not call.poll() and call.running          # accepted
+    handle.status = GoalStatus.STATUS_EXECUTING
+    assert call.running
+    handle.status = GoalStatus.STATUS_SUCCEEDED      # reported ended, result not in yet
+    assert not call.poll() and not call.running
+
+
+def test_a_goal_given_up_before_its_send_failed_is_not_cancelled():
+    """GoalCall.cancel() on a goal not answered yet cancels it once accepted; if the send fails
+    (no server), the done callback must not raise: it runs on the node's executor."""
+    from zros.navigation.servers import GoalCall
+
+    class Sent(_Future):
+        def __init__(self) -> None:
+            super().__init__(None, done=False)
+            self.callbacks, self.error = [], None
+
+        def add_done_callback(self, callback):
+            self.callbacks.append(callback)
+
+        def exception(self):
+            return self.error
+
+        def result(self):
+            if self.error is not None:
+                raise self.error
+            return self.value
+    failed, accepted = Sent(), Sent()
+    cancelled = []
+    accepted.value = SimpleNamespace(accepted=True, cancel_goal_async=lambda: cancelled.append(1))
+    for sent in (failed, accepted):
+        GoalCall(SimpleNamespace(send_goal_async=lambda goal, feedback_callback: sent), goal=None).cancel()
+    failed.error = RuntimeError('no server')
+    for sent in (failed, accepted):
+        for callback in sent.callbacks:
+            callback(sent)
+    assert cancelled == [1]

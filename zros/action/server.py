@@ -208,11 +208,12 @@ class _EndedGoal:
     period ends hundreds of goals within the 900 s default. User code holding the goal's
     ServerGoalHandle still has its request."""
 
-    __slots__ = ('_goal_id', '_stamp', '_key', 'status', '_result', '_lock', '_waiters')
+    __slots__ = ('_goal_id', '_stamp', '_key', '_client_id', 'status', '_result', '_lock', '_waiters')
     is_active = False
 
     def __init__(self, handle: ServerGoalHandle) -> None:
         self._goal_id, self._stamp, self._key = handle._goal_id, handle._stamp, handle._key
+        self._client_id = handle._client_id
         self.status, self._result = handle.status, handle._result
         self._lock = handle._lock
         self._waiters: list[DeferredResponse] = []   # the result is in: nobody waits any more
@@ -265,6 +266,7 @@ class ActionServer:
         self.callback_group = callback_group or node.default_callback_group
         self._goal_handles: dict[bytes, ServerGoalHandle | _EndedGoal] = {}
         self._feedback_pubs: dict[str, Publisher] = {}
+        self._client_goals: dict[str, int] = {}           # client id -> its goals in _goal_handles
         self._lock = threading.RLock()
         self._destroyed = False
         self._status_pending = False
@@ -335,6 +337,7 @@ class ActionServer:
             if handle._key in self._goal_handles:  # the same id came twice at once
                 return self._duplicate(response, goal_id)
             self._goal_handles[handle._key] = handle
+            self._client_goals[handle._client_id] = self._client_goals.get(handle._client_id, 0) + 1
         response.goal_id = goal_id
         self._feedback_publisher(request.client_id)
         self._publish_status()
@@ -519,14 +522,32 @@ class ActionServer:
         that of the goals that expire). Returns whether any goal was forgotten."""
         cutoff = time.monotonic() - self._result_timeout
         expired = False
+        unused: list[Publisher] = []
         with self._lock:
             while self._finished and self._finished[0][0] <= cutoff:
                 key = self._finished.popleft()[1]
-                self._goal_handles.pop(key, None)
+                goal = self._goal_handles.pop(key, None)
                 self._status_heads.pop(key, None)
                 self._status_tails.pop(key, None)
                 expired = True
+                if goal is not None:
+                    unused += self._goal_forgotten(goal._client_id)
+        for pub in unused:
+            pub.destroy()
         return expired
+
+    def _goal_forgotten(self, client_id: str) -> list[Publisher]:
+        """Count one goal of `client_id` out; returns its feedback publisher once it has no goal
+        left here (to destroy outside the lock). Clients come and go (each `zros action send_goal`,
+        each mission script), and a publisher per client kept for the server's life would grow
+        with every one. Called with the lock held."""
+        left = self._client_goals.get(client_id, 1) - 1
+        if left > 0:
+            self._client_goals[client_id] = left
+            return []
+        self._client_goals.pop(client_id, None)
+        pub = self._feedback_pubs.pop(client_id, None)
+        return [] if pub is None else [pub]
 
     def _on_expire_timer(self) -> None:
         if self._expire_results():

@@ -17,7 +17,8 @@ from zros.exceptions import ROSInterruptException
 from zros.action import ActionServer, CancelResponse, GoalResponse
 from zros.callback_groups import ReentrantCallbackGroup
 
-__all__ = ['GoalSlot', 'GoalRunner', 'gated_action_server', 'GoalCall', 'missed_rate_message']
+__all__ = ['GoalSlot', 'GoalRunner', 'gated_action_server', 'GoalCall', 'missed_rate_message', 'RESULT_TIMEOUT_S',
+           'MISSION_RESULT_TIMEOUT_S']
 
 
 class GoalSlot:
@@ -132,9 +133,20 @@ def missed_rate_message(frequency: float, elapsed_s: float) -> str | None:
             f'Current loop rate is {1.0 / elapsed_s:.4f} Hz.')
 
 
-def gated_action_server(node: Any, action_type: type, name: str, execute: Callable[[Any], Any]) -> ActionServer:
+#: Seconds an ended goal's result stays available, Nav2's `action_server_result_timeout` default
+#: (Jazzy) in the servers a navigator sends a goal every replanning period (planner, controller,
+#: smoother, behaviors, route, docking): rcl's 900 s would keep every replaced FollowPath and
+#: every computed path of the last 15 minutes, and send them all in each status array.
+RESULT_TIMEOUT_S = 10.0
+#: The same for the servers a user's mission calls (bt_navigator, waypoint_follower): rcl's default.
+MISSION_RESULT_TIMEOUT_S = 900.0
+
+
+def gated_action_server(node: Any, action_type: type, name: str, execute: Callable[[Any], Any], *,
+                        result_timeout: float = RESULT_TIMEOUT_S) -> ActionServer:
     """An action server that accepts goals only while the lifecycle node is active, and accepts
-    cancel requests (rclpy's default refuses them)."""
+    cancel requests (rclpy's default refuses them). `result_timeout` is the node's
+    `action_server_result_timeout` parameter, as in Nav2."""
     def goal_callback(goal: Any) -> GoalResponse:
         if node.current_state.label != 'active':
             node.get_logger().warn(f"Action server '{name}' is inactive: rejecting the goal (is the lifecycle manager up?)")
@@ -143,7 +155,7 @@ def gated_action_server(node: Any, action_type: type, name: str, execute: Callab
 
     return ActionServer(node, action_type, name, execute, goal_callback=goal_callback,
                         cancel_callback=lambda handle: CancelResponse.ACCEPT,
-                        callback_group=ReentrantCallbackGroup())
+                        callback_group=ReentrantCallbackGroup(), result_timeout=result_timeout)
 
 
 class GoalCall:
@@ -185,10 +197,29 @@ class GoalCall:
         self.status, self.result = response.status, response.result
         return True
 
+    @property
+    def running(self) -> bool:
+        """Whether the goal may still be running: not answered yet, or accepted and not reported
+        ended on the action's status topic. A navigator replaces only a running goal with an
+        updated one, as Nav2's BtActionNode does (it sends the new path only while the old goal is
+        ACCEPTED or EXECUTING): a goal that has ended is waited for, so its success is not lost to
+        a replacement that ends the same way, and so on at every replanning period."""
+        from interfaces.action_msgs.msg import GoalStatus
+        if self.status is not None:
+            return False
+        return self._handle is None or self._handle.status in (GoalStatus.STATUS_ACCEPTED,
+                                                               GoalStatus.STATUS_EXECUTING)
+
     def cancel(self) -> None:
         if self._handle is not None and self.status is None:
             self._handle.cancel_goal_async()
         elif self._handle is None:
-            # Not accepted yet: cancel as soon as it is.
-            self._send_future.add_done_callback(
-                lambda f: f.result() is not None and f.result().accepted and f.result().cancel_goal_async())
+            self._send_future.add_done_callback(_cancel_once_accepted)
+
+
+def _cancel_once_accepted(sent: Any) -> None:
+    """Cancel a goal whose acceptance was still on its way when the caller gave it up. The send
+    may have failed instead (no server: a link drop-out), which leaves nothing to cancel; raising
+    here would end the spin of the executor that runs the callback, and the node with it."""
+    if sent.exception() is None and sent.result() is not None and sent.result().accepted:
+        sent.result().cancel_goal_async()
