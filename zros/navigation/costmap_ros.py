@@ -3,8 +3,10 @@
 It is a node of its own (`global_costmap` in namespace `global_costmap`, `local_costmap` in
 `local_costmap`), living in the process of the server that uses it, as in Nav2, so that Nav2's
 parameter files (`global_costmap: global_costmap: ros__parameters: ...`) apply unchanged. It
-publishes `<name>/costmap` (nav_msgs/OccupancyGrid, Nav2's cost-to-occupancy table) and
-`<name>/costmap_raw` (nav2_msgs/Costmap), and serves `<name>/clear_entirely_<name>`,
+publishes `<name>/costmap` (nav_msgs/OccupancyGrid, Nav2's cost-to-occupancy table),
+`<name>/costmap_raw` (nav2_msgs/Costmap) and `<name>/published_footprint` (the round footprint
+of `robot_radius` at the robot's pose, geometry_msgs/PolygonStamped in the costmap's frame: a
+collision monitor's `footprint_topic` takes the robot's shape from it), and serves `<name>/clear_entirely_<name>`,
 `clear_except_<name>`, `clear_around_<name>` and `clear_around_pose_<name>` (also under the
 `clear_costmap_*` names Jazzy's BasicNavigator calls).
 
@@ -18,7 +20,8 @@ from typing import Any, Callable
 
 import numpy as np
 
-from zros.navigation.costmap import NO_INFORMATION, CostmapParams, LayeredCostmap, to_occupancy
+from zros.navigation.costmap import (NO_INFORMATION, CostmapParams, LayeredCostmap, footprint_from_radius,
+                                     to_occupancy)
 from zros.navigation.node_support import Nav2Params, lookup_pose
 from zros.node import Node
 from zros.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
@@ -83,6 +86,8 @@ class CostmapNode(Node):
         from interfaces.sensor_msgs.msg import LaserScan
         self._grid_pub = self.create_publisher(OccupancyGrid, 'costmap', latched)
         self._raw_pub = self.create_publisher(Costmap, 'costmap_raw', latched)
+        from interfaces.geometry_msgs.msg import PolygonStamped
+        self._footprint_pub = self.create_publisher(PolygonStamped, 'published_footprint', 1)
         if static:
             topic = prm.get(f'{static}.map_topic', '/map')
             self.create_subscription(OccupancyGrid, topic, self._on_map, latched)
@@ -203,6 +208,21 @@ class CostmapNode(Node):
             grid, raw = self._messages()
             self._grid_pub.publish(grid)
             self._raw_pub.publish(raw)
+        self.publish_footprint()
+
+    def publish_footprint(self) -> None:
+        """The footprint at the robot's pose (nothing while TF has no pose for it)."""
+        from interfaces.geometry_msgs.msg import Point32, PolygonStamped
+        try:
+            pose = self.robot_pose()
+        except Exception:  # noqa: BLE001 - tf2's exceptions: no pose yet
+            return
+        msg = PolygonStamped()
+        msg.header.frame_id = self.global_frame
+        msg.header.stamp = self.get_clock().now().to_msg()
+        msg.polygon.points = [Point32(x=float(x), y=float(y), z=0.0)
+                              for x, y in footprint_from_radius(self.params.robot_radius, pose)]
+        self._footprint_pub.publish(msg)
 
     def _messages(self) -> tuple[Any, Any]:
         """The master grid as (nav_msgs/OccupancyGrid, nav2_msgs/Costmap)."""
