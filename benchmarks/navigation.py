@@ -4,6 +4,7 @@
     python benchmarks/navigation.py --part goals --goals 5
     python benchmarks/navigation.py --part goals --world turtlebot3_house --per-goal   # and why each miss
     python benchmarks/navigation.py --part goals --exact-map --truth-pose   # navigation alone
+    python benchmarks/navigation.py --part goals --world turtlebot3_bighouse --collision-monitor
     python benchmarks/navigation.py --part explore     # processes over Zenoh, about 3 min
     python benchmarks/navigation.py --part cpu         # processes over Zenoh at real time, 1 min
     python benchmarks/navigation.py --part load --load 4 --goals 20   # the same beside 4 busy processes
@@ -37,7 +38,14 @@ To tell navigation's misses from localisation's and the map's: `--truth-pose` gi
 the simulator's true pose instead of AMCL's, `--exact-map` the world's raster instead of the
 SLAM map; `--per-goal` lists each goal not reached cleanly with the localisation error at its
 end (and the worst during it), the controller's failures (and where) and each collision (where,
-the command, what was running).
+the command, what was running). The summary gives the localisation error (believed minus true
+position at every scan) as RMS and maximum over the run.
+
+`--collision-monitor` puts nav2_bringup's collision_monitor (nav2_params.yaml: the footprint's
+approach zone, 1.2 s ahead, 6 points) between the controller and the robot, judging each command
+on the robot's latest scan: it does not need the pose, so it holds when AMCL is lost (Nav2's
+planner and controller cannot tell). turtlebot3_navigation2's launch does not start one (ROBOTIS's
+Humble files have none), so the default run is without.
 
 Goals (issue 18): success >= 95 %, 0 collisions, time ratio <= 1.5, planning < 50 ms per
 request; exploration: >= 95 % of the reachable free area mapped within 300 s of sim time; the
@@ -72,12 +80,14 @@ from zros.amcl.localizer import compose  # noqa: E402
 from zros.map_io import load_map  # noqa: E402
 from zros.navigation.controller import (FollowError, GoalChecker, PathFollower, ProgressChecker,  # noqa: E402
                                         RegulatedPurePursuit, RPPParams)
+from zros.navigation.collision_monitor import Decision, Zone, decide, scan_points  # noqa: E402
 from zros.navigation.costmap import CostmapParams, LayeredCostmap  # noqa: E402
 from zros.navigation.planner import GridPlanner, PlanningError  # noqa: E402
 from zros.sim import BURGER, LDS_01, Simulation, load_world, rasterize  # noqa: E402
 
 WORLDS = ('turtlebot3_world', 'turtlebot3_house', 'turtlebot3_bighouse')
 PARAMS = REPO / 'nodes' / 'turtlebot3_navigation2' / 'param' / 'burger.yaml'
+MONITOR_PARAMS = REPO / 'nodes' / 'nav2_bringup' / 'params' / 'nav2_params.yaml'
 MAX_SPEED = 0.22          # [m/s] burger
 CONTROL_PERIOD = 0.1      # [s] controller_frequency 10 Hz
 SCAN_PERIOD = 0.2         # [s] 5 Hz lidar
@@ -120,6 +130,30 @@ def stack_parameters() -> tuple[RPPParams, CostmapParams, AmclParameters, float]
         float(controller.get('failure_tolerance', 0.0))
 
 
+def monitor_zones(robot_radius: float) -> list[Zone]:
+    """nav2_bringup's collision_monitor zones (nav2_params.yaml: one approach zone, the robot's
+    footprint simulated ahead), with the footprint the local costmap publishes for a round robot
+    as a circle of `robot_radius` [m]."""
+    given = yaml.safe_load(MONITOR_PARAMS.read_text())['collision_monitor']['ros__parameters']
+    zones = []
+    for name in given['polygons']:
+        zone = given[name]
+        keys = ('min_points', 'time_before_collision', 'simulation_time_step', 'slowdown_ratio', 'linear_limit',
+                'angular_limit', 'enabled')
+        zones.append(Zone(name, zone['action_type'], radius=zone.get('radius', robot_radius),
+                          **{k: zone[k] for k in keys if k in zone}))
+    return zones
+
+
+def monitor_decision(zones: list[Zone], ranges: np.ndarray, cmd: tuple[float, float]) -> Decision:
+    """What the collision monitor does with `cmd` (v [m/s], w [rad/s]), judged on an LDS-01 scan's
+    `ranges` [m] put in the base frame: the robot's own sensor, no localisation involved, so it
+    holds when AMCL is lost."""
+    points = scan_points(ranges, LDS_01.angle_min, LDS_01.angle_increment, LDS_01.range_min,
+                         LDS_01.range_max) + LASER[:2]
+    return decide(zones, points, np.array([cmd[0], 0.0, cmd[1]]))
+
+
 # -- one world ------------------------------------------------------------------------------------
 class Localised:
     """AMCL on the SLAM map fed by the simulated robot: `pose()` is what the stack believes."""
@@ -160,8 +194,10 @@ class Stack:
     """The navigation stack around one simulated robot, stepped one control period at a time:
     AMCL and the costmap's obstacle layer take each scan, the costmap is rebuilt each second."""
 
-    def __init__(self, world, grid, seed: int, *, truth_pose: bool = False) -> None:
+    def __init__(self, world, grid, seed: int, *, truth_pose: bool = False, collision_monitor: bool = False) -> None:
         rpp, cparams, amcl, failure_tolerance = stack_parameters()
+        self.monitor = monitor_zones(cparams.robot_radius) if collision_monitor else []
+        self.monitor_acted = 0                  # commands the collision monitor slowed or stopped
         self.costmap = LayeredCostmap(cparams)
         self.costmap.set_static_map(grid.data, grid.resolution, tuple(grid.origin[:2]))
         self.costmap.update()
@@ -179,6 +215,7 @@ class Stack:
         self.plan_ms: list[float] = []
         self.failures: list[str] = []           # the controller's failures during the current goal
         self.worst_error = 0.0                  # the largest localisation error [m] during the current goal
+        self.loc_errors: list[float] = []       # the localisation error [m] at every scan of the run
         self._next_scan = self._next_update = 0.0
 
     def plan(self, goal: tuple[float, float]) -> np.ndarray:
@@ -190,7 +227,10 @@ class Stack:
             self.plan_ms.append((time.thread_time() - began) * 1e3)
 
     def tick(self, cmd: tuple[float, float]) -> None:
-        """Command the robot for one control period, feeding sensors as their rates come due."""
+        """Command the robot for one control period, feeding sensors as their rates come due
+        (through the collision monitor, with `collision_monitor`)."""
+        if self.monitor:
+            cmd = self.monitored(cmd)
         self.cmd = cmd
         self.robot.command(*cmd)
         self.sim.step(CONTROL_PERIOD)
@@ -200,12 +240,22 @@ class Stack:
             sx, sy = x + LASER[0] * math.cos(yaw), y + LASER[0] * math.sin(yaw)
             self.costmap.add_scan((sx, sy), yaw + self.loc.bearings, self.loc.ranges, LDS_01.range_min,
                                   LDS_01.range_max)
-            self.worst_error = max(self.worst_error, self.loc.error())
+            error = self.loc.error()
+            self.loc_errors.append(error)
+            self.worst_error = max(self.worst_error, error)
             self._next_scan = self.sim.time + SCAN_PERIOD
         if self.sim.time >= self._next_update - 1e-9:
             self.costmap.update()
             self.planner.invalidate()
             self._next_update = self.sim.time + REPLAN_PERIOD
+
+    def monitored(self, cmd: tuple[float, float]) -> tuple[float, float]:
+        """`cmd` as the collision monitor lets it through (counted when it acts)."""
+        decision = monitor_decision(self.monitor, self.loc.ranges, cmd)
+        if decision.action == 'do_nothing':
+            return cmd
+        self.monitor_acted += 1
+        return float(decision.velocity[0]), float(decision.velocity[2])
 
     def follow(self, goal: tuple[float, float, float], deadline: float) -> bool:
         """FollowPath with replanning each second until the goal checker accepts (True), the
@@ -316,12 +366,14 @@ class GoalRecord:
         return 'false success' if self.reached else 'failed'
 
 
-def run_goals(name: str, goals: int, seed: int, map_dir: Path | None, *, truth_pose: bool = False) -> dict:
+def run_goals(name: str, goals: int, seed: int, map_dir: Path | None, *, truth_pose: bool = False,
+              collision_monitor: bool = False) -> dict:
     """Goals on the SLAM-made map cached in `map_dir`, or on the exact map when it is None;
-    `truth_pose` gives the stack the true pose instead of AMCL's (navigation alone)."""
+    `truth_pose` gives the stack the true pose instead of AMCL's (navigation alone);
+    `collision_monitor` puts nav2_bringup's collision monitor between the controller and the robot."""
     world = load_world(name)
     grid = slam_map(name, map_dir) if map_dir is not None else exact_map(world)
-    stack = Stack(world, grid, seed, truth_pose=truth_pose)
+    stack = Stack(world, grid, seed, truth_pose=truth_pose, collision_monitor=collision_monitor)
     sim, robot = stack.sim, stack.robot
     rng = np.random.default_rng(seed)
     candidates = goal_candidates(world, grid)
@@ -362,7 +414,8 @@ def run_goals(name: str, goals: int, seed: int, map_dir: Path | None, *, truth_p
                 ratios.append((sim.time - t0) / ideal)
     plan_ms = stack.plan_ms
     return {'world': name, 'goals': done, 'success': ok / done, 'collisions': robot.collisions,
-            'recoveries': recoveries,
+            'recoveries': recoveries, 'monitor_acted': stack.monitor_acted,
+            'loc_rms': math.sqrt(float(np.mean(np.square(stack.loc_errors)))), 'loc_max': max(stack.loc_errors),
             'ratio_median': statistics.median(ratios) if ratios else math.nan,
             'ratio_max': max(ratios) if ratios else math.nan,
             'plan_ms_median': statistics.median(plan_ms), 'plan_ms_max': max(plan_ms),
@@ -388,12 +441,17 @@ def print_per_goal(rows: list[dict]) -> None:
 
 def print_goals(rows: list[dict]) -> None:
     print('| world | goals | success (goal >= 95 %) | collisions (goal 0) | time / ideal, median / max (goal <= 1.5) '
-          '| planning ms, median / max (goal < 50) | recoveries | true error at goal, max [m] | sim time [s] |')
-    print('|---|---|---|---|---|---|---|---|---|')
+          '| planning ms, median / max (goal < 50) | recoveries | true error at goal, max [m] '
+          '| localisation error RMS / max [m] | sim time [s] |')
+    print('|---|---|---|---|---|---|---|---|---|---|')
     for r in rows:
         print(f"| {r['world']} | {r['goals']} | {100 * r['success']:.0f} % | {r['collisions']} | "
               f"{r['ratio_median']:.2f} / {r['ratio_max']:.2f} | {r['plan_ms_median']:.1f} / {r['plan_ms_max']:.1f} | "
-              f"{r['recoveries']} | {r['error_max']:.2f} | {r['sim_time']:.0f} |")
+              f"{r['recoveries']} | {r['error_max']:.2f} | {r['loc_rms']:.3f} / {r['loc_max']:.2f} | "
+              f"{r['sim_time']:.0f} |")
+    for r in rows:
+        if r['monitor_acted']:
+            print(f"{r['world']}: the collision monitor slowed or stopped {r['monitor_acted']} commands")
 
 
 # -- processes over Zenoh (parts explore and cpu) -----------------------------------------------
@@ -665,6 +723,8 @@ def main() -> int:
                         help="goals on the world's exact raster instead of the SLAM-made map (AMCL still localises)")
     parser.add_argument('--truth-pose', action='store_true',
                         help="the stack sees the simulator's true pose instead of AMCL's (navigation alone)")
+    parser.add_argument('--collision-monitor', action='store_true',
+                        help="nav2_bringup's collision_monitor between the controller and the robot")
     parser.add_argument('--per-goal', action='store_true', help='also list each goal not reached cleanly, and why')
     parser.add_argument('--rtf', type=float, default=2.0, help='real-time factor of the exploration run')
     parser.add_argument('--seconds', type=float, default=60.0, help='wall seconds of the real-time CPU run')
@@ -672,7 +732,8 @@ def main() -> int:
     args = parser.parse_args()
     if args.part in ('goals', 'all'):
         map_dir = None if args.exact_map else args.map_dir
-        rows = [run_goals(name, args.goals, args.seed, map_dir, truth_pose=args.truth_pose)
+        rows = [run_goals(name, args.goals, args.seed, map_dir, truth_pose=args.truth_pose,
+                          collision_monitor=args.collision_monitor)
                 for name in (args.world or WORLDS)]
         print_goals(rows)
         if args.per_goal:

@@ -167,6 +167,22 @@ def test_goal_is_reached_with_feedback(stack: Any) -> None:
     assert feedback[-1].navigation_time.sec > 0 and feedback[-1].current_pose.header.frame_id == 'map'
 
 
+def test_the_local_costmap_publishes_the_footprint_a_collision_monitor_takes(stack: Any) -> None:
+    """nav2_bringup's collision_monitor zone reads /local_costmap/published_footprint: the robot's
+    circle (burger.yaml's robot_radius, 0.1 m) at its pose, in the costmap's frame."""
+    from interfaces.geometry_msgs.msg import PolygonStamped
+    got: list = []
+    sub = stack.node.create_subscription(PolygonStamped, '/local_costmap/published_footprint', got.append, 1)
+    try:
+        wait_until(lambda: got, 20, message='no published_footprint within 20 s')
+    finally:
+        stack.node.destroy_subscription(sub)
+    msg = got[-1]
+    assert msg.header.frame_id == 'odom' and len(msg.polygon.points) == 16
+    xs = [p.x for p in msg.polygon.points]
+    assert max(xs) - min(xs) == pytest.approx(2 * 0.1, abs=0.01)
+
+
 def test_goal_in_a_wall_fails_with_goal_occupied(stack: Any) -> None:
     from interfaces.action_msgs.msg import GoalStatus
     from interfaces.nav2_msgs.action import ComputePathToPose, NavigateToPose

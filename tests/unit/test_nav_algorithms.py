@@ -11,7 +11,8 @@ from zros.navigation.controller import (FAILED_TO_MAKE_PROGRESS, NO_VALID_CONTRO
                                         GoalChecker, PathFollower, ProgressChecker, RegulatedPurePursuit, RPPParams,
                                         curvature_constraint, late_loop_scale)
 from zros.navigation.costmap import (FREE_SPACE, INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION,
-                                     CostmapParams, LayeredCostmap, inflate, static_costs, to_occupancy)
+                                     CostmapParams, LayeredCostmap, footprint_from_radius, inflate, static_costs,
+                                     to_occupancy)
 from zros.navigation.planner import (GOAL_OCCUPIED, GOAL_OUTSIDE_MAP, NO_VALID_PATH, START_OCCUPIED, GridPlanner,
                                      PlanningError)
 
@@ -327,3 +328,11 @@ def test_a_new_path_waits_for_the_running_step():
     assert v > 0.0 and abs(w) < 1e-6     # straight along the old path
     setter[0].join(5)
     assert not setter[0].is_alive() and follower.goal[:2] == (-2.0, 0.0)
+
+
+def test_the_published_footprint_is_a_16_corner_circle_at_the_robot():
+    corners = footprint_from_radius(0.105, (1.0, -2.0, 0.5))
+    assert corners.shape == (16, 2)
+    assert np.allclose(np.hypot(corners[:, 0] - 1.0, corners[:, 1] + 2.0), 0.105)
+    assert np.allclose(corners[0], (1.0 + 0.105 * math.cos(0.5), -2.0 + 0.105 * math.sin(0.5)))
+    assert np.allclose(footprint_from_radius(0.2).mean(axis=0), 0.0)

@@ -29,7 +29,7 @@ from zros.grid_geometry import GridGeometry, GridGeometryMixin
 __all__ = [
     'FREE_SPACE', 'MAX_NON_OBSTACLE', 'INSCRIBED_INFLATED_OBSTACLE', 'LETHAL_OBSTACLE',
     'NO_INFORMATION', 'CostmapParams', 'LayeredCostmap', 'static_costs', 'inflate',
-    'to_occupancy',
+    'to_occupancy', 'footprint_from_radius', 'FOOTPRINT_SIDES',
 ]
 
 FREE_SPACE = 0
@@ -110,6 +110,18 @@ def inflate(costs: np.ndarray, resolution: float, *, inscribed_radius: float, in
         take |= unknown & (inflated >= INSCRIBED_INFLATED_OBSTACLE)
     out[take] = inflated[take]
     return out
+
+
+#: Corners of a round robot's footprint polygon (Nav2's makeFootprintFromRadius).
+FOOTPRINT_SIDES = 16
+
+
+def footprint_from_radius(radius: float, pose: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> np.ndarray:
+    """A round robot's footprint as a polygon ((FOOTPRINT_SIDES, 2) corners [m] on the circle of
+    `radius`), placed at `pose` (x, y, yaw): what a costmap publishes as `published_footprint`,
+    so that a collision monitor's zone can take the robot's shape from it."""
+    angles = np.arange(FOOTPRINT_SIDES) * (2.0 * np.pi / FOOTPRINT_SIDES) + pose[2]
+    return np.column_stack([pose[0] + radius * np.cos(angles), pose[1] + radius * np.sin(angles)])
 
 
 def to_occupancy(costs: np.ndarray) -> np.ndarray:

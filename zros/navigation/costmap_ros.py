@@ -5,7 +5,10 @@ It is a node of its own (`global_costmap` in namespace `global_costmap`, `local_
 parameter files (`global_costmap: global_costmap: ros__parameters: ...`) apply unchanged. It
 publishes `<name>/costmap` (nav_msgs/OccupancyGrid, Nav2's cost-to-occupancy table),
 `<name>/costmap_updates` (map_msgs/OccupancyGridUpdate: the rectangle that changed, see
-`CostmapNode.publish`) and `<name>/costmap_raw` (nav2_msgs/Costmap), and serves `<name>/clear_entirely_<name>`,
+`CostmapNode.publish`), `<name>/costmap_raw` (nav2_msgs/Costmap) and `<name>/published_footprint`
+(the round footprint of `robot_radius` at the robot's pose, geometry_msgs/PolygonStamped in the
+costmap's frame: a collision monitor's `footprint_topic` takes the robot's shape from it), and
+serves `<name>/clear_entirely_<name>`,
 `clear_except_<name>`, `clear_around_<name>` and `clear_around_pose_<name>` (also under the
 `clear_costmap_*` names Jazzy's BasicNavigator calls).
 
@@ -20,7 +23,8 @@ from typing import Any, Callable
 import numpy as np
 
 from zros.grid_update import changed_bounds, patch
-from zros.navigation.costmap import NO_INFORMATION, CostmapParams, LayeredCostmap, to_occupancy
+from zros.navigation.costmap import (NO_INFORMATION, CostmapParams, LayeredCostmap, footprint_from_radius,
+                                     to_occupancy)
 from zros.navigation.node_support import Nav2Params, lookup_pose
 from zros.node import Node
 from zros.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
@@ -91,6 +95,8 @@ class CostmapNode(Node):
         self._sent_placement: tuple | None = None  # its resolution and origin
         self._grid_subscribers = 0
         self._raw_pub = self.create_publisher(Costmap, 'costmap_raw', latched)
+        from interfaces.geometry_msgs.msg import PolygonStamped
+        self._footprint_pub = self.create_publisher(PolygonStamped, 'published_footprint', 1)
         if static:
             topic = prm.get(f'{static}.map_topic', '/map')
             self.create_subscription(OccupancyGrid, topic, self._on_map, latched)
@@ -216,7 +222,9 @@ class CostmapNode(Node):
         bounds of change; here it is the smallest one holding every cell whose value differs
         from what the subscribers hold, so it is never larger. Unlike Humble's, the grid also
         goes whole when a subscriber joined since the last publish (the graph counts them): a
-        late subscriber's latched grid may be older than the updates sent since it."""
+        late subscriber's latched grid may be older than the updates sent since it. The footprint
+        goes out every time, map or not."""
+        self.publish_footprint()
         if not self._have_map:
             return
         grid, raw = self._messages()
@@ -231,13 +239,26 @@ class CostmapNode(Node):
             self._grid_pub.publish(grid)
         else:
             bounds = changed_bounds(self._sent, occupancy)
-            if bounds is None:
-                return
-            from interfaces.map_msgs.msg import OccupancyGridUpdate
-            update = OccupancyGridUpdate(header=grid.header, x=bounds.x0, y=bounds.y0, width=bounds.width,
-                                         height=bounds.height, data=patch(occupancy, bounds))
-            self._update_pub.publish(update)
+            if bounds is not None:
+                from interfaces.map_msgs.msg import OccupancyGridUpdate
+                update = OccupancyGridUpdate(header=grid.header, x=bounds.x0, y=bounds.y0, width=bounds.width,
+                                             height=bounds.height, data=patch(occupancy, bounds))
+                self._update_pub.publish(update)
         self._sent, self._sent_placement = occupancy, placement
+
+    def publish_footprint(self) -> None:
+        """The footprint at the robot's pose (nothing while TF has no pose for it)."""
+        from interfaces.geometry_msgs.msg import Point32, PolygonStamped
+        try:
+            pose = self.robot_pose()
+        except Exception:  # noqa: BLE001 - tf2's exceptions: no pose yet
+            return
+        msg = PolygonStamped()
+        msg.header.frame_id = self.global_frame
+        msg.header.stamp = self.get_clock().now().to_msg()
+        msg.polygon.points = [Point32(x=float(x), y=float(y), z=0.0)
+                              for x, y in footprint_from_radius(self.params.robot_radius, pose)]
+        self._footprint_pub.publish(msg)
 
     def _messages(self) -> tuple[Any, Any]:
         """The master grid as (nav_msgs/OccupancyGrid, nav2_msgs/Costmap)."""
