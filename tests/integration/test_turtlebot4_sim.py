@@ -61,7 +61,9 @@ def test_the_tb4_simulation_half_gives_the_robots_topics_and_it_drives(spawn: An
         got = listener.received
         for topic in ('/scan', '/odom', '/tf', '/tf_static'):
             wait_until(lambda: got[topic], 240, message=lambda: f'no {topic}\n{launch.output()}')
-        assert "Spawned turtlebot4 'nav2_turtlebot4' at x=-8 y=0 yaw=0" in launch.output()
+        # the simulator's log line may reach the launch's output after its first messages (a busy machine)
+        spawned = "Spawned turtlebot4 'nav2_turtlebot4' at x=-8 y=0 yaw=0"
+        wait_until(lambda: spawned in launch.output(), 30, message=lambda: f'no spawn line\n{launch.output()}')
         scan = got['/scan'][-1]
         # The RPLIDAR A1 of the description, in its own frame (turned a quarter turn left).
         assert (len(scan.ranges), scan.range_min, scan.range_max, scan.header.frame_id) == \
