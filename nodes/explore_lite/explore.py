@@ -71,6 +71,13 @@ class Explore(Node):
         self.prev_distance = float('inf')
         self.last_progress_ns = 0
         self.goal_handle: Any = None
+        # The plan runs from the timer, the map and the goals' callbacks, on two threads: one at a
+        # time, and a goal counts from when it is sent, so a second plan before the first goal's
+        # acceptance neither sends it again nor lets the older acceptance win (the newer goal
+        # preempts the older, whose abort would blacklist a frontier nobody tried).
+        self.plan_lock = threading.RLock()
+        self.sent = 0                         # goals sent; _on_accepted keeps only the last one's
+        self.pending = False                  # a goal is sent and not yet accepted or rejected
         self.active = True
         self.done = False
         self.initial_pose: tuple[float, float, float] | None = None
@@ -122,6 +129,10 @@ class Explore(Node):
 
     # -- planning ------------------------------------------------------------------------------
     def make_plan(self) -> None:
+        with self.plan_lock:
+            self._make_plan()
+
+    def _make_plan(self) -> None:
         if not self.active or self.done or (self.look_around is not None and not self.look_around.done()):
             return
         with self.lock:
@@ -160,7 +171,7 @@ class Explore(Node):
             self.get_logger().info('Adding current goal to black list')
             self.make_plan()
             return
-        if same and self.goal_handle is not None:
+        if same and (self.goal_handle is not None or self.pending):
             return
         self.prev_goal = target.goal
         self._send(target.goal, frame)
@@ -192,15 +203,25 @@ class Explore(Node):
         if not self.nav_client.server_is_ready():
             self.get_logger().warn('navigate_to_pose is not available yet', throttle_duration_sec=5.0)
             return
-        future = self.nav_client.send_goal_async(goal)
-        future.add_done_callback(lambda f: self._on_accepted(f, xy, on_done))
+        with self.plan_lock:
+            self.sent += 1
+            self.pending = True
+            number = self.sent
+            future = self.nav_client.send_goal_async(goal)
+        future.add_done_callback(lambda f: self._on_accepted(f, xy, on_done, number))
 
-    def _on_accepted(self, future: Any, xy: tuple[float, float], on_done: Any) -> None:
+    def _on_accepted(self, future: Any, xy: tuple[float, float], on_done: Any, number: int) -> None:
         handle = future.result()
-        if handle is None or not handle.accepted:
-            self.get_logger().warn('navigate_to_pose rejected the goal')
-            return
-        self.goal_handle = handle
+        with self.plan_lock:
+            latest = number == self.sent
+            if latest:
+                self.pending = False
+            if handle is None or not handle.accepted:
+                self.get_logger().warn('navigate_to_pose rejected the goal')
+                return
+            if not latest:
+                return                      # a newer goal was sent since: this one's end says nothing
+            self.goal_handle = handle
         handle.get_result_async().add_done_callback(lambda f: self._on_result(f, xy, handle, on_done))
 
     def _on_result(self, future: Any, xy: tuple[float, float], handle: Any, on_done: Any) -> None:
