@@ -213,6 +213,11 @@ def test_custom_action_from_interface_path(tmp_path, monkeypatch, make_context, 
     try:
         client = ActionClient(client_node, Countdown, 'countdown')
         assert client.wait_for_server(10)
+        # the server's session is new: its feedback reaches the client once it knows the client's
+        # feedback subscription (a loaded machine's new session may not yet when the goal comes)
+        deadline = time.monotonic() + 10
+        while node.count_subscribers('/countdown/_action/feedback') < 1 and time.monotonic() < deadline:
+            time.sleep(0.05)
         feedback = []
         handle = _send(client, Countdown.Goal(start=3), feedback.append)
         result = handle.get_result_async()
