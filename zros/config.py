@@ -263,7 +263,7 @@ def settings_from_env(env: os._Environ | dict | None = None, *, domain_id: int |
     parse_topic_priorities(env.get(PRIORITY_ENV, ''))
     thread = (env.get('ZROS_CALLBACK_THREAD') or '').strip()
     if thread and thread not in ('spin', 'zenoh'):
-        raise ZrosError(f"ZROS_CALLBACK_THREAD must be 'zenoh' (the default) or 'spin', got '{thread}'")
+        raise ZrosError(f"ZROS_CALLBACK_THREAD must be 'spin' (the default) or 'zenoh', got '{thread}'")
 
     config_file = (env.get('ZROS_CONFIG') or '').strip() or None
     secure = False

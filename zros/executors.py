@@ -15,7 +15,7 @@ Where work comes from, in the order it is taken: tasks made by `create_task` tha
 yet (newest first, as rclpy yields its tasks), due timers, the user waitables of the nodes
 (zros.waitable, asked in turn whenever the executor looks for work), then the queue.
 
-Leader/follower (docs/architecture.md §3; ZROS_CALLBACK_THREAD=spin turns it off): a thread hop
+Leader/follower (docs/architecture.md §3; opt-in, ZROS_CALLBACK_THREAD=zenoh): a thread hop
 costs more than the rest of zros's work per message, so while a SingleThreadedExecutor's
 `spin()` or `spin_until_future_complete()` is parked on its queue, a subscription's sample that
 comes after a quiet spell is run at once by the thread it arrived on (zenoh-python's callback
@@ -75,10 +75,11 @@ _MAX_WAIT = 0.5
 # How many waiting samples spin() lets one subscription deliver per turn: a burst then costs
 # one trip through the executor's queue per batch, not per message.
 _SPIN_BATCH = 64
-# ZROS_CALLBACK_THREAD: 'zenoh' (the default), leader/follower; 'spin', every callback on the
-# spinning thread (checked with the other settings at init: zros.config)
+# ZROS_CALLBACK_THREAD: 'spin' (the default), every callback on the spinning thread, as rclpy
+# runs them (a GUI toolkit or thread-local state in a callback relies on it); 'zenoh',
+# leader/follower (checked with the other settings at init: zros.config)
 def _leading_allowed(setting: str | None) -> bool:
-    return (setting or '').strip() != 'spin'
+    return (setting or '').strip() == 'zenoh'
 
 
 _LEADING_ALLOWED = _leading_allowed(os.environ.get('ZROS_CALLBACK_THREAD'))

@@ -23,7 +23,7 @@ KEEP_ALL = QoSProfile(history=HistoryPolicy.KEEP_ALL)
 
 @pytest.fixture(autouse=True)
 def _leading(monkeypatch):
-    """Leader/follower is the default; these tests hold it on whatever the environment says."""
+    """Leader/follower is opt-in (ZROS_CALLBACK_THREAD=zenoh); these tests hold it on whatever the environment says."""
     monkeypatch.setattr(executors, '_LEADING_ALLOWED', True)
 
 

@@ -17,7 +17,8 @@ from zros.subscription import _BURST_GAP_S, _LEAD_PAUSE, _LEAD_QUICK_S, Subscrip
 
 @pytest.fixture(autouse=True)
 def _leading(monkeypatch):
-    """Leader/follower is the default; these tests hold it on whatever the environment says."""
+    """Leader/follower is opt-in (ZROS_CALLBACK_THREAD=zenoh); these tests hold it on whatever the
+    environment says."""
     monkeypatch.setattr(executors, '_LEADING_ALLOWED', True)
 
 
@@ -264,10 +265,10 @@ def test_a_burst_takes_the_hand_off_and_a_quiet_arrival_leads_again(monkeypatch)
     assert sub.ways[-1] == 'led'
 
 
-def test_leading_is_on_unless_turned_off_and_a_bad_setting_is_one_line():
+def test_leading_is_off_unless_asked_for_and_a_bad_setting_is_one_line():
     from zros.config import settings_from_env
     from zros.errors import ZrosError
     assert [executors._leading_allowed(v) for v in (None, '', 'spin', ' spin ', 'zenoh', ' zenoh ')] == [
-        True, True, False, False, True, True]
-    with pytest.raises(ZrosError, match="ZROS_CALLBACK_THREAD must be 'zenoh'"):
+        False, False, False, False, True, True]
+    with pytest.raises(ZrosError, match="ZROS_CALLBACK_THREAD must be 'spin'"):
         settings_from_env({'ZROS_CALLBACK_THREAD': 'main'})
