@@ -117,16 +117,23 @@ def _node_list(link) -> tuple[list[str], float]:
 
 
 def test_the_laptop_lists_the_robots_node_right_after_a_drop_out(link):
-    """Through a held drop-out shorter than Zenoh's lease the robot never leaves the graph; after
-    a reset one it is back by the time the link is: the first `zros node list` after the
-    return lists it."""
+    """Through a held drop-out shorter than Zenoh's lease the robot never leaves the graph: the
+    first `zros node list` after the return lists it. After a reset one the robot re-dials its
+    router (every 0.5 s at most), so a listing started at the return may come before that: the
+    listings from the return on show it within 2 s (issue 36)."""
     for mode in ('hold', 'reset'):
         control(link['sock'], cmd='set', dropout_mode=mode)
         control(link['sock'], cmd='drop', seconds=3.0)
         time.sleep(3.0)
-        names, took = _node_list(link)
-        control(link['sock'], cmd='set', dropout_mode='hold')
-        assert '/robot_pub' in names, f'after a {mode} drop-out: {names} (the command took {took:.1f} s)'
+        back = time.monotonic()
+        try:
+            names, took = _node_list(link)
+            while mode == 'reset' and '/robot_pub' not in names and time.monotonic() - back < 2.0:
+                names, took = _node_list(link)
+        finally:
+            control(link['sock'], cmd='set', dropout_mode='hold')
+        assert '/robot_pub' in names, \
+            f'after a {mode} drop-out: {names} ({time.monotonic() - back:.1f} s after the return; the last command took {took:.1f} s)'
 
 
 def test_the_laptop_drives_the_robot_right_after_a_drop_out(link):
