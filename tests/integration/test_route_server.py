@@ -153,6 +153,10 @@ def test_route_server_plans_and_tracks(spawn, probe, tmp_path):
         time.sleep(0.03)
     wait_until(got.done, 15, message=lambda: f'tracking result\n{server.output()[-2000:]}')
     assert got.result().status == GoalStatus.STATUS_SUCCEEDED, server.output()
+    # the result completes on Zenoh's thread; the last feedback, sent before it, may still wait
+    # for the client's executor
+    wait_until(lambda: feedback and feedback[-1].last_node_id == 16, 5,
+               message=lambda: f'feedback passing node 16: {[f.last_node_id for f in feedback]}')
     assert feedback[0].rerouted and feedback[0].next_node_id == 11
     passed = [f.last_node_id for f in feedback[1:]]
     assert passed == [11, 12, 13, 16], passed
