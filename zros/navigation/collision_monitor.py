@@ -97,15 +97,20 @@ class Zone:
 
     def collision_time(self, points: np.ndarray, velocity: np.ndarray) -> float | None:
         """Seconds [s] until the zone, carried along by `velocity`, holds `min_points` points;
-        None if not within `time_before_collision`."""
+        None if not within `time_before_collision`.
+
+        Counted as Nav2's Polygon::getCollisionTime counts it: the clock reads 0 after the first
+        simulated step and the simulation runs to `time_before_collision` inclusive, so a contact
+        one step ahead stops the robot (ratio 0) rather than letting it creep on at one step's
+        share of the command."""
         if self.triggered(points):
             return 0.0
         points = np.asarray(points, np.float64).reshape(-1, 2)
         vx, vy, wz = velocity
         x = y = theta = 0.0
-        steps = int(np.floor(self.time_before_collision / self.simulation_time_step + 1e-9))
-        for step in range(1, steps + 1):
-            dt = self.simulation_time_step
+        dt = self.simulation_time_step
+        steps = int(np.floor(self.time_before_collision / dt + 1e-9)) + 1
+        for step in range(steps):
             x += (vx * np.cos(theta) - vy * np.sin(theta)) * dt
             y += (vx * np.sin(theta) + vy * np.cos(theta)) * dt
             theta += wz * dt
