@@ -1,7 +1,8 @@
-"""The approach zone's clock, as Nav2's collision monitor keeps it: time reads 0 after the first
-simulated step and the simulation runs to `time_before_collision` inclusive. So an obstacle the
-footprint would reach on the next step stops the robot, and one reached on the last step of
-`time_before_collision` still slows it by one step's share."""
+"""Nav2 Jazzy's collision monitor rules where they are easy to get subtly wrong.
+
+The approach zone's clock: time reads 0 after the first simulated step and the simulation runs to
+`time_before_collision` inclusive, so an obstacle the footprint would reach on the next step stops
+the robot. A limit zone scales the whole command by one ratio (the curvature stays)."""
 from __future__ import annotations
 
 import numpy as np
@@ -42,3 +43,15 @@ def test_touching_on_the_horizon_itself_leaves_the_command_as_it_is():
     # reached after 13 steps: Nav2's clock reads 1.2 s = time_before_collision, a ratio of 1
     assert _zone().collision_time(_cluster_entered_on_step(13), np.array([SPEED, 0.0, 0.0])) == pytest.approx(1.2)
     assert decide([_zone()], _cluster_entered_on_step(13), np.array([SPEED, 0.0, 0.0])).action == 'do_nothing'
+
+
+def test_a_limit_keeps_the_curvature_of_the_command():
+    limit = Zone('Limit', 'limit', radius=1.0, min_points=1, linear_limit=0.1, angular_limit=0.2)
+    near = np.array([[0.5, 0.0]])
+    arc = np.array([0.4, 0.0, 0.5])
+    limited = decide([limit], near, arc).velocity
+    assert limited == pytest.approx([0.1, 0.0, 0.125])           # the linear limit binds: ratio 0.25
+    assert limited[2] / limited[0] == pytest.approx(arc[2] / arc[0])
+    spin = decide([limit], near, np.array([0.05, 0.0, 1.0])).velocity
+    assert spin == pytest.approx([0.01, 0.0, 0.2])               # the angular limit binds: ratio 0.2
+
