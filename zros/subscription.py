@@ -175,7 +175,8 @@ class Subscription(QueuedEntity, Generic[MsgT]):
 
     # Zenoh thread: queue the sample untouched (no copy, no parsing), then either run it here at
     # once, if it came after a quiet spell and the executor is parked and lets this thread lead
-    # (zros.executors), or make sure the executor will run us.
+    # (zros.executors), or make sure the executor will run us. Without leading (the default) no
+    # clock is read: a sample costs this thread a length check, an append and a flag test.
     def _on_sample(self, sample: Any) -> None:
         queue = self._queue
         if len(queue) == queue.maxlen:
@@ -186,18 +187,27 @@ class Subscription(QueuedEntity, Generic[MsgT]):
         queue.append(sample)
         if self._events is not None:
             self._events.on_sample()
+        executor = self._node._executor
+        if executor is not None and executor._leading:
+            self._lead_or_schedule(executor)
+        elif not self._scheduled:
+            self._schedule()
+
+    def _lead_or_schedule(self, executor: Any) -> None:
+        """`_on_sample` while the executor may be led: a sample after a quiet spell runs here,
+        one close behind the previous (a burst) takes the hand-off."""
         now = _clock()
         burst = now - self._last_seen < _BURST_GAP_S
         self._last_seen = now
-        if not self._scheduled:
-            executor = self._node._executor
-            if burst or executor is None or not executor._leading:
-                self._schedule()
-            elif self._lead_skip:
-                self._lead_skip -= 1
-                self._schedule()
-            elif not executor._lead(self):
-                self._schedule()
+        if self._scheduled:
+            return
+        if burst:
+            self._schedule()
+        elif self._lead_skip:
+            self._lead_skip -= 1
+            self._schedule()
+        elif not executor._lead(self):
+            self._schedule()
 
     def _note_led(self, seconds: float) -> None:
         """After a callback this thread led: slow ones hold Zenoh's thread (its channel fills,
@@ -246,29 +256,71 @@ class Subscription(QueuedEntity, Generic[MsgT]):
                 self.dropped += 1
 
     # Executor thread. spin_once takes one sample per call, as rclpy takes one message per
-    # callback; spin() lets a subscription run up to `budget` waiting samples in one go, taking
-    # each as its turn comes (a sample still waiting can be pushed out by a newer one).
+    # callback; spin() lets a subscription run up to `budget` waiting samples in one go.
     def _execute(self, budget: int = 1) -> Any:
-        queue, take_lock = self._queue, self._take_lock
+        """Take up to `budget` waiting samples under one turn of the take lock and deliver them
+        in order. KEEP_LAST still holds for the samples taken: before each delivery, those of
+        them that `depth` newer samples have overtaken meanwhile (Zenoh's thread kept appending
+        while a callback ran) are dropped, counted in `dropped` as a push-out would count them,
+        so a batch never delivers a sample that one-at-a-time taking would have pushed out.
+        What a raising callback or an `async def` one leaves untaken goes back to the front of
+        the queue, by the same rule."""
+        queue = self._queue
+        with self._take_lock:   # pushed-out samples are older than the ones taken here
+            notes = self._take_notes() if self._evicted else None
+            taken = [queue.popleft() for _ in range(min(budget, len(queue)))]
+        if self._handing_off:
+            self._handing_off = False
+            self._taken.set()
+        if notes:
+            self._count_notes(notes)
         deliver = self._deliver_plain if self._plain else self._deliver
+        depth = queue.maxlen
+        count = len(taken)
+        index = 0
         try:
-            for _ in range(budget):
-                with take_lock:   # pushed-out samples are older than the one taken here
-                    if not queue:
-                        return None
-                    item = queue.popleft()
-                    notes = self._take_notes() if self._evicted else None
-                if self._handing_off:
-                    self._handing_off = False
-                    self._taken.set()
-                if notes:
-                    self._count_notes(notes)
+            while index < count:
+                overtaken = count - index + len(queue) - depth
+                if overtaken > 0:
+                    self._drop_taken(taken[index:index + overtaken])
+                    index += overtaken
+                    continue
+                item = taken[index]
+                index += 1
                 pending = deliver(item)
                 if pending is not None:
                     return pending   # an async callback's coroutine: it runs as a task first
             return None
         finally:
+            if index < count:
+                self._put_back(taken[index:])
             self._rearm()   # also after a callback raised: what is waiting (and what comes) still runs
+
+    def _drop_taken(self, samples: list) -> None:
+        """Executor thread: KEEP_LAST for samples it took and newer ones overtook. Counted as
+        Zenoh's thread counts a push-out (under the take lock, since both threads add to
+        `dropped`), and their gaps counted in `lost` at once: they are older than anything
+        still waiting or noted."""
+        with self._take_lock:
+            self.dropped += len(samples)
+            self._drops_noted += len(samples)
+        self._count_notes([getattr(sample, 'attachment', None) for sample in samples])
+
+    def _put_back(self, samples: list) -> None:
+        """Samples taken but not delivered (a callback raised, or returned a coroutine) go back
+        to the front of the queue, oldest first in line; those that no longer fit are older
+        than all that waits there, so KEEP_LAST drops them."""
+        with self._take_lock:
+            queue = self._queue
+            late = []
+            for sample in reversed(samples):
+                if len(queue) < queue.maxlen:
+                    queue.appendleft(sample)
+                else:
+                    late.append(sample)
+        if late:
+            late.reverse()
+            self._drop_taken(late)
 
     def _take_notes(self) -> deque:
         """Under `_take_lock`: the attachments of the samples pushed out so far."""
