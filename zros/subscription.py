@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import enum
 import inspect
+import queue as queues
 import threading
 import time
 from collections import deque
@@ -66,6 +67,34 @@ class _Timed:
         return self.sample.attachment
 
 
+class _Signal:
+    """A wake-up from one thread to the one waiting for it (Zenoh's thread and the executor
+    hand a full queue back and forth under a flood, once per queueful): a C-level queue, since
+    a wait and a signal cost 0.6 µs that way against 4 µs through threading.Event's Python.
+    One thread waits (and clears); any thread signals."""
+
+    __slots__ = ('_queue',)
+
+    def __init__(self) -> None:
+        self._queue: queues.SimpleQueue = queues.SimpleQueue()
+
+    def set(self) -> None:
+        self._queue.put(None)
+
+    def clear(self) -> None:
+        """Forget a signal given after the last wait had timed out."""
+        waiting = self._queue
+        while not waiting.empty():
+            waiting.get_nowait()
+
+    def wait(self, timeout: float) -> bool:
+        try:
+            self._queue.get(timeout=timeout)
+        except queues.Empty:
+            return False
+        return True
+
+
 class CallbackType(enum.Enum):
     """How a subscription calls its callback (rclpy's Subscription.CallbackType)."""
 
@@ -96,6 +125,9 @@ def _callback_type(callback: Callable) -> CallbackType:
 
 # How long Zenoh's thread waits for an idle executor to take a full KEEP_LAST queue.
 _HAND_OFF_S = 0.002
+# How long, at most per turn, spin() waits for a KEEP_LAST queue it emptied under a flood (Zenoh's
+# thread had filled it and waited) to fill again, instead of parking on its own queue.
+_REFILL_S = 0.0005
 # Two callbacks in a row led on Zenoh's thread (zros.executors) that take longer than this make
 # the next _LEAD_PAUSE samples (doubling up to _LEAD_PAUSE_MAX) take the hand-off instead.
 _LEAD_QUICK_S = 0.001
@@ -138,8 +170,10 @@ class Subscription(QueuedEntity, Generic[MsgT]):
         self._queue: deque = deque(maxlen=qos.queue_depth)  # Zenoh samples, undecoded
         self._evicted: deque = deque(maxlen=_EVICTED_NOTES)  # attachments of pushed-out samples
         self._take_lock = threading.Lock()   # the executor's take vs. a push-out
-        self._taken = threading.Event()       # _hand_off: the executor took from the queue
+        self._taken = _Signal()       # _hand_off: the executor took from the queue
         self._handing_off = False
+        self._refilled = _Signal()    # _await_refill: the queue is full again
+        self._refilling = False
         self._lead_skip = self._lead_pause = 0   # _note_led
         self._lead_slow = False
         self._last_seen = 0.0   # _on_sample: when the last sample came, or a led callback ended
@@ -229,11 +263,19 @@ class Subscription(QueuedEntity, Generic[MsgT]):
         self._on_sample(_Timed(sample, time.time_ns()))
 
     def _hand_off(self) -> None:
-        """A full queue whose executor is idle, woken for this queue: let it take the queue
-        before pushing anything out. Under a flood this thread would otherwise keep the
-        interpreter lock, and the executor would get it back only after the switch interval
-        (5 ms): a depth-10 queue delivered 10 messages per 5 ms and dropped the rest. Waiting
-        here (at most _HAND_OFF_S) gives it the lock at once; a busy executor is not waited for."""
+        """A full queue whose executor is idle, woken for this queue, or waiting for it to fill
+        (`_await_refill`): let it take the queue before pushing anything out. Under a flood this
+        thread would otherwise keep the interpreter lock, and the executor would get it back
+        only after the switch interval (5 ms): a depth-10 queue delivered 10 messages per 5 ms
+        and dropped the rest. Waiting here (at most _HAND_OFF_S) gives it the lock at once; a
+        busy executor is not waited for."""
+        if self._refilling:
+            self._taken.clear()
+            self._handing_off = True
+            self._refilled.set()
+            self._taken.wait(_HAND_OFF_S)
+            self._handing_off = False
+            return
         executor = self._node._executor
         if executor is None or not executor._idle or not executor._runs_on_waiting_thread:
             return
@@ -259,42 +301,77 @@ class Subscription(QueuedEntity, Generic[MsgT]):
     # callback; spin() lets a subscription run up to `budget` waiting samples in one go.
     def _execute(self, budget: int = 1) -> Any:
         """Take up to `budget` waiting samples under one turn of the take lock and deliver them
-        in order. KEEP_LAST still holds for the samples taken: before each delivery, those of
-        them that `depth` newer samples have overtaken meanwhile (Zenoh's thread kept appending
+        in order. KEEP_LAST still holds for the samples taken: before each delivery after the
+        first, those of them that `depth` newer samples have overtaken meanwhile (Zenoh's thread kept appending
         while a callback ran) are dropped, counted in `dropped` as a push-out would count them,
         so a batch never delivers a sample that one-at-a-time taking would have pushed out.
         What a raising callback or an `async def` one leaves untaken goes back to the front of
-        the queue, by the same rule."""
+        the queue, by the same rule. A batch Zenoh's thread was waiting on (a flood into a full
+        KEEP_LAST queue) is followed, while the budget lasts, by the next one (`_await_refill`)."""
         queue = self._queue
-        with self._take_lock:   # pushed-out samples are older than the ones taken here
-            notes = self._take_notes() if self._evicted else None
-            taken = [queue.popleft() for _ in range(min(budget, len(queue)))]
-        if self._handing_off:
-            self._handing_off = False
-            self._taken.set()
-        if notes:
-            self._count_notes(notes)
         deliver = self._deliver_plain if self._plain else self._deliver
         depth = queue.maxlen
-        count = len(taken)
-        index = 0
+        taken: list = []
+        index = count = 0
+        deadline = None
         try:
-            while index < count:
-                overtaken = count - index + len(queue) - depth
-                if overtaken > 0:
-                    self._drop_taken(taken[index:index + overtaken])
-                    index += overtaken
-                    continue
-                item = taken[index]
-                index += 1
-                pending = deliver(item)
-                if pending is not None:
-                    return pending   # an async callback's coroutine: it runs as a task first
+            while budget > 0:
+                with self._take_lock:   # pushed-out samples are older than the ones taken here
+                    notes = self._take_notes() if self._evicted else None
+                    taken = [queue.popleft() for _ in range(min(budget, len(queue)))]
+                flood = self._handing_off
+                if flood:
+                    self._handing_off = False
+                    self._taken.set()
+                if notes:
+                    self._count_notes(notes)
+                count, index = len(taken), 0
+                budget -= count
+                while index < count:
+                    # (the first was taken at the lock turn, as one-at-a-time would take it; each
+                    # later one is taken now, after what arrived during the callbacks before it)
+                    overtaken = count - index + len(queue) - depth if index else 0
+                    if overtaken > 0:
+                        self._drop_taken(taken[index:index + overtaken])
+                        index += overtaken
+                        continue
+                    item = taken[index]
+                    index += 1
+                    pending = deliver(item)
+                    if pending is not None:
+                        return pending   # an async callback's coroutine: it runs as a task first
+                if not flood or budget <= 0:
+                    return None
+                if deadline is None:
+                    deadline = _clock() + _REFILL_S
+                if not self._await_refill(deadline):
+                    return None
             return None
         finally:
             if index < count:
                 self._put_back(taken[index:])
             self._rearm()   # also after a callback raised: what is waiting (and what comes) still runs
+
+    def _await_refill(self, deadline: float) -> bool:
+        """Executor thread, having emptied a queue Zenoh's thread had filled and waited on: wait
+        (until `deadline`) for it to fill again, and say whether to take more. Parking on the
+        executor's queue instead costs two wake-ups per queueful (the executor's, then, once the
+        queue is full, Zenoh's hand-off), the floor of a depth-10 flood; waiting here costs one,
+        and Zenoh's thread never wakes a parked executor meanwhile. Only on the thread that
+        spins, and only while no other work is queued for it: timers and other entities wait
+        at most _REFILL_S per turn."""
+        executor = self._node._executor
+        if executor is None or not executor._runs_on_waiting_thread or not executor._queue.empty():
+            return False
+        remaining = deadline - _clock()
+        if remaining <= 0:
+            return False
+        self._refilled.clear()
+        self._refilling = True
+        if len(self._queue) < self._queue.maxlen:
+            self._refilled.wait(remaining)
+        self._refilling = False
+        return True
 
     def _drop_taken(self, samples: list) -> None:
         """Executor thread: KEEP_LAST for samples it took and newer ones overtook. Counted as

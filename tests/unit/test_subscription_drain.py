@@ -11,7 +11,7 @@ from collections import deque
 
 import pytest
 
-from zros.subscription import _EVICTED_NOTES, Subscription
+from zros.subscription import _EVICTED_NOTES, Subscription, _Signal
 from zros.wire import AttachmentWriter
 
 
@@ -48,8 +48,8 @@ def _subscription(depth: int, on_message=None) -> Subscription:
     sub._queue = deque(maxlen=depth)
     sub._evicted = deque(maxlen=_EVICTED_NOTES)
     sub._take_lock = threading.Lock()
-    sub._taken = threading.Event()
-    sub._handing_off = False
+    sub._handing_off = sub._refilling = False
+    sub._taken, sub._refilled = _Signal(), _Signal()
     sub._drops_noted = 0
     sub._last_seq = {}
     sub.dropped = sub.lost = sub.received = 0
@@ -177,3 +177,51 @@ def test_samples_put_back_behind_a_queue_that_filled_meanwhile_are_dropped_as_ov
     assert [s.number for s in sub._queue] == [4, 5, 6] and sub.dropped == 2
     sub._execute(64)
     assert sub.delivered == [1, 4, 5, 6] and sub.lost == 0
+
+
+def _flooded(depth: int) -> tuple[Subscription, types.SimpleNamespace]:
+    """A subscription of a spinning SingleThreadedExecutor (a stand-in: its queue of other work,
+    where callbacks run) whose last batch Zenoh's thread had filled and waited on."""
+    import queue
+    sub = _subscription(depth)
+    executor = types.SimpleNamespace(_queue=queue.SimpleQueue(), _runs_on_waiting_thread=True, _idle=False,
+                                     _leading=False)
+    sub._node = types.SimpleNamespace(_executor=executor)
+    sub._scheduled = True
+    return sub, executor
+
+
+def test_under_a_flood_the_executor_waits_for_the_next_queueful_and_zenohs_thread_hands_it_over(monkeypatch):
+    import time
+    from zros import subscription
+    monkeypatch.setattr(subscription, '_HAND_OFF_S', 10.0)   # (however loaded the machine)
+    sub, _ = _flooded(3)
+    writer = _Writer()
+    refilled: list[bool] = []
+
+    def spinning_thread():
+        refilled.append(sub._await_refill(time.perf_counter() + 10.0))
+        sub._execute(64)
+    spinner = threading.Thread(target=spinning_thread)
+    start = time.monotonic()
+    spinner.start()
+    while not sub._refilling and time.monotonic() - start < 5:
+        time.sleep(0.001)
+    for _ in range(4):   # the fourth finds the queue full: it waits until the executor took it
+        sub._on_sample(writer.sample())
+    spinner.join(10)
+    assert refilled == [True] and time.monotonic() - start < 8   # woken by the full queue
+    sub._execute(64)   # (the fourth, if it came after the executor's batch)
+    assert sub.delivered == [1, 2, 3, 4] and (sub.dropped, sub.lost) == (0, 0)
+
+
+def test_the_wait_for_a_refill_gives_way_to_other_work_and_to_its_deadline():
+    import time
+    sub, executor = _flooded(3)
+    executor._queue.put('a timer, a service, another subscription')
+    assert not sub._await_refill(time.perf_counter() + 5.0)   # at once: the other work goes first
+    executor._queue.get()
+    start = time.perf_counter()
+    assert sub._await_refill(start + 0.05)   # nothing came: back after the deadline
+    assert 0.04 < time.perf_counter() - start < 2.0
+    assert not sub._await_refill(time.perf_counter() - 1)   # the turn's waiting time is spent
