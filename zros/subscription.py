@@ -9,7 +9,8 @@ executor parked in `spin()` with nothing to do and a sample that comes after a q
 (zros.executors, leader/follower), which saves the thread hop; a burst keeps the hand-off, so
 that receiving the next sample overlaps running this one. The
 queue is the QoS depth (KEEP_LAST): when full, the oldest sample is pushed out and counted in
-`dropped`, so a sample the depth rule drops is never copied or decoded. The executor reads each
+`dropped`, so a sample the depth rule drops is never copied or decoded. spin() takes a batch of
+waiting samples per turn (`_execute`) and applies the same rule to it before each delivery. The executor reads each
 sample's attachment once. Gaps in a publisher's sequence numbers over every sample that reached
 the subscription (pushed-out ones included: their attachments are kept for this, up to
 _EVICTED_NOTES) are counted in `lost`; samples of the wrong type, larger than the size limit
