@@ -101,11 +101,30 @@ class LikelihoodFieldModel:
         self.grid = grid
         self.z_hit, self.z_rand, self.sigma_hit = z_hit, z_rand, sigma_hit
         self.max_dist, self.max_beams = float(max_dist), int(max_beams)
-        self.distance = distance_field(grid, self.max_dist).ravel()
-        self.emerges = emerging_cells(grid).ravel()
+        # Flat per-cell tables with a border of one "off the map" cell on every side: an end point
+        # clipped into the padded grid lands on the border when it is off the map, so no separate
+        # inside test is needed per beam.
+        self._stride = grid.width + 2
+        self._distance = np.pad(distance_field(grid, self.max_dist), 1, constant_values=self.max_dist).ravel()
+        self._emerges = np.pad(emerging_cells(grid), 1, constant_values=0).ravel()
+        self._scores: dict[float, tuple[np.ndarray, float]] = {}
 
     def _pz(self, distance: np.ndarray | float, range_max: float) -> np.ndarray | float:
         return self.z_hit * np.exp(-(np.square(distance)) / (2.0 * self.sigma_hit ** 2)) + self.z_rand / range_max
+
+    def _beam_score(self, pz: np.ndarray | float) -> np.ndarray | float:
+        """What one beam adds to a particle's score: pz^3 here, summed (see `_score`)."""
+        return pz ** 3
+
+    def _score_table(self, range_max: float) -> tuple[np.ndarray, float]:
+        """Per padded cell, a beam's score when it ends there, and the score of a beam that ended
+        off the map or came out through an obstacle. An end point's score depends only on its
+        cell, so it is computed once per cell (and scan range) rather than per particle and beam."""
+        table = self._scores.get(range_max)
+        if table is None:
+            table = self._scores[range_max] = (self._beam_score(self._pz(self._distance, range_max)),
+                                               float(self._beam_score(self._pz(self.max_dist, range_max))))
+        return table
 
     def beams(self, scan: LaserScanData) -> tuple[np.ndarray, np.ndarray]:
         """The ranges and bearings of the beams used: sub-sampled, valid ones only."""
@@ -114,26 +133,44 @@ class LikelihoodFieldModel:
         valid = np.isfinite(ranges) & (ranges < scan.range_max)
         return ranges[valid], bearings[valid]
 
+    def _end_cells(self, particles: np.ndarray, ranges: np.ndarray, bearings: np.ndarray,
+                   laser_pose: tuple[float, float, float]) -> tuple[np.ndarray, np.ndarray]:
+        """Where each beam ends, cast from each particle: (cells, emerged), both (N, B): the flat
+        index into the padded tables, and whether the beam came out through an obstacle (the
+        module docstring). Computed in cell units, so the map's offset and scale are applied
+        once per particle and beam rather than per end point."""
+        lx, ly, lyaw = laser_pose
+        resolution, (ox, oy) = self.grid.resolution, self.grid.origin
+        cos_p, sin_p = np.cos(particles[:, 2]), np.sin(particles[:, 2])
+        sx = (particles[:, 0] + lx * cos_p - ly * sin_p - ox) / resolution + 1.0     # + 1: the border
+        sy = (particles[:, 1] + lx * sin_p + ly * cos_p - oy) / resolution + 1.0
+        cos_s, sin_s = np.cos(particles[:, 2] + lyaw)[:, None], np.sin(particles[:, 2] + lyaw)[:, None]
+        rc, rs = ranges * np.cos(bearings) / resolution, ranges * np.sin(bearings) / resolution
+        cols = cos_s * rc
+        cols -= sin_s * rs
+        cols += sx[:, None]
+        rows = sin_s * rc
+        rows += cos_s * rs
+        rows += sy[:, None]
+        np.clip(cols, 0.0, self._stride - 1, out=cols)          # off the map: onto the border
+        np.clip(rows, 0.0, self.grid.height + 1, out=rows)
+        cells = rows.astype(np.intp)                              # non-negative: truncation is floor
+        cells *= self._stride
+        cells += cols.astype(np.intp)
+        # The beam's direction, rounded to one of DIRECTIONS (a power of two, so & wraps it); the
+        # whole turns added keep the sum positive, so truncation rounds as floor would.
+        turns = DIRECTIONS / (2.0 * np.pi)
+        direction = ((particles[:, 2] + lyaw) * turns + (0.5 + 8 * DIRECTIONS))[:, None] + bearings * turns
+        emerged = (self._emerges[cells] >> (direction.astype(np.intp) & (DIRECTIONS - 1))) & 1
+        return cells, emerged.astype(bool)
+
     def end_distances(self, particles: np.ndarray, ranges: np.ndarray, bearings: np.ndarray,
                       laser_pose: tuple[float, float, float]) -> np.ndarray:
         """The distance [m] (N, B) each beam's end point, cast from each particle, scores with:
         the field's value there, the maximum off the map or when the beam came out through an
         obstacle (the module docstring)."""
-        lx, ly, lyaw = laser_pose
-        cos_p, sin_p = np.cos(particles[:, 2]), np.sin(particles[:, 2])
-        sx = particles[:, 0] + lx * cos_p - ly * sin_p
-        sy = particles[:, 1] + lx * sin_p + ly * cos_p
-        cos_s, sin_s = np.cos(particles[:, 2] + lyaw), np.sin(particles[:, 2] + lyaw)
-        rc, rs = ranges * np.cos(bearings), ranges * np.sin(bearings)     # the end points in the laser frame
-        hx = sx[:, None] + cos_s[:, None] * rc[None, :] - sin_s[:, None] * rs[None, :]
-        hy = sy[:, None] + sin_s[:, None] * rc[None, :] + cos_s[:, None] * rs[None, :]
-        rows, cols, inside = self.grid.cells(hx, hy)
-        cells = rows * self.grid.width + cols
-        distance = np.where(inside, self.distance[cells], self.max_dist)
-        direction = np.floor((particles[:, 2, None] + lyaw + bearings[None, :]) * (DIRECTIONS / (2.0 * np.pi)) + 0.5)
-        bit = (direction.astype(np.int64) % DIRECTIONS).astype(np.uint16)
-        emerged = inside & ((self.emerges[cells] >> bit) & 1).astype(bool)
-        return np.where(emerged, self.max_dist, distance)
+        cells, emerged = self._end_cells(particles, ranges, bearings, laser_pose)
+        return np.where(emerged, self.max_dist, self._distance[cells])
 
     def explained_share(self, pose: np.ndarray, scan: LaserScanData, laser_pose: tuple[float, float, float], *,
                         within: float) -> float:
@@ -146,21 +183,32 @@ class LikelihoodFieldModel:
     def likelihood(self, particles: np.ndarray, scan: LaserScanData,
                    laser_pose: tuple[float, float, float]) -> np.ndarray:
         """The factor (N,) to multiply each particle's weight by for this scan."""
-        return self.weigh(particles, scan, laser_pose, within=0.0)[0]
+        return self.weigh(particles, scan, laser_pose, within=None)[0]
 
     def weigh(self, particles: np.ndarray, scan: LaserScanData, laser_pose: tuple[float, float, float], *,
-              within: float) -> tuple[np.ndarray, np.ndarray]:
+              within: float | None) -> tuple[np.ndarray, np.ndarray | None]:
         """`likelihood`'s factors (N,) and, from the same end points, the share (N,) of each
-        particle's beams the map explains (`explained_share`'s, nan when no beam is used)."""
+        particle's beams the map explains (`explained_share`'s, nan when no beam is used);
+        `within` None skips the share (None), which saves a pass over every end point."""
         ranges, bearings = self.beams(scan)
         if len(ranges) == 0:
-            return np.ones(len(particles)), np.full(len(particles), np.nan)
-        distance = self.end_distances(particles, ranges, bearings, laser_pose)
-        return self._score(distance, float(scan.range_max)), np.mean(distance < within, axis=1)
+            return np.ones(len(particles)), None if within is None else np.full(len(particles), np.nan)
+        cells, emerged = self._end_cells(particles, ranges, bearings, laser_pose)
+        distance = None
+        if within is not None or self._needs_distance():
+            distance = np.where(emerged, self.max_dist, self._distance[cells])
+        scores, far = self._score_table(float(scan.range_max))
+        beam_scores = np.where(emerged, far, scores[cells])
+        explained = None if within is None else np.mean(distance < within, axis=1)
+        return self._score(beam_scores, distance), explained
 
-    def _score(self, distance: np.ndarray, range_max: float) -> np.ndarray:
-        """Each particle's factor from its beams' end-point distances (N, B)."""
-        return 1.0 + np.sum(self._pz(distance, range_max) ** 3, axis=1)
+    def _needs_distance(self) -> bool:
+        """Whether `_score` needs the end points' distances (beam skipping does)."""
+        return False
+
+    def _score(self, beam_scores: np.ndarray, distance: np.ndarray | None) -> np.ndarray:
+        """Each particle's factor from its beams' scores (N, B), `_beam_score` of their pz."""
+        return 1.0 + np.sum(beam_scores, axis=1)
 
 
 class LikelihoodFieldProbModel(LikelihoodFieldModel):
@@ -176,14 +224,20 @@ class LikelihoodFieldProbModel(LikelihoodFieldModel):
         self.beam_skip_threshold = beam_skip_threshold
         self.beam_skip_error_threshold = beam_skip_error_threshold
 
-    def _score(self, distance: np.ndarray, range_max: float) -> np.ndarray:
-        log_pz = np.log(self._pz(distance, range_max))
+    def _beam_score(self, pz: np.ndarray | float) -> np.ndarray | float:
+        """log pz: the product of the beams' pz is the exp of the sum."""
+        return np.log(pz)
+
+    def _needs_distance(self) -> bool:
+        return self.do_beamskip
+
+    def _score(self, beam_scores: np.ndarray, distance: np.ndarray | None) -> np.ndarray:
         if self.do_beamskip:
             explained = (distance < self.beam_skip_distance).mean(axis=0) > self.beam_skip_threshold
             skipped = np.count_nonzero(~explained)
             if skipped < distance.shape[1] * self.beam_skip_error_threshold:
-                log_pz = log_pz[:, explained]
-        return np.exp(log_pz.sum(axis=1))
+                beam_scores = beam_scores[:, explained]
+        return np.exp(beam_scores.sum(axis=1))
 
 
 #: `laser_model_type` values. Nav2's `beam` model (ray casting from every particle) is not provided.
