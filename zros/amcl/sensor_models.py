@@ -46,6 +46,9 @@ __all__ = ['LaserScanData', 'LikelihoodFieldModel', 'LikelihoodFieldProbModel', 
 
 #: [cells] How far back from a beam's end point to look for an obstacle's inside: a wall three
 #: cells thick (turtlebot3_house's 0.15 m at 0.05 m) is caught from its far face and the cell past it.
+#: A beam meeting the wall at an angle b reaches only 3 sin(b) cells into it (1-1.5 at 20-30 deg),
+#: so such a beam just past the far face still scores as a hit. Looking back 6-12 cells caught it
+#: but made the house's tracking worse, not better (docs/benchmarks-history.md, issue 34).
 LOOK_BACK = 3
 #: Beam directions the look-back is precomputed for (one bit each of a uint16 per cell): 22.5 deg
 #: apart, so a look-back point is at most 3 cells x sin(11.25 deg) = 0.6 cell off the beam.
