@@ -15,15 +15,19 @@ Both are nav2_amcl's likelihood-field models, vectorised over particles x beams:
   unexplained by the map (people, furniture) and left out, unless that would leave out more
   than `beam_skip_error_threshold` of the beams.
 
-Beams: `max_beams` evenly spaced ones (step (n - 1) // (max_beams - 1), Nav2's integer step);
-a beam at or beyond range_max, or NaN, is not used. The laser's mount (x, y, yaw in the base
-frame) is composed with each particle's pose.
+Beams: a beam at or beyond range_max, or NaN, is not used; of the n others, k = min(n,
+`max_beams`) evenly spaced ones (the i-th at index i n // k among them). Nav2 spaces them over
+all the scan's beams (step (n - 1) // (max_beams - 1)) and then drops those out of range, so
+where little is in range (a robot leaving a building: 1-5 of its 60) it uses a few beams while
+dozens more returned; here the budget goes to beams that say something. A scan whose beams all
+return uses Nav2's beams when its size is a multiple of max_beams (360 and 60: every 6th). The laser's mount (x, y, yaw in the base frame) is composed with
+each particle's pose.
 
 Walls have a thickness on the map, and a lidar only ever sees their near face. Nav2's field
 scores an end point on a wall's far face as a perfect hit, so a particle that stands up to a
 wall's thickness too close to it scores as well as the right one: a plateau the cloud drifts on
 (12-14 cm along turtlebot3_house's 0.15 m walls). Here (zros's addition) a beam whose end point
-lies in a known cell (free or occupied) while one of the `LOOK_BACK` points one, two, three
+lies in a known cell (free or occupied) while one of the `LOOK_BACK` points one, two, ...
 cells before it along the beam lies inside an obstacle (an unknown cell, as a wall's inside is
 on a map made by a lidar, or an occupied cell with no free neighbour) came out through the
 other side: it scores as an end point off the map (the field's maximum distance). An end point
@@ -44,15 +48,15 @@ from zros.amcl.map_grid import MapGrid
 __all__ = ['LaserScanData', 'LikelihoodFieldModel', 'LikelihoodFieldProbModel', 'create_laser_model',
            'LASER_MODELS', 'LOOK_BACK', 'DIRECTIONS', 'distance_field', 'emerging_cells']
 
-#: [cells] How far back from a beam's end point to look for an obstacle's inside: a wall three
-#: cells thick (turtlebot3_house's 0.15 m at 0.05 m) is caught from its far face and the cell past it.
-#: A beam meeting the wall at an angle b reaches only 3 sin(b) cells into it (1-1.5 at 20-30 deg),
-#: so such a beam just past the far face still scores as a hit. Looking back 6-12 cells caught it
-#: but made the house's tracking worse, not better (docs/benchmarks-history.md, issue 34).
-LOOK_BACK = 3
-#: Beam directions the look-back is precomputed for (one bit each of a uint16 per cell): 22.5 deg
-#: apart, so a look-back point is at most 3 cells x sin(11.25 deg) = 0.6 cell off the beam.
-DIRECTIONS = 16
+#: [cells] How far back from a beam's end point to look for an obstacle's inside. Along a beam that
+#: meets a wall at an angle b, k cells reach k sin(b) cells deep: 8 catch a wall three cells thick
+#: (turtlebot3_house's 0.15 m at 0.05 m) from beams down to about 25 deg (3 cells caught only
+#: beams near the normal, and a beam grazing the house's south wall past its far face scored as a
+#: hit, pulling the estimate 7-10 cm towards the wall: docs/benchmarks-history.md, issue 34).
+LOOK_BACK = 8
+#: Beam directions the look-back is precomputed for (one bit each of a uint32 per cell): 11.25 deg
+#: apart, so a look-back point is at most 8 cells x sin(5.6 deg) = 0.8 cell off the beam.
+DIRECTIONS = 32
 
 
 class LaserScanData(NamedTuple):
@@ -72,23 +76,25 @@ def distance_field(grid: MapGrid, max_dist: float) -> np.ndarray:
 
 
 def emerging_cells(grid: MapGrid) -> np.ndarray:
-    """Per cell (height, width) uint16: bit d is set when a beam ending in this known cell in
+    """Per cell (height, width) uint32: bit d is set when a beam ending in this known cell in
     direction d x 360/DIRECTIONS deg came out of an obstacle's inside (one of the LOOK_BACK cells
     before it, along that direction, is unknown or occupied with no free neighbour). Computed
     once per map, so scoring a beam costs one lookup instead of LOOK_BACK."""
     opaque = (grid.data < 0) | binary_erosion(grid.occupied)
     known = grid.data >= 0
-    bits = np.zeros(grid.data.shape, dtype=np.uint16)
+    bits = np.zeros(grid.data.shape, dtype=np.uint32)
     height, width = opaque.shape
     for d in range(DIRECTIONS):
         angle = 2.0 * np.pi * d / DIRECTIONS
         behind = np.zeros_like(opaque)
         for steps in range(1, LOOK_BACK + 1):
             dc, dr = int(round(steps * np.cos(angle))), int(round(steps * np.sin(angle)))
+            if abs(dr) >= height or abs(dc) >= width:
+                continue                      # no cell that far back is on the map (nor are the slices)
             # behind[r, c] |= opaque[r - dr, c - dc], where that cell is on the map
             behind[max(dr, 0):height + min(dr, 0), max(dc, 0):width + min(dc, 0)] |= \
                 opaque[max(-dr, 0):height - max(dr, 0), max(-dc, 0):width - max(dc, 0)]
-        bits |= (known & behind).astype(np.uint16) << np.uint16(d)
+        bits |= (known & behind).astype(np.uint32) << np.uint32(d)
     return bits
 
 
@@ -130,11 +136,12 @@ class LikelihoodFieldModel:
         return table
 
     def beams(self, scan: LaserScanData) -> tuple[np.ndarray, np.ndarray]:
-        """The ranges and bearings of the beams used: sub-sampled, valid ones only."""
-        step = max((len(scan.ranges) - 1) // (self.max_beams - 1), 1)
-        ranges, bearings = scan.ranges[::step], scan.bearings[::step]
-        valid = np.isfinite(ranges) & (ranges < scan.range_max)
-        return ranges[valid], bearings[valid]
+        """The ranges and bearings of the beams used: up to `max_beams` of those in range, evenly
+        spaced (the module docstring)."""
+        valid = np.flatnonzero(np.isfinite(scan.ranges) & (scan.ranges < scan.range_max))
+        count = min(len(valid), self.max_beams)
+        used = valid[np.arange(count) * len(valid) // max(count, 1)]
+        return scan.ranges[used], scan.bearings[used]
 
     def _end_cells(self, particles: np.ndarray, ranges: np.ndarray, bearings: np.ndarray,
                    laser_pose: tuple[float, float, float]) -> tuple[np.ndarray, np.ndarray]:
