@@ -44,12 +44,13 @@ _HUBER = 0.02
 #: points whose normals point along it) is left to the prediction (module docstring, step 3).
 WEAK_INFORMATION = 8.0
 #: ... and so is one with less than this, when it also has less than ANISOTROPY times the
-#: strongest direction's: a corridor with a door frame or two in range (the bighouse's: 11-20
-#: along it, 80-120 across). There the correlative pick lands 3-15 cm off on every scan, mostly
+#: strongest direction's: a corridor with a door frame or two in range (the bighouse's: 8-20
+#: along it, 65-120 across). There the correlative pick lands 3-15 cm off on every scan, mostly
 #: backwards, and slid the map 0.5 m in 3 m of corridor. Open ground weak in every direction is
-#: not a corridor (turtlebot3_world between the pillars: 13-20 with 35-49 the other way, ratios
+#: not a corridor (turtlebot3_world between the pillars: 10-20 with 35-49 the other way, ratios
 #: 0.28-0.55) and its matches stay right: odometry there would carry its heading error along.
-CORRIDOR_INFORMATION = 20.0
+#: 20 left the bighouse's room drive 8.6 cm off (its corridor reaches 20.3), 25 3.5 cm.
+CORRIDOR_INFORMATION = 25.0
 ANISOTROPY = 0.25
 _NO_INFORMATION = np.zeros((3, 3))
 _NO_INFORMATION.flags.writeable = False
