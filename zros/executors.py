@@ -130,6 +130,11 @@ class Executor:
         from zros.context import get_default_context
         self._context = context or get_default_context()
         self._queue: queue.SimpleQueue = queue.SimpleQueue()
+        # Called from any thread (mostly Zenoh's, once per sample after a quiet spell) when a
+        # piece of work is ready to run: the queue's own put, so that handing work over runs no
+        # Python of the executor's on Zenoh's thread, which holds the interpreter lock the
+        # woken executor is about to need.
+        self._enqueue: Callable[[Any], None] = self._queue.put
         self._nodes: list[Node] = []
         self._nodes_lock = threading.Lock()
         self._spin_lock = threading.RLock()
@@ -200,10 +205,6 @@ class Executor:
             return list(self._nodes)
 
     # -- work --------------------------------------------------------------------------
-    def _enqueue(self, work: Any) -> None:
-        """Called from any thread (mostly Zenoh's) when `work` is ready to run."""
-        self._queue.put(work)
-
     def wake(self) -> None:
         """Make the executor look again (at timers, nodes, shutdown); not itself work."""
         self._queue.put(None)
@@ -246,6 +247,8 @@ class Executor:
             pass
 
     def _raise_pending_error(self) -> None:
+        if self._errors.empty():   # (the common case, each turn of a spin: no exception made)
+            return
         try:
             exc = self._errors.get_nowait()
         except queue.Empty:

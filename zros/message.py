@@ -33,6 +33,7 @@ import msgpack
 import numpy as np
 
 from zros.errors import DecodeError, MessageTypeError
+from zros.fixed_layout import fixed_decoder, fixed_encoder, layout
 from zros.idl import ActionSpec, Field, FieldType, MessageSpec, ServiceSpec
 
 __all__ = ['Message', 'make_message_class', 'make_service_class', 'make_action_class', 'type_hash',
@@ -102,7 +103,8 @@ class Message:
     `_FIELD_TYPES` (IDL type text per field), `_HASH`, `_HAS_TAIL` and the codec functions:
     `_ENC(m, tail)` returns the header value and appends numeric arrays to `tail`;
     `_DEC(header, buffer, offset)` returns (message, offset after its arrays), and a type
-    without numeric arrays also has `_DEC1(header)`, which returns the message.
+    without numeric arrays also has `_DEC1(header)`, which returns the message. `_LAYOUT` is
+    the type's fixed MessagePack layout (zros.fixed_layout) when it is a tree of float64 fields.
     """
 
     __slots__ = ()
@@ -111,6 +113,7 @@ class Message:
     _FIELD_TYPES: dict[str, str] = {}
     _HASH: str = ''
     _HAS_TAIL = False
+    _LAYOUT: tuple | None = None
     _SPEC: MessageSpec
     _DEFAULTS: tuple[tuple[str, Callable[[], Any]], ...] = ()
     _ENC: Callable[[Any, list], Any]
@@ -552,6 +555,8 @@ def _generate_codec(cls: type, spec: MessageSpec, nested: dict[str, type]) -> No
         cls._DEC1 = staticmethod(env['_DEC1'])
     cls._HAS_TAIL = has_tail
     cls._ENCODE_CHECKS = tuple(_encode_checks(msg_type, spec, nested))
+    cls._LAYOUT = layout([
+        ('_' + f.name, None if f.type.is_array else nested.get(f.type.base, f.type.base)) for f in spec.fields])
 
 
 def _scalar_decode(i: int, ftype: FieldType, check: str) -> list[str]:
@@ -745,7 +750,10 @@ def _read_header(buffer: memoryview) -> tuple[Any, int]:
 def encoder(cls: type) -> Callable[[Message], bytes]:
     """`serialize` for one class, for a hot path (a publisher): a type without numeric arrays
     and without lists or bounded sequences (whose contents can change in place, so they are
-    checked per message) is packed straight from its generated encoder."""
+    checked per message) is packed straight from its generated encoder, and a tree of float64
+    fields by one struct (zros.fixed_layout)."""
+    if cls._LAYOUT is not None:
+        return fixed_encoder(cls, lambda exc: MessageTypeError(f'cannot encode {cls._TYPE}: {exc}'))
     if cls._HAS_TAIL or cls._ENCODE_CHECKS:
         return serialize
     encode_header = cls._ENC
@@ -761,7 +769,9 @@ def encoder(cls: type) -> Callable[[Message], bytes]:
 def decoder(cls: type) -> Callable[[bytes], Message]:
     """`deserialize` for one class, for a hot path (a subscription): as strict, but a payload
     that fails is decoded again by `deserialize`, which raises DecodeError with the reason; a
-    type without numeric arrays is msgpack's unpackb and its generated decoder, nothing more."""
+    type without numeric arrays is msgpack's unpackb and its generated decoder, nothing more,
+    and a tree of float64 fields laid out as msgpack writes it one struct read
+    (zros.fixed_layout)."""
     if cls._HAS_TAIL:
         return lambda data: deserialize(data, cls)
     decode_header, unpackb = cls._DEC1, msgpack.unpackb
@@ -771,7 +781,7 @@ def decoder(cls: type) -> Callable[[bytes], Message]:
             return decode_header(unpackb(data, use_list=False, raw=False))
         except Exception:  # noqa: BLE001 - not a valid message: deserialize says why
             return deserialize(data, cls)
-    return decode
+    return decode if cls._LAYOUT is None else fixed_decoder(cls, decode)
 
 
 def deserialize(data: bytes | memoryview, cls: type) -> Message:

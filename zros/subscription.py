@@ -9,7 +9,8 @@ executor parked in `spin()` with nothing to do and a sample that comes after a q
 (zros.executors, leader/follower), which saves the thread hop; a burst keeps the hand-off, so
 that receiving the next sample overlaps running this one. The
 queue is the QoS depth (KEEP_LAST): when full, the oldest sample is pushed out and counted in
-`dropped`, so a sample the depth rule drops is never copied or decoded. The executor reads each
+`dropped`, so a sample the depth rule drops is never copied or decoded. spin() takes a batch of
+waiting samples per turn (`_execute`) and applies the same rule to it before each delivery. The executor reads each
 sample's attachment once. Gaps in a publisher's sequence numbers over every sample that reached
 the subscription (pushed-out ones included: their attachments are kept for this, up to
 _EVICTED_NOTES) are counted in `lost`; samples of the wrong type, larger than the size limit
@@ -23,6 +24,7 @@ from __future__ import annotations
 
 import enum
 import inspect
+import queue as queues
 import threading
 import time
 from collections import deque
@@ -66,6 +68,34 @@ class _Timed:
         return self.sample.attachment
 
 
+class _Signal:
+    """A wake-up from one thread to the one waiting for it (Zenoh's thread and the executor
+    hand a full queue back and forth under a flood, once per queueful): a C-level queue, since
+    a wait and a signal cost 0.6 µs that way against 4 µs through threading.Event's Python.
+    One thread waits (and clears); any thread signals."""
+
+    __slots__ = ('_queue',)
+
+    def __init__(self) -> None:
+        self._queue: queues.SimpleQueue = queues.SimpleQueue()
+
+    def set(self) -> None:
+        self._queue.put(None)
+
+    def clear(self) -> None:
+        """Forget a signal given after the last wait had timed out."""
+        waiting = self._queue
+        while not waiting.empty():
+            waiting.get_nowait()
+
+    def wait(self, timeout: float) -> bool:
+        try:
+            self._queue.get(timeout=timeout)
+        except queues.Empty:
+            return False
+        return True
+
+
 class CallbackType(enum.Enum):
     """How a subscription calls its callback (rclpy's Subscription.CallbackType)."""
 
@@ -96,6 +126,9 @@ def _callback_type(callback: Callable) -> CallbackType:
 
 # How long Zenoh's thread waits for an idle executor to take a full KEEP_LAST queue.
 _HAND_OFF_S = 0.002
+# How long, at most per turn, spin() waits for a KEEP_LAST queue it emptied under a flood (Zenoh's
+# thread had filled it and waited) to fill again, instead of parking on its own queue.
+_REFILL_S = 0.0005
 # Two callbacks in a row led on Zenoh's thread (zros.executors) that take longer than this make
 # the next _LEAD_PAUSE samples (doubling up to _LEAD_PAUSE_MAX) take the hand-off instead.
 _LEAD_QUICK_S = 0.001
@@ -138,8 +171,10 @@ class Subscription(QueuedEntity, Generic[MsgT]):
         self._queue: deque = deque(maxlen=qos.queue_depth)  # Zenoh samples, undecoded
         self._evicted: deque = deque(maxlen=_EVICTED_NOTES)  # attachments of pushed-out samples
         self._take_lock = threading.Lock()   # the executor's take vs. a push-out
-        self._taken = threading.Event()       # _hand_off: the executor took from the queue
+        self._taken = _Signal()       # _hand_off: the executor took from the queue
         self._handing_off = False
+        self._refilled = _Signal()    # _await_refill: the queue is full again
+        self._refilling = False
         self._lead_skip = self._lead_pause = 0   # _note_led
         self._lead_slow = False
         self._last_seen = 0.0   # _on_sample: when the last sample came, or a led callback ended
@@ -175,7 +210,8 @@ class Subscription(QueuedEntity, Generic[MsgT]):
 
     # Zenoh thread: queue the sample untouched (no copy, no parsing), then either run it here at
     # once, if it came after a quiet spell and the executor is parked and lets this thread lead
-    # (zros.executors), or make sure the executor will run us.
+    # (zros.executors), or make sure the executor will run us. Without leading (the default) no
+    # clock is read: a sample costs this thread a length check, an append and a flag test.
     def _on_sample(self, sample: Any) -> None:
         queue = self._queue
         if len(queue) == queue.maxlen:
@@ -186,18 +222,27 @@ class Subscription(QueuedEntity, Generic[MsgT]):
         queue.append(sample)
         if self._events is not None:
             self._events.on_sample()
+        executor = self._node._executor
+        if executor is not None and executor._leading:
+            self._lead_or_schedule(executor)
+        elif not self._scheduled:
+            self._schedule()
+
+    def _lead_or_schedule(self, executor: Any) -> None:
+        """`_on_sample` while the executor may be led: a sample after a quiet spell runs here,
+        one close behind the previous (a burst) takes the hand-off."""
         now = _clock()
         burst = now - self._last_seen < _BURST_GAP_S
         self._last_seen = now
-        if not self._scheduled:
-            executor = self._node._executor
-            if burst or executor is None or not executor._leading:
-                self._schedule()
-            elif self._lead_skip:
-                self._lead_skip -= 1
-                self._schedule()
-            elif not executor._lead(self):
-                self._schedule()
+        if self._scheduled:
+            return
+        if burst:
+            self._schedule()
+        elif self._lead_skip:
+            self._lead_skip -= 1
+            self._schedule()
+        elif not executor._lead(self):
+            self._schedule()
 
     def _note_led(self, seconds: float) -> None:
         """After a callback this thread led: slow ones hold Zenoh's thread (its channel fills,
@@ -219,11 +264,19 @@ class Subscription(QueuedEntity, Generic[MsgT]):
         self._on_sample(_Timed(sample, time.time_ns()))
 
     def _hand_off(self) -> None:
-        """A full queue whose executor is idle, woken for this queue: let it take the queue
-        before pushing anything out. Under a flood this thread would otherwise keep the
-        interpreter lock, and the executor would get it back only after the switch interval
-        (5 ms): a depth-10 queue delivered 10 messages per 5 ms and dropped the rest. Waiting
-        here (at most _HAND_OFF_S) gives it the lock at once; a busy executor is not waited for."""
+        """A full queue whose executor is idle, woken for this queue, or waiting for it to fill
+        (`_await_refill`): let it take the queue before pushing anything out. Under a flood this
+        thread would otherwise keep the interpreter lock, and the executor would get it back
+        only after the switch interval (5 ms): a depth-10 queue delivered 10 messages per 5 ms
+        and dropped the rest. Waiting here (at most _HAND_OFF_S) gives it the lock at once; a
+        busy executor is not waited for."""
+        if self._refilling:
+            self._taken.clear()
+            self._handing_off = True
+            self._refilled.set()
+            self._taken.wait(_HAND_OFF_S)
+            self._handing_off = False
+            return
         executor = self._node._executor
         if executor is None or not executor._idle or not executor._runs_on_waiting_thread:
             return
@@ -246,29 +299,106 @@ class Subscription(QueuedEntity, Generic[MsgT]):
                 self.dropped += 1
 
     # Executor thread. spin_once takes one sample per call, as rclpy takes one message per
-    # callback; spin() lets a subscription run up to `budget` waiting samples in one go, taking
-    # each as its turn comes (a sample still waiting can be pushed out by a newer one).
+    # callback; spin() lets a subscription run up to `budget` waiting samples in one go.
     def _execute(self, budget: int = 1) -> Any:
-        queue, take_lock = self._queue, self._take_lock
+        """Take up to `budget` waiting samples under one turn of the take lock and deliver them
+        in order. KEEP_LAST still holds for the samples taken: before each delivery after the
+        first, those of them that `depth` newer samples have overtaken meanwhile (Zenoh's thread kept appending
+        while a callback ran) are dropped, counted in `dropped` as a push-out would count them,
+        so a batch never delivers a sample that one-at-a-time taking would have pushed out.
+        What a raising callback or an `async def` one leaves untaken goes back to the front of
+        the queue, by the same rule. A batch Zenoh's thread was waiting on (a flood into a full
+        KEEP_LAST queue) is followed, while the budget lasts, by the next one (`_await_refill`)."""
+        queue = self._queue
         deliver = self._deliver_plain if self._plain else self._deliver
+        depth = queue.maxlen
+        taken: list = []
+        index = count = 0
+        deadline = None
         try:
-            for _ in range(budget):
-                with take_lock:   # pushed-out samples are older than the one taken here
-                    if not queue:
-                        return None
-                    item = queue.popleft()
+            while budget > 0:
+                with self._take_lock:   # pushed-out samples are older than the ones taken here
                     notes = self._take_notes() if self._evicted else None
-                if self._handing_off:
+                    taken = [queue.popleft() for _ in range(min(budget, len(queue)))]
+                flood = self._handing_off
+                if flood:
                     self._handing_off = False
                     self._taken.set()
                 if notes:
                     self._count_notes(notes)
-                pending = deliver(item)
-                if pending is not None:
-                    return pending   # an async callback's coroutine: it runs as a task first
+                count, index = len(taken), 0
+                budget -= count
+                while index < count:
+                    # (the first was taken at the lock turn, as one-at-a-time would take it; each
+                    # later one is taken now, after what arrived during the callbacks before it)
+                    overtaken = count - index + len(queue) - depth if index else 0
+                    if overtaken > 0:
+                        self._drop_taken(taken[index:index + overtaken])
+                        index += overtaken
+                        continue
+                    item = taken[index]
+                    index += 1
+                    pending = deliver(item)
+                    if pending is not None:
+                        return pending   # an async callback's coroutine: it runs as a task first
+                if not flood or budget <= 0:
+                    return None
+                if deadline is None:
+                    deadline = _clock() + _REFILL_S
+                if not self._await_refill(deadline):
+                    return None
             return None
         finally:
+            if index < count:
+                self._put_back(taken[index:])
             self._rearm()   # also after a callback raised: what is waiting (and what comes) still runs
+
+    def _await_refill(self, deadline: float) -> bool:
+        """Executor thread, having emptied a queue Zenoh's thread had filled and waited on: wait
+        (until `deadline`) for it to fill again, and say whether to take more. Parking on the
+        executor's queue instead costs two wake-ups per queueful (the executor's, then, once the
+        queue is full, Zenoh's hand-off), the floor of a depth-10 flood; waiting here costs one,
+        and Zenoh's thread never wakes a parked executor meanwhile. Only on the thread that
+        spins, and only while no other work is queued for it: timers and other entities wait
+        at most _REFILL_S per turn."""
+        executor = self._node._executor
+        if executor is None or not executor._runs_on_waiting_thread or not executor._queue.empty():
+            return False
+        remaining = deadline - _clock()
+        if remaining <= 0:
+            return False
+        self._refilled.clear()
+        self._refilling = True
+        if len(self._queue) < self._queue.maxlen:
+            self._refilled.wait(remaining)
+        self._refilling = False
+        return True
+
+    def _drop_taken(self, samples: list) -> None:
+        """Executor thread: KEEP_LAST for samples it took and newer ones overtook. Counted as
+        Zenoh's thread counts a push-out (under the take lock, since both threads add to
+        `dropped`), and their gaps counted in `lost` at once: they are older than anything
+        still waiting or noted."""
+        with self._take_lock:
+            self.dropped += len(samples)
+            self._drops_noted += len(samples)
+        self._count_notes([getattr(sample, 'attachment', None) for sample in samples])
+
+    def _put_back(self, samples: list) -> None:
+        """Samples taken but not delivered (a callback raised, or returned a coroutine) go back
+        to the front of the queue, oldest first in line; those that no longer fit are older
+        than all that waits there, so KEEP_LAST drops them."""
+        with self._take_lock:
+            queue = self._queue
+            late = []
+            for sample in reversed(samples):
+                if len(queue) < queue.maxlen:
+                    queue.appendleft(sample)
+                else:
+                    late.append(sample)
+        if late:
+            late.reverse()
+            self._drop_taken(late)
 
     def _take_notes(self) -> deque:
         """Under `_take_lock`: the attachments of the samples pushed out so far."""

@@ -193,6 +193,43 @@ def test_a_beam_that_came_out_through_a_wall_is_no_hit(middle):
     assert likelihood[0] > 2.0 * likelihood[1]                     # Nav2's field scores both as hits
 
 
+def test_a_beam_that_crossed_a_wall_at_a_shallow_angle_is_no_hit_either():
+    """At 25 deg to the wall a beam goes 2.4 cells along for each cell deep: from just past the
+    far face, three cells back along it stay in the wall's far face, so the look-back must reach
+    further (the house's south wall pulled the estimate 7-10 cm towards it)."""
+    model = create_laser_model('likelihood_field_prob', thick_wall_map(-1), z_hit=0.5, z_rand=0.5,
+                               sigma_hit=0.2, max_dist=2.0, max_beams=2)
+    bearing = math.radians(65.0)                                  # 25 deg to the wall's face (x = 1.0)
+    ranges, bearings = np.array([0.52 / math.cos(bearing)]), np.array([bearing])
+    # From (0.5, 0.2) the beam ends on the near face (x 1.02); 0.2 m closer, past the far face (1.22).
+    particles = np.array([[0.5, 0.2, 0.0], [0.7, 0.2, 0.0]])
+    distance = model.end_distances(particles, ranges, bearings, (0.0, 0.0, 0.0))[:, 0]
+    assert distance[0] == 0.0 and distance[1] == 2.0
+
+
+def test_a_map_smaller_than_the_look_back_still_makes_a_laser_model():
+    """The node checks its parameters on a 3 x 3 map; a look-back longer than the map must not
+    turn into slices counted from the other end."""
+    model = create_laser_model('likelihood_field_prob', MapGrid(np.zeros((3, 3)), resolution=1.0), z_hit=0.5,
+                               z_rand=0.5, sigma_hit=0.2, max_dist=2.0, max_beams=60)
+    assert model.likelihood(np.zeros((1, 3)), LaserScanData(np.array([1.0]), np.zeros(1), 3.5), LASER).shape == (1,)
+
+
+def test_the_beams_used_are_spread_over_those_in_range():
+    """Nav2 spaces max_beams over the whole scan and drops those out of range; with 30 of 360 in
+    range that leaves 5. Here the budget goes to the beams in range; a full scan uses Nav2's."""
+    model = create_laser_model('likelihood_field_prob', box_map(), z_hit=0.5, z_rand=0.5, sigma_hit=0.2,
+                               max_dist=2.0, max_beams=60)
+    bearings = np.radians(np.arange(360.0))
+    ranges = np.full(360, np.inf)
+    ranges[100:130] = 2.0
+    used, used_bearings = model.beams(LaserScanData(ranges, bearings, 3.5))
+    assert len(used) == 30 and np.array_equal(used_bearings, bearings[100:130])
+    full = np.linspace(0.5, 3.0, 360)
+    used, used_bearings = model.beams(LaserScanData(full, bearings, 3.5))
+    assert np.array_equal(used_bearings, bearings[::6]) and len(used) == 60
+
+
 def test_a_beam_grazing_a_thin_wall_is_still_a_hit():
     data = np.full((40, 40), -1, dtype=np.int8)                   # unknown beyond a one-cell wall at row 20
     data[:20] = 0
@@ -521,3 +558,46 @@ def test_after_losing_the_robot_only_a_run_of_near_perfect_fits_makes_it_confide
     assert variance(seen) < 0.05
     amcl.global_localization()
     assert variance(seen) > 0.4                       # a fresh global localization is not believed at once
+
+
+@pytest.mark.parametrize('model_type', ['likelihood_field', 'likelihood_field_prob'])
+def test_scores_looked_up_per_cell_match_the_formula_on_the_end_points(model_type):
+    """The scores come from a per-cell table; they must be Nav2's formula on each end point's
+    distance, for end points on the map, off it (each side) and through a wall."""
+    model = create_laser_model(model_type, thick_wall_map(-1), z_hit=0.5, z_rand=0.5, sigma_hit=0.2, max_dist=2.0,
+                               max_beams=8)
+    rng = np.random.default_rng(4)
+    particles = np.column_stack([rng.uniform(-0.5, 2.5, 50), rng.uniform(-0.5, 2.5, 50), rng.uniform(-4, 4, 50)])
+    particles[0] = (0.61, 1.0, 0.0)                                  # its first beam comes out through the wall
+    ranges, bearings = np.array([0.52, 0.3, 1.0, 3.0]), np.array([0.0, 1.0, -2.5, 3.0])
+    scan = LaserScanData(ranges, bearings, 3.5)
+    distance = model.end_distances(particles, ranges, bearings, (0.05, 0.02, 0.1))
+    assert distance[0, 0] == 2.0 and (distance == 2.0).any(axis=1).sum() > 5 and (distance < 0.1).any()
+    pz = 0.5 * np.exp(-distance ** 2 / (2 * 0.2 ** 2)) + 0.5 / 3.5
+    expected = np.prod(pz, axis=1) if model_type == 'likelihood_field_prob' else 1.0 + np.sum(pz ** 3, axis=1)
+    likelihood, explained = model.weigh(particles, scan, (0.05, 0.02, 0.1), within=None)
+    assert likelihood == pytest.approx(expected, rel=1e-12) and explained is None
+
+
+def test_without_recovery_the_fit_is_not_computed_and_the_filter_runs_the_same(tb3_world):
+    """Recovery off (the shipped files): the share of explained beams per particle only fed
+    recovery's averages, so it is skipped; the particles come out as they did with it."""
+    world, grid = tb3_world
+    sim = Simulation(world, seed=2)
+    robot = sim.add_robot('burger')
+    scans = []
+    for _ in range(12):
+        robot.command(0.2, 0.3)
+        sim.step(0.2)
+        scans.append(robot.scan())
+    runs = []
+    for recovery in (0.0, 1e-9):
+        amcl = Amcl(AmclParameters(laser_model_type='likelihood_field_prob', recovery_alpha_slow=recovery), grid, seed=3)
+        amcl.set_initial_pose((world.spawn.x, world.spawn.y, world.spawn.yaw), np.diag([0.05, 0.05, 0.02]))
+        for i, ranges in enumerate(scans):
+            scan = amcl.prepare_scan(ranges, LDS_01.angles(), LDS_01.range_min, LDS_01.range_max)
+            amcl.request_nomotion_update()
+            amcl.update((0.3 * i, 0.0, 0.0), scan, LASER)
+        runs.append(amcl)
+    assert runs[0].pf.w_slow == 0.0 < runs[1].pf.w_slow          # the fit was taken only with recovery on
+    assert np.array_equal(runs[0].pf.particles, runs[1].pf.particles)

@@ -218,6 +218,7 @@ class _Arrivals:
     sample was led (run at once by a parked executor) or handed off (scheduled)."""
 
     _on_sample = Subscription._on_sample
+    _lead_or_schedule = Subscription._lead_or_schedule
     _events = None
     _scheduled = False
 

@@ -173,6 +173,8 @@ class Amcl:
         self.pf = ParticleFilter(grid, min_particles=p.min_particles, max_particles=p.max_particles, pf_err=p.pf_err,
                                  pf_z=p.pf_z, alpha_slow=p.recovery_alpha_slow, alpha_fast=p.recovery_alpha_fast,
                                  rng=np.random.default_rng(seed))
+        #: Recovery by random particles is on (Nav2: either decay rate above 0).
+        self._recovery = p.recovery_alpha_slow > 0.0 or p.recovery_alpha_fast > 0.0
         self.set_map(grid)
         self.pose_known = False
         self.estimate: PoseEstimate | None = None
@@ -257,10 +259,11 @@ class Amcl:
             self._odom_pose = pose
             beams = len(self.laser_model.beams(scan)[0])
             if first or beams:
+                # The fit only feeds recovery's averages: without recovery it is not computed.
+                judge = not first and self._recovery
                 likelihood, explained = self.laser_model.weigh(self.pf.particles, scan, laser_pose,
-                                                               within=FIT_DISTANCE)
-                fit = math.nan if first else self._fit(pose, scan, laser_pose, self.pf.weights * likelihood,
-                                                       explained)
+                                                               within=FIT_DISTANCE if judge else None)
+                fit = self._fit(pose, scan, laser_pose, self.pf.weights * likelihood, explained) if judge else math.nan
                 self.pf.sensor_update(likelihood, fit=fit)
                 self._updates += 1
                 if self._updates % p.resample_interval == 0:

@@ -9,10 +9,12 @@ For each scan (with the odometry pose at the scan's time):
    So the map does not smear when odometry slips, and map -> odom absorbs the odometry's error.
    Along a direction the scan does not constrain (a featureless corridor: the match's Hessian
    has almost no information along it) the odometry's prediction is kept, not the matcher's
-   arbitrary pick; such a match is never taken as a loop closure.
+   arbitrary pick; such a match is never taken as a loop closure. Points beyond what the local
+   map's scans could reach are left out of the match (zros.slam.scan.within_reach).
 2. Keyframes. When the robot has moved `minimum_travel_distance` or turned
-   `minimum_travel_heading` since the last keyframe, the scan becomes a node of the pose graph,
-   linked to the previous keyframe by the matched relative pose.
+   `minimum_travel_heading` since the last keyframe, by the matched pose or by odometry, the
+   scan becomes a node of the pose graph, linked to the previous keyframe by the matched
+   relative pose.
 3. Loop closure. A new keyframe is matched, in a wider window, against a submap of old keyframes
    (at least `loop_search_minimum_travel` of travel ago, within `loop_search_maximum_distance`).
    A match scoring `loop_match_minimum_response` or more adds an edge, unless it would move the
@@ -53,7 +55,7 @@ from zros.slam.match_grid import MatchGrid
 from zros.slam.loop_check import closure_information, is_ambiguous
 from zros.slam.matcher import SearchWindow, keep_prediction_along, match_scan, weak_directions
 from zros.slam.pose_graph import PoseGraph
-from zros.slam.scan import ScanPoints, voxel_filter
+from zros.slam.scan import ScanPoints, voxel_filter, within_reach
 from zros.slam.serialization import (PoseGraphFileError, SerializedGraph, pose_graph_files, read_pose_graph,
                                      write_pose_graph)
 
@@ -157,6 +159,8 @@ class Slam:
         self._session_start = 0                     # first keyframe of this session (after a load)
         self._travel = 0.0
         self._local: MatchGrid | None = None
+        #: The front end's local map's scans: sensor positions (K, 2) in map and farthest returns (K,).
+        self._local_reach: tuple[np.ndarray, np.ndarray] | None = None
         self._localizing = False
         #: Localization's rolling buffer: (pose, hits in the map frame) of the last scans.
         self._buffer: deque[tuple[np.ndarray, np.ndarray]] = deque(maxlen=self.parameters.scan_buffer_size)
@@ -177,10 +181,11 @@ class Slam:
         else:
             pose, window = compose(self._pose, relative(self._odom, odom)), self._front
         if self._local is not None and len(points) >= 3:
-            result = match_scan(self._local, points, pose, window, min_score=p.minimum_match_response)
+            usable = self._reachable(points, pose)
+            result = match_scan(self._local, usable, pose, window, min_score=p.minimum_match_response)
             if result.score < p.minimum_match_response and window is self._front:
                 # Odometry is off by more than the window (a bump, a spin on the spot): look wider.
-                result = match_scan(self._local, points, pose, self._loop, min_score=p.minimum_match_response)
+                result = match_scan(self._local, usable, pose, self._loop, min_score=p.minimum_match_response)
             score = result.score
             if score >= p.minimum_match_response:
                 # In a corridor the scan fixes the pose across it, not along it: keep odometry there.
@@ -192,16 +197,22 @@ class Slam:
         if self._localizing:
             if matched:
                 self._localize(pose, scan)
-        elif self._is_keyframe(pose) and len(points) >= 3:
+        elif self._is_keyframe(pose, odom) and len(points) >= 3:
             keyframe = True
             loop_closed = self._add_keyframe(pose, odom, scan, points)
         self.map_to_odom = compose(self._pose, inverse(odom))
         return ScanUpdate(self._pose.copy(), self.map_to_odom.copy(), matched, score, keyframe, loop_closed)
 
-    def _is_keyframe(self, pose: np.ndarray) -> bool:
+    def _is_keyframe(self, pose: np.ndarray, odom: np.ndarray) -> bool:
+        """A keyframe's step since the last one, by the matched pose or by odometry (slam_toolbox
+        counts the travel in odometry). Odometry alone keeps the local map growing when the front
+        end is stuck: in a long corridor, a scan that reaches past the last keyframe's walls fits
+        best pulled back onto them, and if the estimate never moves a step no keyframe extends
+        the map, so the next scan is pulled back further (the bighouse: 0.9 m over 25 scans)."""
         if self._anchor is None or len(self.keyframes) == self._session_start:
             return True
-        return self._moved_enough(self.graph.poses[len(self.keyframes) - 1], pose)
+        return (self._moved_enough(self.graph.poses[len(self.keyframes) - 1], pose)
+                or self._moved_enough(self.keyframes[-1].odom, odom))
 
     def _moved_enough(self, last: np.ndarray, pose: np.ndarray) -> bool:
         """Whether `pose` is a keyframe's step (minimum_travel_distance or _heading) from `last`."""
@@ -223,7 +234,7 @@ class Slam:
         if closed:
             self.graph.optimize()
             self._pose = self.graph.poses[node].copy()
-        self._local = self._match_grid(self._local_nodes(self._pose))
+        self._set_local_map(self._local_nodes(self._pose))
         return closed
 
     def _local_nodes(self, pose: np.ndarray) -> np.ndarray:
@@ -238,6 +249,22 @@ class Slam:
             nearest = np.argsort(np.hypot(*(old - pose[:2]).T))[:missing]
             recent = np.concatenate([nearest, recent])
         return recent
+
+    def _set_local_map(self, nodes: np.ndarray) -> None:
+        """The front end's local map from `nodes`, and how far their scans reached."""
+        self._local = self._match_grid(nodes) if len(nodes) else None
+        scans = [self.keyframes[n].scan for n in nodes]
+        origins = np.array([transform_points(self.graph.poses[n], s.origin[None, :])[0] for n, s in zip(nodes, scans)])
+        reach = np.array([float(np.hypot(*(s.hits - s.origin).T).max()) if len(s.hits) else 0.0 for s in scans])
+        self._local_reach = (origins.reshape(-1, 2), reach)
+
+    def _reachable(self, points: np.ndarray, pose: np.ndarray) -> np.ndarray:
+        """The scan points (base frame) at `pose` that the local map's scans could have seen
+        (zros.slam.scan.within_reach); all of them if fewer than three are."""
+        if self._local_reach is None:
+            return points
+        keep = within_reach(transform_points(pose, points), *self._local_reach)
+        return points[keep] if keep.sum() >= 3 else points
 
     def _match_grid(self, nodes: np.ndarray, extra: list[np.ndarray] | None = None) -> MatchGrid | None:
         """The likelihood field of the given keyframes' points at their graph poses (and of
@@ -267,8 +294,11 @@ class Slam:
         if grid is None:
             return False
         result = match_scan(grid, points, pose, self._loop, min_score=p.loop_match_minimum_response)
-        if result.score < p.loop_match_minimum_response or len(weak_directions(result.information)):
-            return False            # no match, or one that slides along a corridor: no evidence of a loop
+        # No match, or one that slides freely along a corridor: no evidence of a loop. A direction
+        # only weakly held (matcher.CORRIDOR_INFORMATION) is not a reason to drop it: the closure's
+        # covariance, from the same Hessian, already makes it pull little that way.
+        if result.score < p.loop_match_minimum_response or len(weak_directions(result.information, anisotropy=0.0)):
+            return False
         if is_ambiguous(result.score, float(np.hypot(*(result.pose[:2] - pose[:2]))),
                         min_response=p.loop_match_correction_response, tolerance=2.0 * p.match_resolution):
             return False            # a fair fit elsewhere: a look-alike, not evidence to bend the graph
@@ -357,9 +387,9 @@ class Slam:
         if not self._localizing:
             self._anchor = int(np.argmin(np.hypot(*(self.graph.poses[:, :2] - self._initial_pose[:2]).T))) \
                 if count else None
-            self._local = self._match_grid(self._local_nodes(self._initial_pose)) if count else None
+            self._set_local_map(self._local_nodes(self._initial_pose) if count else np.zeros(0, dtype=np.int64))
         else:
-            self._local = self._localization_grid(self._initial_pose)
+            self._local, self._local_reach = self._localization_grid(self._initial_pose), None
 
     def clear_localization_buffer(self) -> None:
         """Forget the recent scans localization matches against (slam_toolbox's

@@ -33,7 +33,8 @@ from zros.slam.geometry import transform_points
 from zros.slam.match_grid import MatchGrid
 
 __all__ = ['SearchWindow', 'MatchResult', 'match_scan', 'correlative_search', 'refine', 'angular_step',
-           'weak_directions', 'keep_prediction_along', 'WEAK_INFORMATION']
+           'weak_directions', 'keep_prediction_along', 'WEAK_INFORMATION', 'CORRIDOR_INFORMATION',
+           'ANISOTROPY']
 
 #: Candidates scored in one numpy operation (bounds the candidates x points temporaries).
 _CHUNK = 2048
@@ -42,6 +43,15 @@ _HUBER = 0.02
 #: A translation direction with less information than this (about this many well-fitting
 #: points whose normals point along it) is left to the prediction (module docstring, step 3).
 WEAK_INFORMATION = 8.0
+#: ... and so is one with less than this, when it also has less than ANISOTROPY times the
+#: strongest direction's: a corridor with a door frame or two in range (the bighouse's: 8-20
+#: along it, 65-120 across). There the correlative pick lands 3-15 cm off on every scan, mostly
+#: backwards, and slid the map 0.5 m in 3 m of corridor. Open ground weak in every direction is
+#: not a corridor (turtlebot3_world between the pillars: 10-20 with 35-49 the other way, ratios
+#: 0.28-0.55) and its matches stay right: odometry there would carry its heading error along.
+#: 20 left the bighouse's room drive 8.6 cm off (its corridor reaches 20.3), 25 3.5 cm.
+CORRIDOR_INFORMATION = 25.0
+ANISOTROPY = 0.25
 _NO_INFORMATION = np.zeros((3, 3))
 _NO_INFORMATION.flags.writeable = False
 
@@ -178,17 +188,19 @@ def refine(grid: MatchGrid, points: np.ndarray, pose: np.ndarray, *, iterations:
     return MatchResult(current, float(value.mean()), information)
 
 
-def weak_directions(information: np.ndarray, *, threshold: float = WEAK_INFORMATION) -> np.ndarray:
+def weak_directions(information: np.ndarray, *, threshold: float = WEAK_INFORMATION,
+                    corridor: float = CORRIDOR_INFORMATION, anisotropy: float = ANISOTROPY) -> np.ndarray:
     """(K, 2) unit vectors (map frame) of the translation directions the match does not
     constrain: eigenvectors of the information's x-y block (the yaw marginalised out, via the
-    Schur complement) with eigenvalue below `threshold`. K is 0, 1 (a corridor) or 2 (nothing
-    to match)."""
+    Schur complement) with eigenvalue below `threshold`, or below `corridor` and `anisotropy`
+    times the largest eigenvalue. K is 0, 1 (a corridor) or 2 (nothing to match)."""
     info = np.asarray(information, dtype=np.float64)
     xy = info[:2, :2]
     if info[2, 2] > 1e-9:
         xy = xy - np.outer(info[:2, 2], info[2, :2]) / info[2, 2]
     values, vectors = np.linalg.eigh((xy + xy.T) / 2.0)
-    return vectors[:, values < threshold].T
+    weak = (values < threshold) | ((values < corridor) & (values < anisotropy * values.max()))
+    return vectors[:, weak].T
 
 
 def keep_prediction_along(matched: np.ndarray, predicted: np.ndarray, directions: np.ndarray) -> np.ndarray:

@@ -14,7 +14,7 @@ import numpy as np
 
 from zros.slam.geometry import transform_points
 
-__all__ = ['ScanPoints', 'scan_points', 'voxel_filter']
+__all__ = ['ScanPoints', 'scan_points', 'voxel_filter', 'within_reach']
 
 
 class ScanPoints(NamedTuple):
@@ -71,3 +71,17 @@ def voxel_filter(points: np.ndarray, size: float) -> np.ndarray:
     sums = np.zeros((len(counts), 2))
     np.add.at(sums, inverse, points)
     return sums / counts[:, None]
+
+
+def within_reach(points: np.ndarray, origins: np.ndarray, reach: np.ndarray) -> np.ndarray:
+    """(N,) bool: which of `points` (N, 2) lie within `reach` (K,) [m] of at least one of the
+    sensor positions `origins` (K, 2), all in one frame.
+
+    A local map made of K scans can only hold what those scans could reach. A new scan's points
+    beyond that (a corridor's walls a step further on) fit nowhere on it whatever the pose, and
+    score nothing: they pull the match back onto the mapped part instead of telling where the
+    robot is, so the front end matches without them."""
+    points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    origins = np.asarray(origins, dtype=np.float64).reshape(-1, 2)
+    distance = np.hypot(points[:, None, 0] - origins[None, :, 0], points[:, None, 1] - origins[None, :, 1])
+    return np.any(distance <= np.asarray(reach, dtype=np.float64)[None, :], axis=1)
