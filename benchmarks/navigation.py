@@ -198,6 +198,8 @@ class Stack:
         rpp, cparams, amcl, failure_tolerance = stack_parameters()
         self.monitor = monitor_zones(cparams.robot_radius) if collision_monitor else []
         self.monitor_acted = 0                  # commands the collision monitor slowed or stopped
+        self.monitor_stopped = 0                # of those, the commands it stopped
+        self.commands = 0                       # control periods commanded
         self.costmap = LayeredCostmap(cparams)
         self.costmap.set_static_map(grid.data, grid.resolution, tuple(grid.origin[:2]))
         self.costmap.update()
@@ -231,6 +233,7 @@ class Stack:
         (through the collision monitor, with `collision_monitor`)."""
         if self.monitor:
             cmd = self.monitored(cmd)
+        self.commands += 1
         self.cmd = cmd
         self.robot.command(*cmd)
         self.sim.step(CONTROL_PERIOD)
@@ -250,12 +253,14 @@ class Stack:
             self._next_update = self.sim.time + REPLAN_PERIOD
 
     def monitored(self, cmd: tuple[float, float]) -> tuple[float, float]:
-        """`cmd` as the collision monitor lets it through (counted when it acts)."""
+        """`cmd` as the collision monitor lets it through (counted when it slows a moving
+        command, and apart when it stops one)."""
         decision = monitor_decision(self.monitor, self.loc.ranges, cmd)
-        if decision.action == 'do_nothing':
-            return cmd
-        self.monitor_acted += 1
-        return float(decision.velocity[0]), float(decision.velocity[2])
+        safe = float(decision.velocity[0]), float(decision.velocity[2])
+        if decision.action != 'do_nothing' and any(cmd):
+            self.monitor_acted += 1
+            self.monitor_stopped += not any(safe)
+        return safe
 
     def follow(self, goal: tuple[float, float, float], deadline: float) -> bool:
         """FollowPath with replanning each second until the goal checker accepts (True), the
@@ -414,7 +419,8 @@ def run_goals(name: str, goals: int, seed: int, map_dir: Path | None, *, truth_p
                 ratios.append((sim.time - t0) / ideal)
     plan_ms = stack.plan_ms
     return {'world': name, 'goals': done, 'success': ok / done, 'collisions': robot.collisions,
-            'recoveries': recoveries, 'monitor_acted': stack.monitor_acted,
+            'recoveries': recoveries, 'monitor_acted': stack.monitor_acted, 'monitor_stopped': stack.monitor_stopped,
+            'monitor': bool(stack.monitor), 'commands': stack.commands,
             'loc_rms': math.sqrt(float(np.mean(np.square(stack.loc_errors)))), 'loc_max': max(stack.loc_errors),
             'ratio_median': statistics.median(ratios) if ratios else math.nan,
             'ratio_max': max(ratios) if ratios else math.nan,
@@ -450,8 +456,9 @@ def print_goals(rows: list[dict]) -> None:
               f"{r['recoveries']} | {r['error_max']:.2f} | {r['loc_rms']:.3f} / {r['loc_max']:.2f} | "
               f"{r['sim_time']:.0f} |")
     for r in rows:
-        if r['monitor_acted']:
-            print(f"{r['world']}: the collision monitor slowed or stopped {r['monitor_acted']} commands")
+        if r['monitor']:
+            print(f"{r['world']}: the collision monitor slowed {r['monitor_acted']} commands "
+                  f"(stopped {r['monitor_stopped']} of them), of {r['commands']}")
 
 
 # -- processes over Zenoh (parts explore and cpu) -----------------------------------------------

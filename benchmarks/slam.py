@@ -5,6 +5,8 @@
     python benchmarks/slam.py --world turtlebot3_house --overlay /tmp/house.png   # map over truth
     python benchmarks/slam.py --json out.json
     python benchmarks/slam.py --world turtlebot3_house --set do_loop_closing=false   # compare a parameter
+    python benchmarks/slam.py --world turtlebot3_bighouse --via=-2,-1 --via=1,-4.5 ... --via=-2,-1 \
+        --map /tmp/bh --map-from-truth    # another drive; save the map drawn from the true poses
 
 Goals (issue 16, docs/architecture.md §9): in turtlebot3_world, trajectory error (ATE RMSE) <= 5 cm and at
 least 5x better than odometry alone; map: >= 95 % of the visible true wall cells found within
@@ -197,9 +199,13 @@ def _add_known_pose_scan(grid: LogOddsGrid, last: np.ndarray | None, pose: np.nd
 
 # -- one run -----------------------------------------------------------------------------------
 def run(world_name: str, *, seed: int = 1, save_map: str | None = None, overlay_png: str | None = None,
-        parameters: SlamParameters | None = None) -> dict:
+        parameters: SlamParameters | None = None, vias: list[tuple[float, float]] | None = None,
+        map_from_truth: bool = False) -> dict:
+    """One drive through `vias` (default: ROUTES[world_name]); `save_map` writes SLAM's map, or with
+    `map_from_truth` the map drawn from the true poses (the same scans), to tell what the map's
+    coverage costs navigation from what SLAM's pose error costs it."""
     world = load_world(world_name)
-    route = plan_route(world_name, ROUTES[world_name])
+    route = plan_route(world_name, vias or ROUTES[world_name])
     sim = Simulation(world, seed=seed)
     spawn = world.spawn
     robot = sim.add_robot('burger', (spawn.x, spawn.y, spawn.yaw), slip_stddev=SLIP, odometry='encoder')
@@ -260,8 +266,10 @@ def run(world_name: str, *, seed: int = 1, save_map: str | None = None, overlay_
         Path(overlay_png).write_bytes(encode_png(overlay(grid, spawn_pose, truth_raster, walls, scale=3)))
     if save_map:
         from zros.map_io import OccupancyMap, save_map as write_map
-        x, y, yaw = compose(spawn_pose, np.array(grid.origin))
-        write_map(OccupancyMap(grid.data, grid.resolution, (float(x), float(y), float(yaw))), save_map)
+        saved = known.occupancy(occupied_thresh=slam.parameters.occupied_thresh,
+                                free_thresh=slam.parameters.free_thresh) if map_from_truth else grid
+        x, y, yaw = compose(spawn_pose, np.array(saved.origin))
+        write_map(OccupancyMap(saved.data, saved.resolution, (float(x), float(y), float(yaw))), save_map)
     per_scan = slam_cpu / scans
     return {
         'world': world_name, 'sim_time_s': round(sim.time, 1), 'distance_m': round(float(np.sum(
@@ -348,6 +356,15 @@ def _parameter(text: str) -> tuple[str, object]:
         raise ValueError(f'--set {name}: {value!r} is not a number or true/false') from None
 
 
+def _via(text: str) -> tuple[float, float]:
+    """'x,y' [m] as a via point."""
+    try:
+        x, y = (float(v) for v in text.split(','))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f'a via point is X,Y in metres, got {text!r}') from None
+    return x, y
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--world', action='append', choices=sorted(ROUTES), help='default: both')
@@ -355,6 +372,11 @@ def main() -> None:
     parser.add_argument('--map', help='save the (last) map to this name (.yaml + .pgm), in the world frame')
     parser.add_argument('--overlay', metavar='PNG', help='draw the (last) map over the truth raster here '
                         '(zros.sim.evaluation.overlay: black walls found, blue missed, red false occupied)')
+    parser.add_argument('--map-from-truth', action='store_true',
+                        help='--map saves the map drawn from the true poses (same scans) instead of SLAM\'s')
+    parser.add_argument('--via', action='append', type=_via, metavar='X,Y',
+                        help='drive through these via points [m, world frame] instead of the world\'s route '
+                             '(repeat; one --world)')
     parser.add_argument('--json', help='write the results here')
     parser.add_argument('--set', action='append', default=[], metavar='NAME=VALUE',
                         help='a SLAM parameter for this run (e.g. do_loop_closing=false), to compare')
@@ -363,8 +385,16 @@ def main() -> None:
         parameters = SlamParameters(**dict(_parameter(text) for text in args.set))
     except ValueError as error:
         parser.error(str(error))
-    results = [run(name, seed=args.seed, save_map=args.map, overlay_png=args.overlay, parameters=parameters)
-               for name in (args.world or sorted(ROUTES))]
+    if args.via and len(args.world or ()) != 1:
+        parser.error('--via takes one --world')
+    if args.map_from_truth and not args.map:
+        parser.error('--map-from-truth needs --map')
+    try:
+        results = [run(name, seed=args.seed, save_map=args.map, overlay_png=args.overlay, parameters=parameters,
+                       vias=args.via, map_from_truth=args.map_from_truth)
+                   for name in (args.world or sorted(ROUTES))]
+    except ValueError as error:                         # a via point in a wall, or unreachable
+        parser.error(str(error))
     print(f'# {platform.processor() or platform.machine()}, Python {platform.python_version()}, '
           f'numpy {np.__version__}')
     print_table(results)

@@ -52,7 +52,7 @@ def test_limit_and_the_slowest_zone_wins():
     slow = Zone('Slow', 'slowdown', radius=1.0, slowdown_ratio=0.5)
     points = _wall_at(0.6)
     alone = decide([limit], points, CMD)
-    assert alone.action == 'limit' and alone.velocity == pytest.approx([0.1, 0.0, 0.2])
+    assert alone.action == 'limit' and alone.velocity == pytest.approx([0.1, 0.0, 0.125])   # one ratio, 0.25
     both = decide([slow, limit], points, CMD)
     assert both.polygon_name == 'Limit'                          # 0.1 m/s is slower than 0.2 m/s
     assert decide([Zone('off', 'stop', radius=1.0, enabled=False)], points, CMD).action == 'do_nothing'

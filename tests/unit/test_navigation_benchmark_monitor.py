@@ -41,3 +41,17 @@ def test_open_space_turns_and_driving_away_pass_unchanged():
     assert monitor_decision(zones, _wall_ahead(2.0), (0.22, 0.0)).action == 'do_nothing'
     assert monitor_decision(zones, _wall_ahead(0.3), (0.0, 1.0)).action == 'do_nothing'
     assert monitor_decision(zones, _wall_ahead(0.3), (-0.05, 0.0)).action == 'do_nothing'
+
+
+def test_the_benchmark_counts_commands_slowed_and_stopped_but_not_standing_still():
+    from benchmarks.navigation import Stack, exact_map
+    from zros.sim import load_world
+    world = load_world('turtlebot3_world')
+    stack = Stack(world, exact_map(world), 1, truth_pose=True, collision_monitor=True)
+    stack.loc.ranges = _wall_ahead(0.3)
+    slowed = stack.monitored((0.22, 0.0))
+    assert 0.0 < slowed[0] < 0.22
+    assert stack.monitored((0.0, 0.0)) == (0.0, 0.0)          # nothing to slow: not counted
+    stack.loc.ranges = _wall_ahead(0.1)
+    assert stack.monitored((0.22, 0.0)) == (0.0, 0.0)
+    assert (stack.monitor_acted, stack.monitor_stopped) == (2, 1)

@@ -6,14 +6,15 @@ robot, in the order they are listed:
 
 * `stop`: `min_points` or more points inside the zone: the robot stops (nothing overrides it);
 * `slowdown`: the command is scaled by `slowdown_ratio`;
-* `limit`: the linear speed is capped at `linear_limit` [m/s] and the turn rate at
-  `angular_limit` [rad/s];
+* `limit`: the command is scaled so that the linear speed is at most `linear_limit` [m/s] and
+  the turn rate at most `angular_limit` [rad/s] (one ratio for both, keeping the curvature);
 * `approach`: the robot's motion under the command is simulated for `time_before_collision` [s]
   in steps of `simulation_time_step` [s]; if the zone (the footprint) would then hold
   `min_points` points after t seconds, the command is scaled by t / time_before_collision, so the
   robot slows down as it nears an obstacle and stops at it.
 
-Of several zones that act, the slowest resulting command wins. A zone is a polygon (`points`,
+Of several zones that act, the slowest resulting command wins (by vx² + vy² + wz², as Nav2
+orders velocities). A zone is a polygon (`points`,
 (K, 2) vertices [m] in the base frame) or a circle (`radius` [m] about the base frame's origin).
 Velocities are (vx [m/s], vy [m/s], wz [rad/s]).
 
@@ -97,15 +98,20 @@ class Zone:
 
     def collision_time(self, points: np.ndarray, velocity: np.ndarray) -> float | None:
         """Seconds [s] until the zone, carried along by `velocity`, holds `min_points` points;
-        None if not within `time_before_collision`."""
+        None if not within `time_before_collision`.
+
+        Counted as Nav2's Polygon::getCollisionTime counts it: the clock reads 0 after the first
+        simulated step and the simulation runs to `time_before_collision` inclusive, so a contact
+        one step ahead stops the robot (ratio 0) rather than letting it creep on at one step's
+        share of the command."""
         if self.triggered(points):
             return 0.0
         points = np.asarray(points, np.float64).reshape(-1, 2)
         vx, vy, wz = velocity
         x = y = theta = 0.0
-        steps = int(np.floor(self.time_before_collision / self.simulation_time_step + 1e-9))
-        for step in range(1, steps + 1):
-            dt = self.simulation_time_step
+        dt = self.simulation_time_step
+        steps = int(np.floor(self.time_before_collision / dt + 1e-9)) + 1
+        for step in range(steps):
             x += (vx * np.cos(theta) - vy * np.sin(theta)) * dt
             y += (vx * np.sin(theta) + vy * np.cos(theta)) * dt
             theta += wz * dt
@@ -153,14 +159,18 @@ def decide(zones: list[Zone], points: np.ndarray, velocity: np.ndarray) -> Decis
 
 
 def _limited(velocity: np.ndarray, linear_limit: float, angular_limit: float) -> np.ndarray:
+    """The command scaled by one ratio that brings both speeds within their limits (Jazzy's rule:
+    the same ratio on every component keeps the path's curvature, so a limited robot still
+    follows the arc the controller chose)."""
     linear = float(np.hypot(velocity[0], velocity[1]))
-    ratio = min(1.0, linear_limit / linear) if linear > 0.0 else 1.0
-    return np.array([velocity[0] * ratio, velocity[1] * ratio, np.clip(velocity[2], -angular_limit, angular_limit)])
+    ratio = 1.0
+    if linear > 0.0:
+        ratio = min(ratio, linear_limit / linear)
+    if velocity[2] != 0.0:
+        ratio = min(ratio, angular_limit / abs(float(velocity[2])))
+    return velocity * min(max(ratio, 0.0), 1.0)
 
 
 def _slower(a: np.ndarray, b: np.ndarray) -> bool:
-    """Nav2's Velocity ordering: by linear speed, then by turn rate."""
-    speed_a, speed_b = np.hypot(a[0], a[1]), np.hypot(b[0], b[1])
-    if not np.isclose(speed_a, speed_b):
-        return bool(speed_a < speed_b)
-    return bool(abs(a[2]) < abs(b[2]))
+    """Nav2's Velocity ordering: by vx² + vy² + wz², so a turn in place counts as motion."""
+    return bool(np.dot(a, a) < np.dot(b, b))
