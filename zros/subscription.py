@@ -28,6 +28,7 @@ import queue as queues
 import threading
 import time
 from collections import deque
+from collections.abc import Iterable
 from typing import TYPE_CHECKING, Any, Callable, Generic, Union
 
 from zros.entity import QueuedEntity
@@ -169,6 +170,7 @@ class Subscription(QueuedEntity, Generic[MsgT]):
         self._with_info = self._callback_type is CallbackType.WithMessageInfo
         self._plain = not raw and not self._with_info   # the callback takes the message only
         self._queue: deque = deque(maxlen=qos.queue_depth)  # Zenoh samples, undecoded
+        self._depth: int = qos.queue_depth                   # its maxlen, typed as never None
         self._evicted: deque = deque(maxlen=_EVICTED_NOTES)  # attachments of pushed-out samples
         self._take_lock = threading.Lock()   # the executor's take vs. a push-out
         self._taken = _Signal()       # _hand_off: the executor took from the queue
@@ -311,7 +313,7 @@ class Subscription(QueuedEntity, Generic[MsgT]):
         KEEP_LAST queue) is followed, while the budget lasts, by the next one (`_await_refill`)."""
         queue = self._queue
         deliver = self._deliver_plain if self._plain else self._deliver
-        depth = queue.maxlen
+        depth = self._depth
         taken: list = []
         index = count = 0
         deadline = None
@@ -369,7 +371,7 @@ class Subscription(QueuedEntity, Generic[MsgT]):
             return False
         self._refilled.clear()
         self._refilling = True
-        if len(self._queue) < self._queue.maxlen:
+        if len(self._queue) < self._depth:
             self._refilled.wait(remaining)
         self._refilling = False
         return True
@@ -392,7 +394,7 @@ class Subscription(QueuedEntity, Generic[MsgT]):
             queue = self._queue
             late = []
             for sample in reversed(samples):
-                if len(queue) < queue.maxlen:
+                if len(queue) < self._depth:
                     queue.appendleft(sample)
                 else:
                     late.append(sample)
@@ -410,7 +412,7 @@ class Subscription(QueuedEntity, Generic[MsgT]):
         self._drops_noted = self.dropped
         return notes
 
-    def _count_notes(self, notes: deque) -> None:
+    def _count_notes(self, notes: Iterable[Any]) -> None:
         lost = self.lost
         for attachment in notes:
             header = read_header(attachment.to_bytes()) if attachment is not None else None

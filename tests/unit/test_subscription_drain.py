@@ -46,6 +46,7 @@ def _subscription(depth: int, on_message=None) -> Subscription:
     gets the sample's number (the decoding is not what these tests are about)."""
     sub = Subscription.__new__(Subscription)
     sub._queue = deque(maxlen=depth)
+    sub._depth = depth
     sub._evicted = deque(maxlen=_EVICTED_NOTES)
     sub._take_lock = threading.Lock()
     sub._handing_off = sub._refilling = False
