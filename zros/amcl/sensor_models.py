@@ -15,13 +15,11 @@ Both are nav2_amcl's likelihood-field models, vectorised over particles x beams:
   unexplained by the map (people, furniture) and left out, unless that would leave out more
   than `beam_skip_error_threshold` of the beams.
 
-Beams: a beam at or beyond range_max, or NaN, is not used; of the n others, k = min(n,
-`max_beams`) evenly spaced ones (the i-th at index i n // k among them). Nav2 spaces them over
-all the scan's beams (step (n - 1) // (max_beams - 1)) and then drops those out of range, so
-where little is in range (a robot leaving a building: 1-5 of its 60) it uses a few beams while
-dozens more returned; here the budget goes to beams that say something. A scan whose beams all
-return uses Nav2's beams when its size is a multiple of max_beams (360 and 60: every 6th). The laser's mount (x, y, yaw in the base frame) is composed with
-each particle's pose.
+Beams: `max_beams` evenly spaced ones (step (n - 1) // (max_beams - 1), Nav2's integer step);
+a beam at or beyond range_max, or NaN, is not used. The laser's mount (x, y, yaw in the base
+frame) is composed with each particle's pose. (Spreading `max_beams` over the beams in range
+instead, and looking back 8 cells, tracked the house 1.2 cm better on its exact map but lost the
+robot on SLAM-made maps where few beams return: docs/benchmarks-history.md, issue 34.)
 
 Walls have a thickness on the map, and a lidar only ever sees their near face. Nav2's field
 scores an end point on a wall's far face as a perfect hit, so a particle that stands up to a
@@ -48,15 +46,16 @@ from zros.amcl.map_grid import MapGrid
 __all__ = ['LaserScanData', 'LikelihoodFieldModel', 'LikelihoodFieldProbModel', 'create_laser_model',
            'LASER_MODELS', 'LOOK_BACK', 'DIRECTIONS', 'distance_field', 'emerging_cells']
 
-#: [cells] How far back from a beam's end point to look for an obstacle's inside. Along a beam that
-#: meets a wall at an angle b, k cells reach k sin(b) cells deep: 8 catch a wall three cells thick
-#: (turtlebot3_house's 0.15 m at 0.05 m) from beams down to about 25 deg (3 cells caught only
-#: beams near the normal, and a beam grazing the house's south wall past its far face scored as a
-#: hit, pulling the estimate 7-10 cm towards the wall: docs/benchmarks-history.md, issue 34).
-LOOK_BACK = 8
-#: Beam directions the look-back is precomputed for (one bit each of a uint32 per cell): 11.25 deg
-#: apart, so a look-back point is at most 8 cells x sin(5.6 deg) = 0.8 cell off the beam.
-DIRECTIONS = 32
+#: [cells] How far back from a beam's end point to look for an obstacle's inside: a wall three
+#: cells thick (turtlebot3_house's 0.15 m at 0.05 m) is caught from its far face and the cell past it.
+#: A beam meeting the wall at an angle b reaches only 3 sin(b) cells into it (1-1.5 at 20-30 deg),
+#: so such a beam just past the far face still scores as a hit. Looking back 8 cells over 32
+#: directions caught it and tracked the house better on its exact map, but navigation on the
+#: SLAM-made map lost the robot where few beams return (docs/benchmarks-history.md, issue 34).
+LOOK_BACK = 3
+#: Beam directions the look-back is precomputed for (one bit each of a uint32 per cell): 22.5 deg
+#: apart, so a look-back point is at most 3 cells x sin(11.25 deg) = 0.6 cell off the beam.
+DIRECTIONS = 16
 
 
 class LaserScanData(NamedTuple):
@@ -136,12 +135,11 @@ class LikelihoodFieldModel:
         return table
 
     def beams(self, scan: LaserScanData) -> tuple[np.ndarray, np.ndarray]:
-        """The ranges and bearings of the beams used: up to `max_beams` of those in range, evenly
-        spaced (the module docstring)."""
-        valid = np.flatnonzero(np.isfinite(scan.ranges) & (scan.ranges < scan.range_max))
-        count = min(len(valid), self.max_beams)
-        used = valid[np.arange(count) * len(valid) // max(count, 1)]
-        return scan.ranges[used], scan.bearings[used]
+        """The ranges and bearings of the beams used: sub-sampled, valid ones only."""
+        step = max((len(scan.ranges) - 1) // (self.max_beams - 1), 1)
+        ranges, bearings = scan.ranges[::step], scan.bearings[::step]
+        valid = np.isfinite(ranges) & (ranges < scan.range_max)
+        return ranges[valid], bearings[valid]
 
     def _end_cells(self, particles: np.ndarray, ranges: np.ndarray, bearings: np.ndarray,
                    laser_pose: tuple[float, float, float]) -> tuple[np.ndarray, np.ndarray]:
