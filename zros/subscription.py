@@ -170,7 +170,7 @@ class Subscription(QueuedEntity, Generic[MsgT]):
         self._with_info = self._callback_type is CallbackType.WithMessageInfo
         self._plain = not raw and not self._with_info   # the callback takes the message only
         self._queue: deque = deque(maxlen=qos.queue_depth)  # Zenoh samples, undecoded
-        self._depth: int = qos.queue_depth                   # its maxlen, typed as never None
+        self._depth: int = qos.queue_depth                   # its maxlen (the one read everywhere)
         self._evicted: deque = deque(maxlen=_EVICTED_NOTES)  # attachments of pushed-out samples
         self._take_lock = threading.Lock()   # the executor's take vs. a push-out
         self._taken = _Signal()       # _hand_off: the executor took from the queue
@@ -216,10 +216,10 @@ class Subscription(QueuedEntity, Generic[MsgT]):
     # clock is read: a sample costs this thread a length check, an append and a flag test.
     def _on_sample(self, sample: Any) -> None:
         queue = self._queue
-        if len(queue) == queue.maxlen:
+        if len(queue) == self._depth:
             if self._scheduled:
                 self._hand_off()
-            if len(queue) == queue.maxlen:
+            if len(queue) == self._depth:
                 self._push_out()
         queue.append(sample)
         if self._events is not None:
@@ -287,7 +287,7 @@ class Subscription(QueuedEntity, Generic[MsgT]):
             return
         self._taken.clear()
         self._handing_off = True
-        if len(self._queue) == self._queue.maxlen:
+        if len(self._queue) == self._depth:
             self._taken.wait(_HAND_OFF_S)
         self._handing_off = False
 
@@ -296,7 +296,7 @@ class Subscription(QueuedEntity, Generic[MsgT]):
         kept, unread, so that the executor can still count a gap before it in `lost`."""
         with self._take_lock:
             queue = self._queue
-            if len(queue) == queue.maxlen:
+            if len(queue) == self._depth:
                 self._evicted.append(queue.popleft().attachment)
                 self.dropped += 1
 

@@ -221,6 +221,7 @@ class _Arrivals:
     _lead_or_schedule = Subscription._lead_or_schedule
     _events = None
     _scheduled = False
+    _depth = 1 << 30   # a queue that never fills
 
     def __init__(self) -> None:
         import collections
