@@ -53,7 +53,7 @@ __all__ = ['LaserScanData', 'LikelihoodFieldModel', 'LikelihoodFieldProbModel', 
 #: directions caught it and tracked the house better on its exact map, but navigation on the
 #: SLAM-made map lost the robot where few beams return (docs/benchmarks-history.md, issue 34).
 LOOK_BACK = 3
-#: Beam directions the look-back is precomputed for (one bit each of a uint32 per cell): 22.5 deg
+#: Beam directions the look-back is precomputed for (one bit each of a uint16 per cell): 22.5 deg
 #: apart, so a look-back point is at most 3 cells x sin(11.25 deg) = 0.6 cell off the beam.
 DIRECTIONS = 16
 
@@ -75,13 +75,13 @@ def distance_field(grid: MapGrid, max_dist: float) -> np.ndarray:
 
 
 def emerging_cells(grid: MapGrid) -> np.ndarray:
-    """Per cell (height, width) uint32: bit d is set when a beam ending in this known cell in
+    """Per cell (height, width) uint16: bit d is set when a beam ending in this known cell in
     direction d x 360/DIRECTIONS deg came out of an obstacle's inside (one of the LOOK_BACK cells
     before it, along that direction, is unknown or occupied with no free neighbour). Computed
     once per map, so scoring a beam costs one lookup instead of LOOK_BACK."""
     opaque = (grid.data < 0) | binary_erosion(grid.occupied)
     known = grid.data >= 0
-    bits = np.zeros(grid.data.shape, dtype=np.uint32)
+    bits = np.zeros(grid.data.shape, dtype=np.uint16)
     height, width = opaque.shape
     for d in range(DIRECTIONS):
         angle = 2.0 * np.pi * d / DIRECTIONS
@@ -93,7 +93,7 @@ def emerging_cells(grid: MapGrid) -> np.ndarray:
             # behind[r, c] |= opaque[r - dr, c - dc], where that cell is on the map
             behind[max(dr, 0):height + min(dr, 0), max(dc, 0):width + min(dc, 0)] |= \
                 opaque[max(-dr, 0):height - max(dr, 0), max(-dc, 0):width - max(dc, 0)]
-        bits |= (known & behind).astype(np.uint32) << np.uint32(d)
+        bits |= (known & behind).astype(np.uint16) << np.uint16(d)
     return bits
 
 
