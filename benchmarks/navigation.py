@@ -80,7 +80,7 @@ from zros.amcl.localizer import compose  # noqa: E402
 from zros.map_io import load_map  # noqa: E402
 from zros.navigation.controller import (FollowError, GoalChecker, PathFollower, ProgressChecker,  # noqa: E402
                                         RegulatedPurePursuit, RPPParams)
-from zros.navigation.collision_monitor import Decision, Zone, decide, scan_points  # noqa: E402
+from zros.navigation.collision_monitor import ZONE_PARAMETERS, Decision, Zone, decide, scan_points  # noqa: E402
 from zros.navigation.costmap import CostmapParams, LayeredCostmap  # noqa: E402
 from zros.navigation.planner import GridPlanner, PlanningError  # noqa: E402
 from zros.sim import BURGER, LDS_01, Simulation, load_world, rasterize  # noqa: E402
@@ -138,10 +138,8 @@ def monitor_zones(robot_radius: float) -> list[Zone]:
     zones = []
     for name in given['polygons']:
         zone = given[name]
-        keys = ('min_points', 'time_before_collision', 'simulation_time_step', 'slowdown_ratio', 'linear_limit',
-                'angular_limit', 'enabled')
         zones.append(Zone(name, zone['action_type'], radius=zone.get('radius', robot_radius),
-                          **{k: zone[k] for k in keys if k in zone}))
+                          **{k: zone[k] for k in ZONE_PARAMETERS if k in zone}))
     return zones
 
 

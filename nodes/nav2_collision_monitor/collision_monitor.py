@@ -31,7 +31,7 @@ import numpy as np
 import zros
 from zros.executors import ExternalShutdownException
 from zros.lifecycle import LifecycleNode, State, TransitionCallbackReturn
-from zros.navigation.collision_monitor import ACTIONS, Decision, Zone, decide, scan_points
+from zros.navigation.collision_monitor import ACTIONS, ZONE_PARAMETERS, Decision, Zone, decide, scan_points
 from zros.navigation.node_support import Nav2Params, lookup_pose
 from zros.navigation.velocity_smoother import twist_vector
 from zros.tf2_ros import Buffer, TransformListener
@@ -40,9 +40,6 @@ from zros.qos import qos_profile_sensor_data
 from interfaces.geometry_msgs.msg import PolygonStamped, Twist
 from interfaces.nav2_msgs.msg import CollisionMonitorState
 from interfaces.sensor_msgs.msg import LaserScan
-
-_ZONE_PARAMS = ('min_points', 'slowdown_ratio', 'linear_limit', 'angular_limit', 'time_before_collision',
-                'simulation_time_step', 'enabled')
 
 
 class _Source:
@@ -88,7 +85,7 @@ class CollisionMonitor(LifecycleNode):
         for unused in ('visualize', 'polygon_pub_topic', 'polygon_sub_topic'):
             prm.get(f'{name}.{unused}', '')
         kwargs: dict[str, Any] = {}
-        for key in _ZONE_PARAMS:
+        for key in ZONE_PARAMETERS:
             default = getattr(Zone, key)
             kwargs[key] = prm.get(f'{name}.{key}', default)
         if f'{name}.max_points' in self._parameter_overrides and f'{name}.min_points' not in self._parameter_overrides:

@@ -28,10 +28,14 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ['ACTIONS', 'Zone', 'Decision', 'points_in_polygon', 'scan_points', 'decide']
+__all__ = ['ACTIONS', 'ZONE_PARAMETERS', 'Zone', 'Decision', 'points_in_polygon', 'scan_points', 'decide']
 
 # nav2_msgs/msg/CollisionMonitorState action_type values.
 ACTIONS = {'do_nothing': 0, 'stop': 1, 'slowdown': 2, 'approach': 3, 'limit': 4}
+#: A zone's parameters that map one to one onto `Zone`'s fields of the same name (its defaults
+#: are Nav2's): what a parameter file may set under the zone's name besides its shape.
+ZONE_PARAMETERS = ('min_points', 'slowdown_ratio', 'linear_limit', 'angular_limit', 'time_before_collision',
+                   'simulation_time_step', 'enabled')
 
 
 def points_in_polygon(points: np.ndarray, vertices: np.ndarray) -> np.ndarray:
