@@ -292,6 +292,9 @@ class Context:
 
 _default_context = Context()
 _CLOSER_NAME = 'zros-close'
+# The names of the subscriptions' pump threads (zros.subscription) begin with this: like Zenoh's
+# callback threads they end once the session is closed.
+PUMP_THREAD_PREFIX = 'zros-sub '
 _exit_hooked: weakref.WeakSet = weakref.WeakSet()
 
 
@@ -365,6 +368,7 @@ def exit_process(code: int) -> None:
     main = threading.main_thread()
     own = [t for t in threading.enumerate() if t is not main and not t.daemon and t.is_alive()
            and not t.name.endswith('(pyo3-closure)')    # Zenoh's callback threads, done once closed
+           and not t.name.startswith(PUMP_THREAD_PREFIX)   # the subscriptions' pumps, the same
            and t.name != _CLOSER_NAME]                  # exiting ends the close (see _close_session)
     if own:
         sys.exit(code)

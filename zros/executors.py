@@ -15,6 +15,19 @@ Where work comes from, in the order it is taken: tasks made by `create_task` tha
 yet (newest first, as rclpy yields its tasks), due timers, the user waitables of the nodes
 (zros.waitable, asked in turn whenever the executor looks for work), then the queue.
 
+The pull (docs/architecture.md §3): a sample handed from the subscription's pump thread to the
+spinning thread costs a thread wake-up more than raw zenoh-python's callback, more than all of
+zros's other work on it. So while a SingleThreadedExecutor's `spin()` (or
+`spin_until_future_complete()` without a timeout) serves nodes with exactly one subscription
+and no timer or user waitable, the spinning thread blocks on that subscription's Zenoh channel
+itself (the interpreter lock released in Zenoh, as raw zenoh-python's own receive does) and runs
+the callback as soon as it wakes, inside the subscription's group, on the thread that spins, as
+rclpy runs it. Whatever else gives this executor work (a service request, a guard condition, a
+task, a completed future, a wake-up, shutdown) queues it as usual and then wakes the channel
+with an empty sample put on the topic's key for this session only (`_enqueue_pulling`); the
+spin takes the queued work first. A new subscription, timer or node ends the pull at the next
+wake-up and the pump receives again. `spin_once` and MultiThreadedExecutors keep the hand-off.
+
 Leader/follower (docs/architecture.md §3; opt-in, ZROS_CALLBACK_THREAD=zenoh): a thread hop
 costs more than the rest of zros's work per message, so while a SingleThreadedExecutor's
 `spin()` or `spin_until_future_complete()` is parked on its queue, a subscription's sample that
@@ -27,7 +40,8 @@ zros.subscription), since leading a flood would put receiving and running on one
 the hand-off lets Zenoh's thread receive the next sample while the executor runs this one
 (leading every sample halved KEEP_ALL throughput, docs/benchmarks-history.md, "Issue 35").
 `spin_once` never lets a sample be led (it returns after one callback of its own); neither does
-a MultiThreadedExecutor, nor a subclass with its own `spin_once`.
+a MultiThreadedExecutor, nor a subclass with its own `spin_once`, nor a pulled subscription (the
+pull has no hop to save).
 """
 from __future__ import annotations
 
@@ -39,10 +53,12 @@ import queue
 import threading
 import time
 import warnings
+from time import perf_counter as _clock
 from concurrent.futures import ThreadPoolExecutor
 from typing import TYPE_CHECKING, Any, Callable, Iterator
 
-from zros.subscription import _LEAD_QUICK_S, Subscription
+from zros.subscription import _HAND_OFF_S as _SLOW_S
+from zros.subscription import _LEAD_QUICK_S, Subscription, subscription_lists_version
 from zros.task import Future, Task
 from zros.timer import timer_lists_version
 from zros.waitable import POLL_PERIOD, WaitSet, waitable_lists_version
@@ -158,6 +174,12 @@ class Executor:
         self._leading = False
         self._leader: int | None = None
         self._errors: queue.SimpleQueue = queue.SimpleQueue()   # raised again on the spinning thread
+        # The pull (module docstring): the one subscription spin() may receive from itself, for
+        # the lists of this key; `_pulling` while blocked on its channel, `_poked` once woken.
+        self._pull_key: tuple[int, int, int, int] | None = None
+        self._pull_sub: Subscription | None = None
+        self._pulling = False
+        self._poked = False
         self._context._register_executor(self)
 
     @property
@@ -207,10 +229,20 @@ class Executor:
     # -- work --------------------------------------------------------------------------
     def wake(self) -> None:
         """Make the executor look again (at timers, nodes, shutdown); not itself work."""
-        self._queue.put(None)
+        self._enqueue(None)
 
     def _note_completion(self) -> None:
-        self._queue.put(_COMPLETION)
+        self._enqueue(_COMPLETION)
+
+    def _enqueue_pulling(self, item: Any) -> None:
+        """`_enqueue` while spin() pulls: queue the work, and wake the spinning thread if it
+        blocks on the subscription's channel (once per block: a second wake-up adds nothing)."""
+        self._queue.put(item)
+        if self._pulling and not self._poked:
+            self._poked = True
+            subscription = self._pull_sub
+            if subscription is not None:
+                subscription._poke()
 
     def _lead(self, entity: Any) -> bool:
         """Zenoh's thread, with a sample just queued on `entity` (a Subscription): run it here
@@ -405,10 +437,137 @@ class Executor:
         with self._backlog_lock:
             parked = self._backlog.pop(id(group), ())
         for item in parked:
-            self._queue.put(item)
+            self._enqueue(item)
 
     def _dispatch(self, item: Any) -> None:
         raise NotImplementedError
+
+    # -- the pull ---------------------------------------------------------------------------
+    def _pull_candidate(self) -> Subscription | None:
+        """The subscription spin() receives from itself (module docstring): the only one of
+        this executor's nodes, pullable, while they have no timer and no waitable and the
+        executor runs its callbacks on the spinning thread; None otherwise. Recomputed only
+        when a list it depends on changed."""
+        key = (subscription_lists_version(), timer_lists_version(), waitable_lists_version(),
+               self._nodes_version)
+        if key != self._pull_key:
+            self._pull_key = key
+            self._pull_sub = self._find_pull_candidate()
+        return self._pull_sub
+
+    def _find_pull_candidate(self) -> Subscription | None:
+        if not (self._runs_on_waiting_thread and self._builtin_spin_once()):
+            return None
+        found = None
+        for node in self.get_nodes():
+            if node._timers_snapshot() or any(True for _ in node.waitables):
+                return None
+            for entity in list(node._entities):
+                if isinstance(entity, Subscription):
+                    if found is not None or not entity._pullable:
+                        return None
+                    found = entity
+        return found
+
+    def _spin_pulling(self, subscription: Subscription, until: Callable[[], bool] | None = None) -> None:
+        """spin() while `subscription` is the pull candidate: its pump steps aside and this
+        thread blocks on the subscription's Zenoh channel itself, so that a sample wakes the
+        thread that runs its callback directly (one thread wake-up, as raw zenoh-python's own
+        callback costs) instead of waking the pump and then this thread. Everything else that
+        has work for this executor queues it as usual and then wakes the channel
+        (`_enqueue_pulling`). Returns when the executor shuts down, `until()` holds, the
+        candidate changes or the channel closes; the pump then receives again."""
+        if not subscription._take_channel():
+            self._pull_sub = None   # (not again until the lists change)
+            return
+        self._enqueue = self._enqueue_pulling
+        waiting = self._queue
+        receive = subscription._zenoh.recv
+        try:
+            while not self._is_shutdown:
+                # (whatever changes the candidate, ends the wait or raises comes with queued work)
+                if not waiting.empty() or self._new_tasks:
+                    if self._pull_candidate() is not subscription or (until is not None and until()):
+                        return
+                    self._raise_pending_error()
+                    item = self._wait_for_work(0.0, until)   # (takes what is queued, no waiting)
+                    if item is not None:
+                        self._dispatch(item)
+                    continue
+                self._poked = False
+                self._pulling = True
+                if not waiting.empty() or self._new_tasks or self._is_shutdown:
+                    self._pulling = False   # (queued before the flag was up: no wake-up comes)
+                    continue
+                try:
+                    sample = receive()   # (blocks, the interpreter lock released in Zenoh)
+                except Exception:  # noqa: BLE001 - zenoh.ZError: the channel is closed
+                    sample = None
+                finally:
+                    self._pulling = False
+                if sample is None:   # (the channel is closed)
+                    self._pull_sub = None
+                    return
+                if (subscription._plain and subscription._events is None and not subscription._queue
+                        and not subscription._absent):
+                    self._deliver_pulled(subscription, sample)
+                    continue
+                subscription._queue_pulled(sample, self._batch)
+                if subscription._queue and not subscription._scheduled:
+                    subscription._scheduled = True   # (its `_execute` re-arms it)
+                    self._dispatch(subscription)
+        finally:
+            self._enqueue = waiting.put
+            subscription._give_channel()
+
+    def _deliver_pulled(self, subscription: Subscription, sample: Any) -> None:
+        """The pull's own delivery, for the common case (a callback that takes the message
+        only, no QoS event to track, nothing queued): `sample` and those behind it in the
+        channel go to the callback straight from the channel, inside the subscription's
+        group, without passing through its queue. It stops after the turn's budget, when
+        other work is queued, when a callback returned a coroutine (it runs as a task that
+        keeps the group), and after a slow callback, so that the next take finds the channel
+        as the pump's KEEP_LAST would have left it (`_queue_pulled`)."""
+        group = subscription.callback_group
+        # (no token: nothing leads while the executor pulls, its one subscription's pump parked)
+        if group is not None and not group.try_enter(subscription):
+            subscription._queue_pulled(sample, self._batch)
+            subscription._scheduled = True
+            self._park(group, subscription)
+            return
+        deliver = subscription._deliver_plain
+        receive = subscription._zenoh.try_recv
+        waiting = self._queue
+        budget = self._batch
+        pending = None
+        taken = _clock()
+        slow = False
+        try:
+            while True:
+                pending = deliver(sample)
+                now = _clock()
+                if now - taken > _SLOW_S:
+                    slow = True
+                    break
+                if pending is not None and inspect.iscoroutine(pending):
+                    break
+                budget -= 1
+                if budget <= 0 or not waiting.empty():
+                    break
+                try:
+                    sample = receive()
+                except Exception:  # noqa: BLE001 - zenoh.ZError: closed (destroyed in the callback)
+                    break
+                if sample is None:
+                    break
+                taken = now
+        finally:
+            subscription._last_pull = taken
+            subscription._absent = slow
+            if group is not None and (pending is None or not inspect.iscoroutine(pending)):
+                self._leave_group(group, subscription)
+        if pending is not None and inspect.iscoroutine(pending):
+            Task(pending, executor=self, node=subscription._node, callback_group=group)._execute()
 
     # -- rclpy's extension point -------------------------------------------------------------
     def wait_for_ready_callbacks(self, timeout_sec: float | None = None, nodes: list | None = None,
@@ -491,7 +650,11 @@ class Executor:
             with self._led():
                 try:
                     while not self._is_shutdown:
-                        self._spin_once(_MAX_WAIT)
+                        subscription = self._pull_candidate()
+                        if subscription is not None:
+                            self._spin_pulling(subscription)
+                        else:
+                            self._spin_once(_MAX_WAIT)
                 finally:
                     self._batch = 1
 
@@ -511,10 +674,16 @@ class Executor:
                 remaining = _MAX_WAIT if deadline is None else min(_MAX_WAIT, deadline - time.monotonic())
                 if remaining <= 0:
                     return
-                if self._builtin_spin_once():
-                    self._spin_once(remaining, future.done)
-                else:
+                if not self._builtin_spin_once():
                     self.spin_once(remaining)
+                    continue
+                # (pulling waits for the completion's wake-up: only if it comes to this executor)
+                pull = deadline is None and getattr(future, '_current_executor', lambda: None)() is self
+                subscription = self._pull_candidate() if pull else None
+                if subscription is not None:
+                    self._spin_pulling(subscription, future.done)
+                else:
+                    self._spin_once(remaining, future.done)
 
     def spin_once_until_future_complete(self, future: Future, timeout_sec: float | None = None) -> None:
         """Run at most one callback, returning early if `future` completes or the timeout passes.

@@ -29,7 +29,7 @@ from zros.qos_overriding_options import (QoSOverridingOptions, declare_qos_param
 from zros.qos import (QoSProfile, qos_profile_default, qos_profile_parameter_events,
                       qos_profile_services_default, to_profile)
 from zros.service import Service
-from zros.subscription import Subscription, SubscriptionCallback
+from zros.subscription import Subscription, SubscriptionCallback, subscription_lists_changed
 from zros.guard_condition import GuardCondition
 from zros.timer import Rate, Timer, timer_lists_changed
 from zros.time_source import TimeSource
@@ -251,6 +251,8 @@ class Node(HandleOwner):
 
     def _add(self, entity: Any) -> Any:
         self._entities.append(entity)
+        if isinstance(entity, Subscription):
+            subscription_lists_changed()
         if self._qos_monitor is None and isinstance(entity, (Publisher, Subscription)):
             from zros.qos_monitor import QoSMonitor
             self._qos_monitor = QoSMonitor(self)
@@ -264,6 +266,8 @@ class Node(HandleOwner):
         """Drop `entity` from the registry (it is being destroyed by its owner)."""
         if entity in self._entities:
             self._entities.remove(entity)
+            if isinstance(entity, Subscription):
+                subscription_lists_changed()
             if entity in self._timers:
                 self._timers.remove(entity)
                 timer_lists_changed()

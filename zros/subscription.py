@@ -1,24 +1,33 @@
 """Subscriptions: samples arrive on Zenoh's thread, wait undecoded in a bounded queue, and are
 read, decoded and handed to the callback on the executor.
 
-One hand-off: on zenoh-python's callback thread, the subscription appends the sample,
-untouched, to its queue and puts itself in the executor's queue if it is not there yet: no
-copy, no parsing, so that thread holds the GIL as little as possible. The exception is an
-executor parked in `spin()` with nothing to do and a sample that comes after a quiet spell
-(_BURST_GAP_S): then that thread leads, running the sample through the executor at once
-(zros.executors, leader/follower), which saves the thread hop; a burst keeps the hand-off, so
-that receiving the next sample overlaps running this one. The
-queue is the QoS depth (KEEP_LAST): when full, the oldest sample is pushed out and counted in
+Zenoh's receiving thread puts each sample in the subscription's Zenoh channel (a FIFO of 256,
+the size zenoh-python gives a callback's channel; when it is full, Zenoh's thread waits).
+Two readers take from it, one at a time:
+
+- The pump, a thread of the subscription's own (as zenoh-python runs a callback): one hand-off.
+  It appends the sample, untouched, to the subscription's queue and puts the subscription in
+  its executor's queue if it is not there yet: no copy, no parsing, so that it holds the GIL as
+  little as possible. The exception is an executor parked in `spin()` with nothing to do and a
+  sample that comes after a quiet spell (_BURST_GAP_S), when leading is on: then the pump runs
+  the sample through the executor at once (zros.executors, leader/follower).
+- The pull: an executor whose only subscription this is receives from the channel on the
+  spinning thread itself while the pump steps aside (`_take_channel`), which saves the thread
+  hop (zros.executors). It delivers straight from the channel while it keeps up; after a
+  callback slower than _HAND_OFF_S it queues what waited, with the depth rule below, before
+  delivering more (`_queue_pulled`), as the pump would have queued it meanwhile.
+
+The queue is the QoS depth (KEEP_LAST): when full, the oldest sample is pushed out and counted in
 `dropped`, so a sample the depth rule drops is never copied or decoded. spin() takes a batch of
-waiting samples per turn (`_execute`) and applies the same rule to it before each delivery. The executor reads each
-sample's attachment once. Gaps in a publisher's sequence numbers over every sample that reached
-the subscription (pushed-out ones included: their attachments are kept for this, up to
-_EVICTED_NOTES) are counted in `lost`; samples of the wrong type, larger than the size limit
-(zros.wire.max_message_size, refused before they are copied) or that do not decode strictly as
-the subscription's type are counted in `rejected` and logged once per publisher: a malformed
-sample never reaches the callback. What the callback does with a well-formed message is its own
-business: an exception it raises propagates out of spin(), as in rclpy, and the samples still
-waiting are delivered by the next spin.
+waiting samples per turn (`_execute`) and applies the same rule to it before each delivery. The
+executor reads each sample's attachment once. Gaps in a publisher's sequence numbers over every
+sample that reached the subscription (pushed-out ones included: their attachments are kept for
+this, up to _EVICTED_NOTES) are counted in `lost`; samples of the wrong type, larger than the
+size limit (zros.wire.max_message_size, refused before they are copied) or that do not decode
+strictly as the subscription's type are counted in `rejected` and logged once per publisher: a
+malformed sample never reaches the callback. What the callback does with a well-formed message is
+its own business: an exception it raises propagates out of spin(), as in rclpy, and the samples
+still waiting are delivered by the next spin.
 """
 from __future__ import annotations
 
@@ -31,13 +40,14 @@ from collections import deque
 from collections.abc import Iterable
 from typing import TYPE_CHECKING, Any, Callable, Generic, Union
 
+from zros.context import PUMP_THREAD_PREFIX
 from zros.entity import QueuedEntity
 from zros.errors import DecodeError
 from zros.graph import EntityKind
 from zros.message import MsgT, decoder
 from zros.qos import DurabilityPolicy, QoSProfile
-from zros.wire import (GID_AT, MAGIC, TYPE_AT, WRITER_STAMP, foreign_protocol, max_message_size,
-                       mismatch_reason, read_header, type_tail)
+from zros.wire import (GID_AT, MAGIC, TYPE_AT, WAKE, WRITER_STAMP, foreign_protocol, is_wake,
+                       max_message_size, mismatch_reason, read_header, type_tail)
 
 if TYPE_CHECKING:
     from zros.node import Node
@@ -125,6 +135,28 @@ def _callback_type(callback: Callable) -> CallbackType:
                        'its MessageInfo')
 
 
+# How many samples wait in a subscription's Zenoh channel before Zenoh's receiving thread waits
+# for them to be taken: zenoh-python's own default for a callback's channel (DefaultHandler),
+# which zros used before it read the channel itself.
+_CHANNEL_CAPACITY = 256
+# How long an executor waits for a subscription's pump to step aside (`_take_channel`).
+_TAKE_CHANNEL_S = 1.0
+# Bumped whenever a node gains or loses a subscription (zros.node): an executor receives from a
+# subscription's channel itself (the pull) only while its set of subscriptions stays the same.
+_subscription_lists_version = 0
+
+
+def subscription_lists_version() -> int:
+    """A counter that changes whenever any node gains or loses a subscription."""
+    return _subscription_lists_version
+
+
+def subscription_lists_changed() -> None:
+    """Note that some node gained or lost a subscription."""
+    global _subscription_lists_version
+    _subscription_lists_version += 1
+
+
 # How long Zenoh's thread waits for an idle executor to take a full KEEP_LAST queue.
 _HAND_OFF_S = 0.002
 # How long, at most per turn, spin() waits for a KEEP_LAST queue it emptied under a flood (Zenoh's
@@ -190,17 +222,29 @@ class Subscription(QueuedEntity, Generic[MsgT]):
         self.lost = 0
         self.rejected = 0
         self.received = 0
-        session = node.context.session
-        key = topic_key(node.context.domain_id, topic)
-        handler = self._on_sample_timed if self._with_info else self._on_sample
-        if qos.durability == DurabilityPolicy.TRANSIENT_LOCAL:
+        self._session = session = node.context.session
+        self._key = key = topic_key(node.context.domain_id, topic)
+        # The pull (zros.executors): an executor with this as its only subscription receives
+        # from the channel itself while its pump steps aside (`_take_channel`).
+        self._pull_wanted = False
+        self._pump_parked = threading.Event()
+        self._resume = threading.Event()
+        self._pullable = qos.durability != DurabilityPolicy.TRANSIENT_LOCAL
+        self._last_pull = 0.0   # _queue_pulled: when the executor last took from the channel
+        self._absent = False    # ... and whether a slow callback kept it away since
+        if not self._pullable:
             self._zenoh = zenoh.ext.declare_advanced_subscriber(
-                session, key, handler,
+                session, key, self._on_sample_timed if self._with_info else self._on_sample,
                 history=zenoh.ext.HistoryConfig(detect_late_publishers=True, max_samples=max(1, qos.queue_depth)),
                 subscriber_detection=True)
         else:
-            self._zenoh = session.declare_subscriber(key, handler)
+            self._zenoh = session.declare_subscriber(key, zenoh.handlers.FifoChannel(_CHANNEL_CAPACITY))
         super().__init__(node, EntityKind.SUBSCRIPTION, topic, msg_type, qos)
+        if self._pullable:
+            # Not a daemon thread, as zenoh-python's are not: the interpreter joins it before it
+            # finalizes (it ends when the session closes), since a thread that comes back from
+            # Zenoh for the interpreter lock once the interpreter is finalizing aborts the process.
+            threading.Thread(target=self._pump, name=f'{PUMP_THREAD_PREFIX}{topic}').start()
 
     def get_publisher_count(self) -> int:
         """Count the publishers on this subscription's topic that the graph knows of now
@@ -209,6 +253,100 @@ class Subscription(QueuedEntity, Generic[MsgT]):
         :return: The number of publishers, local and remote.
         """
         return self._node.count_publishers(self.topic_name)
+
+    # The pump: Zenoh's side of the hand-off, on a thread of the subscription's own, as
+    # zenoh-python runs a callback (one thread per subscriber, blocking on its channel).
+    def _pump(self) -> None:
+        """Receive from the Zenoh channel until it closes (the subscription destroyed, the
+        session closed) and hand each sample on (`_on_sample`); step aside while an executor
+        receives from the channel itself (`_take_channel`)."""
+        receive = self._zenoh.recv
+        on_sample = self._on_sample_timed if self._with_info else self._on_sample
+        while True:
+            try:
+                sample = receive()
+            except Exception:   # noqa: BLE001 - zenoh.ZError: the channel is closed
+                return
+            try:
+                if self._pull_wanted:
+                    if not is_wake(sample):
+                        on_sample(sample)
+                    self._pump_parked.set()
+                    self._resume.wait()
+                    continue
+                on_sample(sample)
+            except Exception as exc:  # noqa: BLE001 - as zenoh-python logs a callback's error
+                self._node.get_logger().error(f"subscription '{self.topic_name}': {exc!r}")
+
+    def _take_channel(self) -> bool:
+        """Executor thread, starting the pull: make the pump step aside (it finishes the sample
+        in hand, then parks), and say whether it did within _TAKE_CHANNEL_S. Samples it handed
+        on before parking wait in the queue, older than any left in the channel."""
+        self._resume.clear()
+        self._pump_parked.clear()
+        self._pull_wanted = True
+        self._poke()
+        if self._pump_parked.wait(_TAKE_CHANNEL_S):
+            return True
+        self._give_channel()
+        return False
+
+    def _give_channel(self) -> None:
+        """Executor thread, ending the pull: the pump receives again."""
+        self._pull_wanted = False
+        self._resume.set()
+
+    def _poke(self) -> None:
+        """Make whoever blocks on the channel (the pump, or a pulling executor) return: a wake-up
+        sample (zros.wire.WAKE) put on the topic's key, delivered only inside this session."""
+        import zenoh
+        try:
+            self._session.delete(self._key, attachment=WAKE, allowed_destination=zenoh.Locality.SESSION_LOCAL)
+        except Exception:  # noqa: BLE001 - zenoh.ZError: the session is closing, the waiter with it
+            pass
+
+    def _queue_pulled(self, sample: Any, budget: int) -> None:
+        """Executor thread, pulling: queue `sample`, just taken from the channel (None: none),
+        and what else waits there, as the pump would have queued them. How much: up to
+        `budget`, and for KEEP_LAST at most the depth while the executor keeps up (it was last
+        at the channel under _HAND_OFF_S ago: the rest waits in the channel, and Zenoh's thread
+        with it, as the pump's hand-off waited for an idle executor), but everything after a
+        longer absence (a slow callback), the older samples pushed out and counted as the pump
+        would have pushed them out."""
+        now = _clock()
+        depth = self._depth
+        if self._absent or now - self._last_pull > _HAND_OFF_S:
+            self._absent = False
+            budget = _CHANNEL_CAPACITY
+        elif depth < budget:
+            budget = depth
+        self._last_pull = now
+        queue, timed, events = self._queue, self._with_info, self._events
+        receive = self._zenoh.try_recv
+        if sample is None:
+            sample = receive()
+        while sample is not None:
+            if timed:
+                sample = _Timed(sample, time.time_ns())
+            if len(queue) == depth and is_wake(sample):
+                pass   # (a wake-up caught in a flood takes no message's place)
+            else:
+                if len(queue) == depth:
+                    self._push_out()
+                queue.append(sample)
+                if events is not None:
+                    events.on_sample()
+            budget -= 1
+            if budget <= 0:
+                return
+            try:
+                sample = receive()
+            except Exception:  # noqa: BLE001 - closed: what was queued is still delivered
+                return
+
+    def _release(self) -> None:
+        super()._release()
+        self._resume.set()   # a parked pump sees the closed channel and ends
 
     # Zenoh thread: queue the sample untouched (no copy, no parsing), then either run it here at
     # once, if it came after a quiet spell and the executor is parked and lets this thread lead
@@ -310,10 +448,14 @@ class Subscription(QueuedEntity, Generic[MsgT]):
         so a batch never delivers a sample that one-at-a-time taking would have pushed out.
         What a raising callback or an `async def` one leaves untaken goes back to the front of
         the queue, by the same rule. A batch Zenoh's thread was waiting on (a flood into a full
-        KEEP_LAST queue) is followed, while the budget lasts, by the next one (`_await_refill`)."""
+        KEEP_LAST queue) is followed, while the budget lasts, by the next one (`_await_refill`).
+        While the executor pulls (zros.executors), samples that came during a slow callback
+        wait in the channel, not in the queue: they are queued before the next delivery
+        (`_queue_pulled`), so that they overtake the batch as they would have."""
         queue = self._queue
         deliver = self._deliver_plain if self._plain else self._deliver
         depth = self._depth
+        pulled = self._pull_wanted
         taken: list = []
         index = count = 0
         deadline = None
@@ -340,7 +482,14 @@ class Subscription(QueuedEntity, Generic[MsgT]):
                         continue
                     item = taken[index]
                     index += 1
-                    pending = deliver(item)
+                    if pulled:
+                        start = _clock()
+                        pending = deliver(item)
+                        if _clock() - start > _HAND_OFF_S:   # (see the docstring)
+                            self._absent = True
+                            self._queue_pulled(None, _CHANNEL_CAPACITY)
+                    else:
+                        pending = deliver(item)
                     if pending is not None:
                         return pending   # an async callback's coroutine: it runs as a task first
                 if not flood or budget <= 0:
@@ -470,6 +619,8 @@ class Subscription(QueuedEntity, Generic[MsgT]):
             sample, received = item.sample, item.received
         else:
             sample, received = item, 0
+        if is_wake(sample):
+            return None   # an executor's wake-up for another subscription of this key (the pull)
         self.received += 1
         attachment = sample.attachment
         checked = self._check_sender(attachment.to_bytes() if attachment is not None else b'')

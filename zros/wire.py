@@ -17,13 +17,14 @@ import os
 import re
 import struct
 import time
+from typing import Any
 
 from zros.errors import ZrosError
 
 __all__ = ['MAGIC', 'PROTOCOL_VERSION', 'GID_AT', 'WRITER_STAMP', 'TYPE_AT', 'AttachmentWriter',
            'read_header', 'type_tail', 'describe_type', 'mismatch_reason', 'foreign_protocol',
            'max_message_size', 'max_request_size', 'parse_size', 'DEFAULT_MAX_MESSAGE_SIZE',
-           'DEFAULT_MAX_REQUEST_SIZE']
+           'DEFAULT_MAX_REQUEST_SIZE', 'WAKE', 'is_wake']
 
 PROTOCOL_VERSION = 2
 MAGIC = b'Z2'
@@ -65,6 +66,19 @@ class AttachmentWriter:
         def next() -> bytes:  # noqa: A001 - the name callers have always used
             return pack(MAGIC, gid, sequence(), now_ns(), tail)
         self.next = next
+
+
+# The attachment of a wake-up: an empty DELETE that an executor receiving from a subscription's
+# channel itself (zros.executors, the pull) puts on that subscription's key, local to the
+# session, so that its blocking receive returns when other work comes. Any other subscriber of
+# the key in the same session ignores it (`is_wake`).
+WAKE = b'Z-wake'
+
+
+def is_wake(sample: Any) -> bool:
+    """Whether a Zenoh sample is an executor's wake-up (WAKE), not a message."""
+    attachment = sample.attachment
+    return attachment is not None and attachment.to_bytes() == WAKE
 
 
 def read_header(attachment: bytes) -> tuple[bytes, int, int, bytes] | None:

@@ -32,6 +32,9 @@ def _pair(make_context, topic, callback, qos=10, group=None):
     pub_ctx, sub_ctx = make_context(), make_context()
     node = Node('led', context=sub_ctx)
     sub = node.create_subscription(Int32, topic, callback, qos, callback_group=group)
+    # A second, idle subscription: with one alone, spin() receives from its channel itself (the
+    # pull, tests/integration/test_pull.py), and nothing is led.
+    node.create_subscription(Int32, f'{topic}_idle', lambda m: None, 10)
     executor = SingleThreadedExecutor(context=sub_ctx)
     executor.add_node(node)
     publisher = Node('leader_pub', context=pub_ctx).create_publisher(Int32, topic, 10)

@@ -363,10 +363,15 @@ def test_a_callback_that_raises_mid_burst_loses_nothing(make_context, wait_for):
     assert (sub.received, sub.dropped, sub.lost) == (20, 0, 0)
 
 
-def test_samples_waiting_behind_a_running_callback_keep_only_the_newest(make_context, wait_for):
+@pytest.mark.parametrize('pulled', [False, True], ids=['pump', 'pull'])
+def test_samples_waiting_behind_a_running_callback_keep_only_the_newest(make_context, wait_for, pulled):
     """While spin() runs the callback for the first sample of a waiting burst, `depth` newer
     samples arrive: the rest of the burst is pushed out by the KEEP_LAST rule and counted in
-    `dropped`, not `lost`, although spin() had taken it in one batch with the first."""
+    `dropped`, not `lost`, although spin() had taken it in one batch with the first. With a
+    second subscription the newer samples reach the queue through the subscription's pump
+    while the callback runs; with this one alone spin() receives from the channel itself (the
+    pull) and they wait there, to be queued when the callback has taken longer than the
+    executor's hand-off wait (2 ms): the same deliveries either way."""
     pub_ctx, sub_ctx = make_context(), make_context()
     node = Node('overtaken', context=sub_ctx)
     publisher = Node('bursty', context=pub_ctx).create_publisher(Int32, '/overtaken', 10)
@@ -377,10 +382,15 @@ def test_samples_waiting_behind_a_running_callback_keep_only_the_newest(make_con
         if msg.data == 0:
             for i in (3, 4, 5):
                 publisher.publish(Int32(data=i))
-            # (1 and 2 are in the executor's batch; the newer three wait in the queue behind them,
-            # so the batch's two are overtaken: dropped when the executor moves on)
-            wait_for(lambda: len(sub._queue) == 3, timeout=5, message='three newer samples waiting')
+            # (1 and 2 are in the executor's batch; the newer three wait behind them, so the
+            # batch's two are overtaken: dropped when the executor moves on)
+            if pulled:
+                time.sleep(0.3)
+            else:
+                wait_for(lambda: len(sub._queue) == 3, timeout=5, message='three newer samples waiting')
     sub = node.create_subscription(Int32, '/overtaken', on_message, 3)
+    if not pulled:
+        node.create_subscription(Int32, '/overtaken_idle', lambda m: None, 3)
     assert publisher.wait_for_subscribers(1, 5.0)
     for i in (0, 1, 2):
         publisher.publish(Int32(data=i))
@@ -391,6 +401,7 @@ def test_samples_waiting_behind_a_running_callback_keep_only_the_newest(make_con
     try:
         wait_for(lambda: len(received) == 4, timeout=5, message=lambda: f'4 deliveries, have {received}')
         time.sleep(0.2)
+        assert (executor._pull_sub is sub) is pulled
     finally:
         executor.shutdown()
         spinner.join(5)

@@ -53,6 +53,7 @@ def _subscription(depth: int, on_message=None) -> Subscription:
     sub._taken, sub._refilled = _Signal(), _Signal()
     sub._drops_noted = 0
     sub._last_seq = {}
+    sub._pull_wanted = False
     sub.dropped = sub.lost = sub.received = 0
     sub._scheduled = False
     sub._plain = True
