@@ -16,7 +16,7 @@ from zros.entity import NodeEntity
 from zros.graph import EntityKind
 from zros.message import deserialize
 from zros.qos import QoSProfile, ReliabilityPolicy
-from zros.wire import read_header, type_tail
+from zros.wire import is_wake, read_header, type_tail
 
 if TYPE_CHECKING:
     from zros.node import Node
@@ -45,6 +45,8 @@ class _ClockSubscription(NodeEntity):
 
     # Zenoh thread.
     def _on_sample(self, sample: Any) -> None:
+        if is_wake(sample):
+            return   # an executor's wake-up for a subscription of /clock (zros.executors)
         attachment = sample.attachment
         header = read_header(attachment.to_bytes()) if attachment is not None else None
         try:

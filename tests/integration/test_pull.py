@@ -245,3 +245,28 @@ def test_a_pulled_callback_may_destroy_its_own_subscription(make_context, wait_f
         _stop(executor, spinner)
     assert errors == [] and received[0] == 0
     assert len(received) <= 20
+
+
+def test_a_pulled_tf_subscription_beside_a_transform_listener_wakes_without_noise(make_context, wait_for, log_records):
+    """The wake-up is put on the topic's key inside the session: the process's TF listener
+    (a plain Zenoh subscriber on /tf) sees it and ignores it, logging nothing."""
+    from zros.tf2_ros import Buffer, TransformListener
+    from interfaces.tf2_msgs.msg import TFMessage
+    ctx = make_context()
+    node = Node('tf_pulled', context=ctx)
+    buffer = Buffer()
+    TransformListener(buffer, node, spin_thread=False)
+    node.create_subscription(TFMessage, '/tf', lambda m: None, 10)
+    executor = SingleThreadedExecutor(context=ctx)
+    executor.add_node(node)
+    spinner = _spinning(executor)
+    tasked = []
+    try:
+        wait_for(lambda: executor._pulling, message='the spin pulling')
+        for _ in range(3):
+            executor.create_task(lambda: tasked.append(1))   # each one a wake-up on /tf
+            wait_for(lambda: executor._pulling, message='pulling again')
+        wait_for(lambda: len(tasked) == 3, message='the tasks')
+    finally:
+        _stop(executor, spinner)
+    assert [r for r in log_records if 'dropping messages' in r[2]] == []

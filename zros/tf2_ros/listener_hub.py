@@ -21,7 +21,7 @@ from zros.errors import DecodeError
 from zros.graph import undeclare_quietly
 from zros.logging import get_logger
 from zros.message import deserialize
-from zros.wire import mismatch_reason, read_header, type_tail
+from zros.wire import WAKE, mismatch_reason, read_header, type_tail
 
 __all__ = ['TfHub', 'TF_TOPIC', 'TF_STATIC_TOPIC']
 
@@ -170,6 +170,8 @@ class TfHub:
     def _decode(self, sample: Any, topic: str) -> tuple[bytes, list] | None:
         attachment = sample.attachment
         attachment = attachment.to_bytes() if attachment is not None else b''
+        if attachment == WAKE:
+            return None   # an executor's wake-up for a subscription of this topic (zros.executors)
         header = read_header(attachment)
         writer = header[0] if header is not None else b''
         if header is not None and header[3] != self._tail:
