@@ -15,6 +15,7 @@ import signal
 import subprocess
 import sys
 import sysconfig
+import threading
 from pathlib import Path
 from typing import Any, Callable, Iterator
 
@@ -32,9 +33,43 @@ from zros.testing.domains import ALL_SETTINGS, HUB_BASE_PORT, isolated_environme
 from zros.testing.processes import kill_group
 
 __all__ = ['REPO', 'wait_until', 'spin_until', 'run_cli', 'assert_clean_failure', 'CliResult', 'activate',
-           'load_tool']
+           'load_tool', 'int32_pair', 'spinning']
 
 REPO = Path(__file__).resolve().parents[1]
+
+
+def int32_pair(make_context: Callable[[], Any], topic: str, callback: Callable[..., Any], qos: Any = 10,
+               group: Any = None, name: str = 'sub') -> tuple[Any, Any, Any, Any]:
+    """(publisher, subscription, its node, a SingleThreadedExecutor with the node), matched: an
+    Int32 subscription in a context of its own, its publisher in another."""
+    from zros.executors import SingleThreadedExecutor
+    from zros.node import Node
+
+    from interfaces.std_msgs.msg import Int32
+    pub_ctx, sub_ctx = make_context(), make_context()
+    node = Node(name, context=sub_ctx)
+    sub = node.create_subscription(Int32, topic, callback, qos, callback_group=group)
+    executor = SingleThreadedExecutor(context=sub_ctx)
+    executor.add_node(node)
+    publisher = Node(f'{name}_pub', context=pub_ctx).create_publisher(Int32, topic, 10)
+    assert publisher.wait_for_subscribers(1, 5.0)
+    return publisher, sub, node, executor
+
+
+def spinning(executor: Any, target: Callable[[], Any] | None = None,
+             errors: list | None = None) -> threading.Thread:
+    """A daemon thread running `target` (the executor's spin() by default), started; with
+    `errors`, an exception out of it is appended there instead of ending the thread loudly."""
+    def run() -> None:
+        try:
+            (target or executor.spin)()
+        except Exception as exc:  # noqa: BLE001 - the test reads it
+            if errors is None:
+                raise
+            errors.append(exc)
+    thread = threading.Thread(target=run, daemon=True)
+    thread.start()
+    return thread
 
 
 def load_tool(name: str) -> Any:

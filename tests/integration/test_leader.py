@@ -16,6 +16,8 @@ from zros.node import Node
 from zros.qos import HistoryPolicy, QoSProfile
 from zros.task import Future
 
+from conftest import int32_pair, spinning
+
 from interfaces.std_msgs.msg import Int32
 
 KEEP_ALL = QoSProfile(history=HistoryPolicy.KEEP_ALL)
@@ -29,23 +31,14 @@ def _leading(monkeypatch):
 
 def _pair(make_context, topic, callback, qos=10, group=None):
     """(publisher, subscription, its node, a SingleThreadedExecutor with the node), matched."""
-    pub_ctx, sub_ctx = make_context(), make_context()
-    node = Node('led', context=sub_ctx)
-    sub = node.create_subscription(Int32, topic, callback, qos, callback_group=group)
+    publisher, sub, node, executor = int32_pair(make_context, topic, callback, qos, group, name='led')
     # A second, idle subscription: with one alone, spin() receives from its channel itself (the
     # pull, tests/integration/test_pull.py), and nothing is led.
     node.create_subscription(Int32, f'{topic}_idle', lambda m: None, 10)
-    executor = SingleThreadedExecutor(context=sub_ctx)
-    executor.add_node(node)
-    publisher = Node('leader_pub', context=pub_ctx).create_publisher(Int32, topic, 10)
-    assert publisher.wait_for_subscribers(1, 5.0)
     return publisher, sub, node, executor
 
 
-def _spinning(executor, target=None):
-    thread = threading.Thread(target=target or executor.spin, daemon=True)
-    thread.start()
-    return thread
+_spinning = spinning
 
 
 @pytest.mark.parametrize('allowed', [True, False], ids=['ZROS_CALLBACK_THREAD=zenoh', 'ZROS_CALLBACK_THREAD=spin'])
@@ -181,13 +174,7 @@ def test_an_exception_in_a_led_callback_leaves_spin_on_the_spinning_thread(make_
             raise ValueError('one')
     publisher, _, _, executor = _pair(make_context, '/fragile_led', fragile, KEEP_ALL)
     raised = []
-
-    def spin():
-        try:
-            executor.spin()
-        except ValueError as exc:
-            raised.append(exc)
-    spinner = _spinning(executor, spin)
+    spinner = _spinning(executor, errors=raised)
     time.sleep(0.2)
     publisher.publish(Int32(data=1))
     spinner.join(5)

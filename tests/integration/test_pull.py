@@ -16,6 +16,8 @@ from zros.node import Node
 from zros.qos import HistoryPolicy, QoSProfile
 from zros.task import Future
 
+from conftest import int32_pair, spinning
+
 from interfaces.std_msgs.msg import Int32
 from interfaces.std_srvs.srv import Trigger
 
@@ -23,21 +25,10 @@ KEEP_ALL = QoSProfile(history=HistoryPolicy.KEEP_ALL)
 
 
 def _pair(make_context, topic, callback, qos=10):
-    """(publisher, subscription, its node, a SingleThreadedExecutor with the node), matched."""
-    pub_ctx, sub_ctx = make_context(), make_context()
-    node = Node('pulled', context=sub_ctx)
-    sub = node.create_subscription(Int32, topic, callback, qos)
-    executor = SingleThreadedExecutor(context=sub_ctx)
-    executor.add_node(node)
-    publisher = Node('pull_pub', context=pub_ctx).create_publisher(Int32, topic, 10)
-    assert publisher.wait_for_subscribers(1, 5.0)
-    return publisher, sub, node, executor
+    return int32_pair(make_context, topic, callback, qos, name='pulled')
 
 
-def _spinning(executor, target=None):
-    thread = threading.Thread(target=target or executor.spin, daemon=True)
-    thread.start()
-    return thread
+_spinning = spinning
 
 
 def _stop(executor, spinner):
@@ -146,13 +137,7 @@ def test_an_exception_in_a_pulled_callback_leaves_spin_and_the_rest_waits(make_c
         received.append(msg.data)
     publisher, sub, _, executor = _pair(make_context, '/pulled_raise', on_message, KEEP_ALL)
     errors = []
-
-    def spin():
-        try:
-            executor.spin()
-        except ValueError as exc:
-            errors.append(exc)
-    spinner = _spinning(executor, spin)
+    spinner = _spinning(executor, errors=errors)
     wait_for(lambda: executor._pull_sub is sub and executor._pulling, message='the spin pulling')
     for i in range(3):
         publisher.publish(Int32(data=i))
@@ -229,13 +214,7 @@ def test_a_pulled_callback_may_destroy_its_own_subscription(make_context, wait_f
         node.create_timer(0.01, lambda: ticks.append(1))
     publisher, sub, node, executor = _pair(make_context, '/pulled_self_destroyed', on_message, KEEP_ALL)
     errors = []
-
-    def spin():
-        try:
-            executor.spin()
-        except Exception as exc:  # noqa: BLE001 - the test reports it
-            errors.append(exc)
-    spinner = _spinning(executor, spin)
+    spinner = _spinning(executor, errors=errors)
     try:
         wait_for(lambda: executor._pulling, message='the spin pulling')
         for i in range(20):
