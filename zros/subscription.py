@@ -224,6 +224,7 @@ class Subscription(QueuedEntity, Generic[MsgT]):
         self.received = 0
         self._session = session = node.context.session
         self._key = key = topic_key(node.context.domain_id, topic)
+        self._session_local = zenoh.Locality.SESSION_LOCAL   # (`_poke`)
         # The pull (zros.executors): an executor with this as its only subscription receives
         # from the channel itself while its pump steps aside (`_take_channel`).
         self._pull_wanted = False
@@ -306,9 +307,8 @@ class Subscription(QueuedEntity, Generic[MsgT]):
     def _poke(self) -> None:
         """Make whoever blocks on the channel (the pump, or a pulling executor) return: a wake-up
         sample (zros.wire.WAKE) put on the topic's key, delivered only inside this session."""
-        import zenoh
         try:
-            self._session.delete(self._key, attachment=WAKE, allowed_destination=zenoh.Locality.SESSION_LOCAL)
+            self._session.delete(self._key, attachment=WAKE, allowed_destination=self._session_local)
         except Exception:  # noqa: BLE001 - zenoh.ZError: the session is closing, the waiter with it
             pass
 
