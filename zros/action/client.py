@@ -354,13 +354,18 @@ class ActionClient:
 
     # -- topics (executor) ---------------------------------------------------------------------
     def _on_feedback(self, message: Any, info: Any) -> None:
-        """Hand feedback to its goal's callback, unless it arrived after the goal's result (or is
-        for a goal this client did not send, or sent without a callback)."""
+        """Hand feedback to its goal's callback, unless it came after the goal's result (or is
+        for a goal this client did not send, or sent without a callback). Before the result
+        means received before it, or sent before it (the server's stamp, on the same wall clock
+        when both run on one machine): feedback and result come through different channels, and
+        under load the thread that stamps a sample's arrival may get to it after the result was
+        taken, although the server sent it first."""
         key = message.goal_id.uuid.tobytes()
         with self._lock:
             callback = self._feedback_callbacks.get(key)
             settled = self._settled.get(key)
-        if callback is not None and (settled is None or info['received_timestamp'] <= settled):
+        if callback is not None and (settled is None or info['received_timestamp'] <= settled
+                                     or 0 < info['source_timestamp'] <= settled):
             callback(message)
 
     def _on_status(self, array: Any) -> None:
