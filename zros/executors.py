@@ -57,8 +57,7 @@ from time import perf_counter as _clock
 from concurrent.futures import ThreadPoolExecutor
 from typing import TYPE_CHECKING, Any, Callable, Iterator
 
-from zros.subscription import _HAND_OFF_S as _SLOW_S
-from zros.subscription import _LEAD_QUICK_S, Subscription, subscription_lists_version
+from zros.subscription import _HAND_OFF_S, _LEAD_QUICK_S, Subscription, subscription_lists_version
 from zros.task import Future, Task
 from zros.timer import timer_lists_version
 from zros.waitable import POLL_PERIOD, WaitSet, waitable_lists_version
@@ -546,7 +545,7 @@ class Executor:
             while True:
                 pending = deliver(sample)
                 now = _clock()
-                if now - taken > _SLOW_S:
+                if now - taken > _HAND_OFF_S:   # (a slow callback: `_queue_pulled` takes over)
                     slow = True
                     break
                 if pending is not None and inspect.iscoroutine(pending):
